@@ -1,0 +1,76 @@
+// Sampling warps, each paired with the density of what it returns, so callers can use the value in MIS.
+#pragma once
+#include "core/math.h"
+
+namespace smis {
+
+struct Point2 {
+    float x = 0, y = 0;
+};
+
+inline Point2 sample_uniform_disk_concentric(Point2 u) {
+    float ox = 2.0f * u.x - 1.0f, oy = 2.0f * u.y - 1.0f;
+    if (ox == 0.0f && oy == 0.0f) return {0.0f, 0.0f};
+    float r, theta;
+    if (std::fabs(ox) > std::fabs(oy)) {
+        r = ox;
+        theta = (kPi / 4.0f) * (oy / ox);
+    } else {
+        r = oy;
+        theta = kPi / 2.0f - (kPi / 4.0f) * (ox / oy);
+    }
+    return {r * std::cos(theta), r * std::sin(theta)};
+}
+inline float uniform_disk_pdf() { return kInvPi; }  // on the unit disk, area measure
+
+// Cosine-weighted hemisphere around +z; pdf in solid angle.
+inline Vec3 sample_cosine_hemisphere(Point2 u) {
+    Point2 d = sample_uniform_disk_concentric(u);
+    float z = safe_sqrt(1.0f - d.x * d.x - d.y * d.y);
+    return {d.x, d.y, z};
+}
+inline float cosine_hemisphere_pdf(float cos_theta) { return cos_theta > 0.0f ? cos_theta * kInvPi : 0.0f; }
+
+inline Vec3 sample_uniform_sphere(Point2 u) {
+    float z = 1.0f - 2.0f * u.x;
+    float r = safe_sqrt(1.0f - z * z);
+    float phi = 2.0f * kPi * u.y;
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+inline float uniform_sphere_pdf() { return kInv4Pi; }
+
+// Uniform direction in the cone around +z with cos(half-angle) = cos_max; pdf in solid angle.
+inline Vec3 sample_uniform_cone(Point2 u, float cos_max) {
+    float cos_t = (1.0f - u.x) + u.x * cos_max;
+    float sin_t = safe_sqrt(1.0f - cos_t * cos_t);
+    float phi = 2.0f * kPi * u.y;
+    return {std::cos(phi) * sin_t, std::sin(phi) * sin_t, cos_t};
+}
+inline float uniform_cone_pdf(float cos_max) { return 1.0f / (2.0f * kPi * (1.0f - cos_max)); }
+
+// Uniform point on a triangle as barycentrics (b1, b2) (Heitz 2019 low-distortion map); pdf 1/area.
+inline Point2 sample_uniform_triangle(Point2 u) {
+    float b0, b1;
+    if (u.x < u.y) {
+        b0 = u.x / 2.0f;
+        b1 = u.y - b0;
+    } else {
+        b1 = u.y / 2.0f;
+        b0 = u.x - b1;
+    }
+    return {b0, b1};
+}
+
+// Multiple importance sampling heuristics for two techniques with one sample each.
+enum class MisHeuristic { Balance, Power };
+inline float mis_weight(MisHeuristic h, float pdf_this, float pdf_other) {
+    if (h == MisHeuristic::Power) {
+        pdf_this *= pdf_this;
+        pdf_other *= pdf_other;
+    }
+    float denom = pdf_this + pdf_other;
+    if (!(denom > 0.0f) || !std::isfinite(denom)) return pdf_this > pdf_other ? 1.0f : 0.0f;
+    return pdf_this / denom;
+}
+
+}  // namespace smis

@@ -1,0 +1,80 @@
+// The integrator interface. An integrator renders a range of sample indices for every pixel of the
+// film window ("a pass"); the session calls it repeatedly for progressive rendering. Per-pixel
+// estimators derive from PixelIntegrator, which parallelises over tiles; multi-stage estimators
+// (path-space filtering, photon planes) implement render_pass themselves.
+#pragma once
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include "core/rng.h"
+#include "core/sampling.h"
+#include "film/film.h"
+#include "film/pixel_filter.h"
+#include "scene/scene.h"
+
+namespace smis {
+
+struct RenderSettings {
+    uint32_t samples = 64;
+    int max_bounces = 8;          // Cycles' meaning: 0 = direct lighting only
+    uint32_t seed = 0;
+    MisHeuristic mis = MisHeuristic::Power;
+    double time_limit = 0.0;      // seconds, 0 = none
+    int threads = 0;              // 0 = all cores
+    std::string integrator = "PATH";
+    std::string filter = "BLACKMAN_HARRIS";
+    float filter_width = 1.5f;
+};
+
+// Counters reported to the user (stats line) and checked by the stress tests.
+struct RenderCounters {
+    std::atomic<uint64_t> paths{0};             // camera samples completed
+    std::atomic<uint64_t> nan_caught{0};        // non-finite samples dropped before the film
+    std::atomic<uint64_t> samples_rejected{0};  // sampling routines that returned no valid sample
+};
+
+// Per-thread tallies, flushed to RenderCounters once per tile so the hot loop touches no atomics.
+struct LocalCounters {
+    uint64_t paths = 0, nan_caught = 0, samples_rejected = 0;
+    void flush(RenderCounters& c) {
+        c.paths += paths, c.nan_caught += nan_caught, c.samples_rejected += samples_rejected;
+        *this = {};
+    }
+};
+
+struct RenderContext {
+    const Scene& scene;
+    const RenderSettings& settings;
+    Film& film;
+    const PixelFilter& filter;
+    RenderCounters& counters;
+    const std::atomic<bool>& cancel;
+    std::chrono::steady_clock::time_point deadline;  // time_point::max() when unlimited
+    bool should_stop() const {
+        return cancel.load(std::memory_order_relaxed) || std::chrono::steady_clock::now() >= deadline;
+    }
+};
+
+class Integrator {
+public:
+    virtual ~Integrator() = default;
+    // Adds samples [s0, s1) to every pixel of the window; returns early when ctx.should_stop().
+    virtual void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) = 0;
+};
+
+class PixelIntegrator : public Integrator {
+public:
+    void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) override;
+
+protected:
+    // Radiance along a camera ray; `rng` is the sample's own stream.
+    virtual Color Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+                     LocalCounters& counters) const = 0;
+};
+
+// Creates the integrator named by settings.integrator; throws std::invalid_argument for unknown names.
+std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings);
+
+}  // namespace smis

@@ -1,0 +1,14 @@
+#pragma once
+#include "integrators/integrator.h"
+
+namespace smis {
+
+// Unidirectional path tracer: next-event estimation and BSDF sampling combined by MIS (balance or
+// power heuristic, lecture notes "MIS for direct lighting"), Russian roulette, Cycles' bounce limit.
+class PathIntegrator : public PixelIntegrator {
+protected:
+    Color Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+             LocalCounters& counters) const override;
+};
+
+}  // namespace smis

@@ -1,0 +1,289 @@
+// The Python module `smis_render._smis`: a thin layer that converts numpy arrays and dicts from the
+// add-on's sync code into engine calls. No light transport here, and the GIL is released whenever
+// native code runs for long.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "film/image_io.h"
+#include "render/session.h"
+#include "scene/scene.h"
+
+namespace py = pybind11;
+using namespace smis;
+
+namespace {
+
+template <class T>
+T get(const py::dict& d, const char* key, T fallback) {
+    return d.contains(key) ? d[key].cast<T>() : fallback;
+}
+
+Color get_color(const py::dict& d, const char* key, Color fallback) {
+    if (!d.contains(key)) return fallback;
+    auto v = d[key].cast<std::vector<float>>();
+    if (v.size() < 3) throw py::value_error(std::string(key) + " needs three components");
+    return {v[0], v[1], v[2]};
+}
+
+Transform get_matrix(const py::dict& d, const char* key) {
+    if (!d.contains(key)) throw py::value_error(std::string("missing ") + key);
+    auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(d[key]);
+    if (!a || a.ndim() != 2 || a.shape(0) < 3 || a.shape(1) != 4) throw py::value_error(std::string(key) + " must be 4x4");
+    Transform t;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) t.m[r][c] = static_cast<float>(a.at(r, c));
+    return t;
+}
+
+Transform to_transform(const py::array_t<double, py::array::c_style | py::array::forcecast>& a) {
+    if (a.ndim() != 2 || a.shape(0) < 3 || a.shape(1) != 4) throw py::value_error("matrix must be 4x4");
+    Transform t;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) t.m[r][c] = static_cast<float>(a.at(r, c));
+    return t;
+}
+
+Lobe parse_lobe(const py::dict& d) {
+    Lobe l;
+    auto kind = get<std::string>(d, "kind", "diffuse");
+    if (kind == "diffuse") l.kind = LobeKind::Diffuse;
+    else if (kind == "microfacet") l.kind = LobeKind::Microfacet;
+    else if (kind == "dielectric") l.kind = LobeKind::Dielectric;
+    else throw py::value_error("unknown closure kind '" + kind + "'");
+    auto fresnel = get<std::string>(d, "fresnel", "none");
+    if (fresnel == "none") l.fresnel = FresnelMode::None;
+    else if (fresnel == "schlick") l.fresnel = FresnelMode::Schlick;
+    else if (fresnel == "dielectric") l.fresnel = FresnelMode::Dielectric;
+    else throw py::value_error("unknown fresnel mode '" + fresnel + "'");
+    l.weight = get_color(d, "weight", Color(1.0f));
+    l.f0 = get_color(d, "f0", Color(1.0f));
+    float roughness = get<float>(d, "roughness", 0.5f);
+    l.alpha = roughness * roughness;  // Blender's roughness is the square root of GGX alpha
+    l.eta = get<float>(d, "ior", 1.5f);
+    return l;
+}
+
+py::array_t<float> to_image(std::vector<float>&& rgba, int w, int h) {
+    auto* heap = new std::vector<float>(std::move(rgba));
+    py::capsule owner(heap, [](void* p) { delete static_cast<std::vector<float>*>(p); });
+    return py::array_t<float>({h, w, 4}, heap->data(), owner);
+}
+
+const float* image_data(const py::array_t<float, py::array::c_style | py::array::forcecast>& a, int* w, int* h) {
+    if (a.ndim() != 3 || a.shape(2) != 4) throw py::value_error("image must be an (h, w, 4) float array");
+    *h = static_cast<int>(a.shape(0));
+    *w = static_cast<int>(a.shape(1));
+    return a.data();
+}
+
+RenderSettings parse_settings(const py::dict& d) {
+    RenderSettings s;
+    s.samples = get<uint32_t>(d, "samples", s.samples);
+    s.max_bounces = get<int>(d, "max_bounces", s.max_bounces);
+    s.seed = get<uint32_t>(d, "seed", s.seed);
+    auto mis = get<std::string>(d, "mis_heuristic", "POWER");
+    if (mis == "BALANCE") s.mis = MisHeuristic::Balance;
+    else if (mis == "POWER") s.mis = MisHeuristic::Power;
+    else throw py::value_error("mis_heuristic must be BALANCE or POWER");
+    s.time_limit = get<double>(d, "time_limit", s.time_limit);
+    s.threads = get<int>(d, "threads", s.threads);
+    s.integrator = get<std::string>(d, "integrator", s.integrator);
+    s.filter = get<std::string>(d, "filter", s.filter);
+    s.filter_width = get<float>(d, "filter_width", s.filter_width);
+    return s;
+}
+
+// std::invalid_argument from the engine surfaces in Python as ValueError.
+template <class F>
+auto value_errors(F&& f) -> decltype(f()) {
+    try {
+        return f();
+    } catch (const std::invalid_argument& e) {
+        throw py::value_error(e.what());
+    }
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_smis, m) {
+    m.doc() = "Native SMIS render engine (Embree path tracer with continuous/stochastic MIS)";
+
+    py::class_<Scene, std::shared_ptr<Scene>>(m, "Scene")
+        .def(py::init<>())
+        .def("add_material",
+             [](Scene& s, const py::dict& d) {
+                 Material mat;
+                 mat.name = get<std::string>(d, "name", "");
+                 if (d.contains("closures"))
+                     for (auto c : d["closures"]) mat.lobes.push_back(parse_lobe(c.cast<py::dict>()));
+                 mat.emission = get_color(d, "emission", Color(0.0f));
+                 return s.add_material(std::move(mat));
+             })
+        .def(
+            "add_mesh",
+            [](Scene& s, py::array_t<float, py::array::c_style | py::array::forcecast> vertices,
+               py::array_t<int32_t, py::array::c_style | py::array::forcecast> triangles, py::object corner_normals,
+               py::object material_index, std::vector<uint32_t> materials) {
+                if (vertices.ndim() != 2 || vertices.shape(1) != 3) throw py::value_error("vertices must be (N, 3)");
+                if (triangles.ndim() != 2 || triangles.shape(1) != 3) throw py::value_error("triangles must be (M, 3)");
+                size_t nv = vertices.shape(0), nt = triangles.shape(0);
+                py::array_t<float, py::array::c_style | py::array::forcecast> normals;
+                py::array_t<int32_t, py::array::c_style | py::array::forcecast> mat_index;
+                if (!corner_normals.is_none()) {
+                    normals = corner_normals.cast<decltype(normals)>();
+                    if (size_t(normals.size()) != nt * 9) throw py::value_error("corner_normals must be (M, 3, 3)");
+                }
+                if (!material_index.is_none()) {
+                    mat_index = material_index.cast<decltype(mat_index)>();
+                    if (size_t(mat_index.size()) != nt) throw py::value_error("material_index must be (M,)");
+                }
+                const float* np = corner_normals.is_none() ? nullptr : normals.data();
+                const int32_t* mp = material_index.is_none() ? nullptr : mat_index.data();
+                py::gil_scoped_release release;
+                return s.add_mesh(vertices.data(), nv, triangles.data(), nt, np, mp, materials);
+            },
+            py::arg("vertices"), py::arg("triangles"), py::arg("corner_normals") = py::none(),
+            py::arg("material_index") = py::none(), py::arg("materials") = std::vector<uint32_t>{})
+        .def("mesh_dropped", &Scene::mesh_dropped)
+        .def("add_instance",
+             [](Scene& s, uint32_t mesh, py::array_t<double, py::array::c_style | py::array::forcecast> matrix) {
+                 value_errors([&] { s.add_instance(mesh, to_transform(matrix)); });
+             })
+        .def("add_light",
+             [](Scene& s, const py::dict& d) {
+                 LightDesc l;
+                 l.type = get<std::string>(d, "type", "POINT");
+                 l.to_world = get_matrix(d, "matrix");
+                 l.color = get_color(d, "color", Color(1.0f));
+                 l.power = get<float>(d, "power", 0.0f);
+                 l.strength = get<float>(d, "strength", 0.0f);
+                 l.shape = get<std::string>(d, "shape", "SQUARE");
+                 l.size = get<float>(d, "size", 1.0f);
+                 l.size_y = get<float>(d, "size_y", l.size);
+                 l.radius = get<float>(d, "radius", 0.0f);
+                 l.spot_size = get<float>(d, "spot_size", l.spot_size);
+                 l.spot_blend = get<float>(d, "spot_blend", l.spot_blend);
+                 l.angle = get<float>(d, "angle", 0.0f);
+                 l.visible_to_camera = get<bool>(d, "visible_camera", true);
+                 return value_errors([&] { return s.add_light(l); });
+             })
+        .def("set_world",
+             [](Scene& s, const py::dict& d) {
+                 s.set_world(get_color(d, "color", Color(0.0f)) * get<float>(d, "strength", 1.0f));
+             })
+        .def("set_camera",
+             [](Scene& s, const py::dict& d) {
+                 CameraDesc c;
+                 c.orthographic = get<std::string>(d, "type", "PERSP") == "ORTHO";
+                 c.to_world = get_matrix(d, "matrix");
+                 c.sensor_fit = get<std::string>(d, "sensor_fit", c.sensor_fit);
+                 c.sensor_width = get<float>(d, "sensor_width", c.sensor_width);
+                 c.sensor_height = get<float>(d, "sensor_height", c.sensor_height);
+                 c.lens = get<float>(d, "lens", c.lens);
+                 c.ortho_scale = get<float>(d, "ortho_scale", c.ortho_scale);
+                 c.shift_x = get<float>(d, "shift_x", 0.0f);
+                 c.shift_y = get<float>(d, "shift_y", 0.0f);
+                 c.clip_start = get<float>(d, "clip_start", c.clip_start);
+                 c.clip_end = get<float>(d, "clip_end", c.clip_end);
+                 c.width = get<int>(d, "width", c.width);
+                 c.height = get<int>(d, "height", c.height);
+                 c.pixel_aspect_x = get<float>(d, "pixel_aspect_x", 1.0f);
+                 c.pixel_aspect_y = get<float>(d, "pixel_aspect_y", 1.0f);
+                 if (d.contains("border")) {
+                     auto b = d["border"].cast<std::vector<int>>();
+                     if (b.size() != 4) throw py::value_error("border must be (x0, y0, x1, y1)");
+                     for (int i = 0; i < 4; ++i) c.border[i] = b[i];
+                 }
+                 value_errors([&] { s.set_camera(c); });
+             })
+        .def("has_camera", &Scene::has_camera)
+        .def("commit",
+             [](Scene& s) {
+                 py::gil_scoped_release release;
+                 try {
+                     s.commit();
+                 } catch (const std::invalid_argument& e) {
+                     py::gil_scoped_acquire acquire;
+                     throw py::value_error(e.what());
+                 }
+             })
+        .def("stats", [](const Scene& s) {
+            const SceneStats& st = s.stats();
+            py::dict d;
+            d["meshes"] = st.meshes;
+            d["instances"] = st.instances;
+            d["embree_instances"] = st.embree_instances;
+            d["triangles"] = st.triangles;
+            d["dropped_triangles"] = st.dropped_triangles;
+            d["lights"] = st.lights;
+            d["emissive_triangles"] = st.emissive_triangles;
+            d["materials"] = st.materials;
+            return d;
+        });
+
+    py::class_<RenderSession>(m, "RenderSession")
+        .def(py::init([](std::shared_ptr<Scene> scene, const py::dict& settings) {
+                 if (!scene->has_camera()) throw py::value_error("scene has no camera");
+                 RenderSettings s = parse_settings(settings);
+                 return value_errors([&] { return std::make_unique<RenderSession>(scene, s); });
+             }),
+             py::keep_alive<1, 2>())
+        .def("start", &RenderSession::start)
+        .def("run",
+             [](RenderSession& r) {
+                 py::gil_scoped_release release;
+                 r.run();
+             })
+        .def("wait", &RenderSession::wait, py::arg("timeout") = -1.0, py::call_guard<py::gil_scoped_release>())
+        .def("cancel", &RenderSession::cancel)
+        .def("error", &RenderSession::error)
+        .def("progress",
+             [](const RenderSession& r) {
+                 RenderProgress p = r.progress();
+                 py::dict d;
+                 d["samples_done"] = p.samples_done;
+                 d["samples_total"] = p.samples_total;
+                 d["fraction"] = p.fraction;
+                 d["elapsed"] = p.elapsed;
+                 d["paths_per_second"] = p.paths_per_second;
+                 d["finished"] = p.finished;
+                 d["cancelled"] = p.cancelled;
+                 return d;
+             })
+        .def("counters",
+             [](const RenderSession& r) {
+                 RenderProgress p = r.progress();
+                 py::dict d;
+                 d["paths"] = p.paths;
+                 d["nan_caught"] = p.nan_caught;
+                 d["samples_rejected"] = p.samples_rejected;
+                 return d;
+             })
+        .def("pixels", [](const RenderSession& r) { return to_image(r.pixels(), r.width(), r.height()); });
+
+    m.def("write_exr", [](const std::string& path, py::array_t<float, py::array::c_style | py::array::forcecast> img) {
+        int w, h;
+        const float* data = image_data(img, &w, &h);
+        write_exr(path, data, w, h);
+    });
+    m.def(
+        "read_exr",
+        [](const std::string& path, const std::string& layer) {
+            int w = 0, h = 0;
+            std::vector<float> rgba = read_exr(path, &w, &h, layer);
+            return to_image(std::move(rgba), w, h);
+        },
+        py::arg("path"), py::arg("layer") = "");
+    m.def(
+        "write_png",
+        [](const std::string& path, py::array_t<float, py::array::c_style | py::array::forcecast> img,
+           const std::string& config, const std::string& display, const std::string& view, const std::string& look,
+           float exposure, float gamma) {
+            int w, h;
+            const float* data = image_data(img, &w, &h);
+            write_png(path, data, w, h, {config, display, view, look, exposure, gamma});
+        },
+        py::arg("path"), py::arg("image"), py::arg("config"), py::arg("display") = "sRGB",
+        py::arg("view") = "Standard", py::arg("look") = "", py::arg("exposure") = 0.0f, py::arg("gamma") = 1.0f);
+}

@@ -1,0 +1,96 @@
+// BSDF closures and the per-hit mixture built from a material.
+//
+// Conventions (shared by every lobe and by the integrators):
+//  * Lobes work in the local shading frame: +z is the shading normal, wo points away from the surface
+//    (towards the previous vertex), wi is the sampled / queried direction, also pointing away.
+//  * eval() returns f(wo, wi) * |cos theta_i|  (the BSDF times the foreshortening of wi), like Mitsuba.
+//  * pdf() is the solid-angle density of sample() producing wi; sample() returns the same value as
+//    eval()/pdf() for non-delta lobes (value = eval, pdf = pdf), so sample(), eval() and pdf() agree.
+//  * Delta lobes (smooth mirror, smooth glass) return delta = true from sample(); their value is the
+//    weight of the Dirac (f*cos/pdf with pdf = 1 for the chosen event), and eval()/pdf() return 0.
+//  * Radiance transport: refraction from IOR eta_i into eta_t scales radiance by (eta_i/eta_t)^2.
+#pragma once
+#include "core/math.h"
+#include "core/sampling.h"
+
+namespace smis {
+
+enum class LobeKind : uint8_t {
+    Diffuse,      // Lambert: color / pi
+    Microfacet,   // GGX reflection (Glossy BSDF, metals, Principled specular); fresnel selects the tint
+    Dielectric,   // glass: Fresnel-weighted reflection + refraction, smooth (alpha = 0) or GGX-rough
+};
+
+enum class FresnelMode : uint8_t {
+    None,        // F = 1: Cycles' Glossy BSDF (the colour is the weight)
+    Schlick,     // F = f0 + (1 - f0)(1 - cos)^5 with coloured f0: Principled metallic
+    Dielectric,  // exact dielectric Fresnel with `eta`: Principled specular layer on top of diffuse
+};
+
+struct Lobe {
+    LobeKind kind = LobeKind::Diffuse;
+    FresnelMode fresnel = FresnelMode::None;
+    Color weight{1.0f};  // closure weight (colour x mix factors)
+    Color f0{1.0f};      // Schlick reflectance at normal incidence (FresnelMode::Schlick)
+    float alpha = 0.0f;  // GGX alpha = roughness^2 (Blender's convention); below kDeltaAlpha -> delta
+    float eta = 1.5f;    // IOR of the inside over the outside (Dielectric lobe / FresnelMode::Dielectric)
+};
+
+// Roughness under which a microfacet lobe is treated as a perfect (delta) reflector/refractor,
+// as Cycles does; evaluating GGX with smaller alpha only produces fireflies.
+constexpr float kDeltaAlpha = 1e-4f;
+
+struct BsdfSample {
+    Vec3 wi;                 // sampled direction (local frame for Lobe, world frame for Bsdf)
+    Color value{0.0f};       // eval(wo, wi) for non-delta, Dirac weight for delta lobes
+    float pdf = 0.0f;        // solid-angle pdf (non-delta); probability of the discrete event (delta)
+    float eta = 1.0f;        // relative IOR crossed by wi (1 for reflection), for Russian roulette
+    bool delta = false;
+    bool transmission = false;
+    bool valid() const { return pdf > 0.0f && std::isfinite(pdf) && is_finite(value); }
+};
+
+// Per-lobe routines, local frame. Implemented in bsdf.cpp.
+Color lobe_eval(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
+float lobe_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
+BsdfSample lobe_sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event);
+// Rough scalar estimate of the lobe's albedo, only used to choose which lobe to sample.
+float lobe_sample_weight(const Lobe& lobe, const Vec3& wo);
+
+// GGX helpers, exposed for tests and for the path-space filtering integrator.
+float ggx_D(const Vec3& wm, float alpha);
+float ggx_G1(const Vec3& w, float alpha);
+Vec3 ggx_sample_visible_normal(const Vec3& wo, float alpha, Point2 u);
+float fresnel_dielectric(float cos_i, float eta);
+
+// The mixture of lobes at one hit point: Cycles' flattened closure list.
+class Bsdf {
+public:
+    static constexpr int kMaxLobes = 8;
+    Bsdf() = default;
+    Bsdf(const Frame& shading, const Vec3& ng) : frame_(shading), ng_(ng) {}
+    void add(const Lobe& lobe);
+    int lobe_count() const { return count_; }
+    const Lobe& lobe(int i) const { return lobes_[i]; }
+    bool empty() const { return count_ == 0; }
+    // True when every lobe is a Dirac: NEE is pointless there.
+    bool is_delta() const;
+
+    // World-space interface; wo, wi point away from the surface.
+    Color eval(const Vec3& wo, const Vec3& wi) const;
+    float pdf(const Vec3& wo, const Vec3& wi) const;
+    BsdfSample sample(const Vec3& wo, Point2 u, float u_lobe) const;
+    // Sum of lobe weights (colour), used for albedo passes and furnace tests.
+    Color albedo_weight() const;
+    const Frame& frame() const { return frame_; }
+    const Vec3& ng() const { return ng_; }
+
+private:
+    void selection_probabilities(const Vec3& wo_local, float* probs) const;
+    Frame frame_;
+    Vec3 ng_{0, 0, 1};
+    Lobe lobes_[kMaxLobes];
+    int count_ = 0;
+};
+
+}  // namespace smis

@@ -1,0 +1,331 @@
+#include "scene/lights.h"
+
+#include <stdexcept>
+
+namespace smis {
+namespace {
+
+// Cycles converts Blender's Watts to radiance with these factors (scene/light.cpp, 3.4):
+// point/spot: P / (4 pi) intensity spread over a disk of area pi r^2; area: P / (4 A).
+constexpr float kAreaLightFactor = 0.25f;
+constexpr float kPointLightFactor = 0.25f * kInvPi;
+
+// Solid-angle density of uniformly sampling a point on a surface of `area`, seen from distance d
+// under the cosine cos_light at the light.
+inline float area_to_solid_angle(float area_pdf, float dist_sq, float cos_light) {
+    if (!(cos_light > 1e-7f)) return 0.0f;
+    return area_pdf * dist_sq / cos_light;
+}
+
+inline float smoothstep01(float x) {
+    x = clampf(x, 0.0f, 1.0f);
+    return x * x * (3.0f - 2.0f * x);
+}
+
+// Rectangle or ellipse, one-sided, emitting along -Z of the light object (Blender area light).
+class AreaLight : public Light {
+public:
+    AreaLight(const Vec3& center, const Vec3& axis_u, const Vec3& axis_v, bool ellipse, const Color& radiance)
+        : center_(center), u_(axis_u), v_(axis_v), ellipse_(ellipse), radiance_(radiance) {
+        Vec3 n = cross(u_, v_);
+        float len = length(n);
+        area_ = 4.0f * len * (ellipse ? kPi / 4.0f : 1.0f);  // u_, v_ are half axes
+        n_ = -(n / len);
+        inv_u_sq_ = 1.0f / length_sq(u_);
+        inv_v_sq_ = 1.0f / length_sq(v_);
+    }
+    LightSample sample(const Vec3& ref, Point2 u) const override {
+        float a, b;
+        if (ellipse_) {
+            Point2 d = sample_uniform_disk_concentric(u);
+            a = d.x;
+            b = d.y;
+        } else {
+            a = 2.0f * u.x - 1.0f;
+            b = 2.0f * u.y - 1.0f;
+        }
+        Vec3 p = center_ + u_ * a + v_ * b;
+        LightSample s;
+        Vec3 d = p - ref;
+        float dist_sq = length_sq(d);
+        if (!(dist_sq > 0.0f)) return s;
+        s.dist = std::sqrt(dist_sq);
+        s.wi = d / s.dist;
+        float cos_l = -dot(s.wi, n_);
+        s.pdf = area_to_solid_angle(1.0f / area_, dist_sq, cos_l);
+        if (s.pdf > 0.0f) s.L = radiance_;
+        return s;
+    }
+    float pdf(const Vec3& ref, const Vec3& wi) const override {
+        Ray r{ref, wi, 0.0f, kInf};
+        LightHit h;
+        return intersect(r, &h) ? h.pdf : 0.0f;
+    }
+    bool intersect(const Ray& ray, LightHit* hit) const override {
+        float denom = dot(ray.d, n_);
+        if (!(denom < 0.0f)) return false;  // one-sided: only rays arriving against the emitting side
+        float t = dot(center_ - ray.o, n_) / denom;
+        if (!(t > ray.tmin && t < ray.tmax)) return false;
+        Vec3 q = ray.o + ray.d * t - center_;
+        float a = dot(q, u_) * inv_u_sq_, b = dot(q, v_) * inv_v_sq_;
+        bool inside = ellipse_ ? (a * a + b * b <= 1.0f) : (std::fabs(a) <= 1.0f && std::fabs(b) <= 1.0f);
+        if (!inside) return false;
+        hit->t = t;
+        hit->L = radiance_;
+        hit->pdf = area_to_solid_angle(1.0f / area_, t * t, -denom);
+        return true;
+    }
+    float power(float) const override { return luminance(radiance_) * area_ * kPi; }
+
+private:
+    Vec3 center_, u_, v_, n_;
+    bool ellipse_;
+    Color radiance_;
+    float area_, inv_u_sq_, inv_v_sq_;
+};
+
+// Point and spot lights. With a radius they are a disk of that radius that always faces the shading
+// point (Cycles 3.4 samples them this way), otherwise a delta light.
+class PointLight : public Light {
+public:
+    PointLight(const Vec3& pos, float radius, const Color& intensity, bool spot, const Vec3& axis, float cos_half,
+               float smooth)
+        : pos_(pos), radius_(radius), intensity_(intensity), spot_(spot), axis_(axis), cos_half_(cos_half),
+          smooth_(smooth) {
+        area_ = kPi * radius * radius;
+    }
+    bool is_delta() const override { return radius_ <= 0.0f; }
+    LightSample sample(const Vec3& ref, Point2 u) const override {
+        LightSample s;
+        Vec3 to_center = pos_ - ref;
+        float dc_sq = length_sq(to_center);
+        if (!(dc_sq > 0.0f)) return s;
+        if (radius_ <= 0.0f) {
+            s.dist = std::sqrt(dc_sq);
+            s.wi = to_center / s.dist;
+            s.L = intensity_ * attenuation(-s.wi) / dc_sq;
+            s.pdf = 1.0f;
+            s.delta = true;
+            return s;
+        }
+        Vec3 n = -to_center / std::sqrt(dc_sq);  // disk faces the reference point
+        Frame f(n);
+        Point2 d = sample_uniform_disk_concentric(u);
+        Vec3 p = pos_ + (f.s * d.x + f.t * d.y) * radius_;
+        Vec3 dir = p - ref;
+        float dist_sq = length_sq(dir);
+        s.dist = std::sqrt(dist_sq);
+        s.wi = dir / s.dist;
+        s.pdf = area_to_solid_angle(1.0f / area_, dist_sq, -dot(s.wi, n));
+        if (s.pdf > 0.0f) s.L = intensity_ * (attenuation(-s.wi) / area_);
+        return s;
+    }
+    float pdf(const Vec3& ref, const Vec3& wi) const override {
+        Ray r{ref, wi, 0.0f, kInf};
+        LightHit h;
+        return intersect(r, &h) ? h.pdf : 0.0f;
+    }
+    bool intersect(const Ray& ray, LightHit* hit) const override {
+        if (radius_ <= 0.0f) return false;
+        Vec3 n = ray.o - pos_;
+        float dn = length(n);
+        if (!(dn > 0.0f)) return false;
+        n = n / dn;
+        float denom = dot(ray.d, n);
+        if (!(denom < 0.0f)) return false;
+        float t = dot(pos_ - ray.o, n) / denom;
+        if (!(t > ray.tmin && t < ray.tmax)) return false;
+        Vec3 q = ray.o + ray.d * t - pos_;
+        if (length_sq(q) > radius_ * radius_) return false;
+        hit->t = t;
+        hit->L = intensity_ * (attenuation(-ray.d) / area_);
+        hit->pdf = area_to_solid_angle(1.0f / area_, t * t, -denom);
+        return true;
+    }
+    float power(float) const override { return luminance(intensity_) * 4.0f * kPi * (spot_ ? 0.5f * (1.0f - cos_half_) : 1.0f); }
+
+private:
+    // Cycles 3.4 spot_attenuation(): cosine to the axis inside the cone, smoothstep over the blend.
+    float attenuation(const Vec3& dir_from_light) const {
+        if (!spot_) return 1.0f;
+        float c = dot(dir_from_light, axis_);
+        if (c <= cos_half_) return 0.0f;
+        float t = c - cos_half_;
+        if (smooth_ > 0.0f && t < smooth_) c *= smoothstep01(t / smooth_);
+        return c;
+    }
+    Vec3 pos_;
+    float radius_, area_;
+    Color intensity_;
+    bool spot_;
+    Vec3 axis_;
+    float cos_half_, smooth_;
+};
+
+// Sun: irradiance `strength` (W/m^2) from a cone of angular diameter `angle` (delta when 0).
+class SunLight : public Light {
+public:
+    SunLight(const Vec3& to_sun, float angle, const Color& irradiance) : dir_(to_sun), frame_(to_sun) {
+        float half = 0.5f * std::min(angle, kPi);
+        cos_max_ = std::cos(half);
+        delta_ = half < 1e-4f;
+        irradiance_ = irradiance;
+        // Uniform radiance over the cone whose cosine-weighted integral is the irradiance.
+        float cos_integral = kPi * (1.0f - cos_max_ * cos_max_);
+        radiance_ = delta_ ? irradiance : irradiance / cos_integral;
+    }
+    bool is_delta() const override { return delta_; }
+    bool at_infinity() const override { return true; }
+    LightSample sample(const Vec3& ref, Point2 u) const override {
+        LightSample s;
+        s.dist = kInf;
+        if (delta_) {
+            s.wi = dir_;
+            s.L = irradiance_;
+            s.pdf = 1.0f;
+            s.delta = true;
+            return s;
+        }
+        s.wi = frame_.to_world(sample_uniform_cone(u, cos_max_));
+        s.pdf = uniform_cone_pdf(cos_max_);
+        s.L = radiance_;
+        return s;
+    }
+    float pdf(const Vec3& ref, const Vec3& wi) const override {
+        return (!delta_ && dot(wi, dir_) >= cos_max_) ? uniform_cone_pdf(cos_max_) : 0.0f;
+    }
+    bool intersect(const Ray& ray, LightHit* hit) const override {
+        if (delta_ || dot(ray.d, dir_) < cos_max_ || ray.tmax < kInf) return false;
+        hit->t = kInf;
+        hit->L = radiance_;
+        hit->pdf = uniform_cone_pdf(cos_max_);
+        return true;
+    }
+    float power(float scene_radius) const override { return luminance(irradiance_) * kPi * sqr(scene_radius); }
+
+private:
+    Vec3 dir_;
+    Frame frame_;
+    float cos_max_;
+    bool delta_;
+    Color irradiance_, radiance_;
+};
+
+void require(bool ok, const std::string& what) {
+    if (!ok) throw std::invalid_argument(what);
+}
+
+}  // namespace
+
+std::unique_ptr<Light> make_light(const LightDesc& d) {
+    require(d.to_world.is_finite(), "light matrix is not finite");
+    require(is_finite(d.color) && min_component(d.color) >= 0.0f, "light colour must be finite and non-negative");
+    Vec3 pos(d.to_world.m[0][3], d.to_world.m[1][3], d.to_world.m[2][3]);
+    std::unique_ptr<Light> light;
+    if (d.type == "SUN") {
+        require(std::isfinite(d.strength) && d.strength >= 0.0f, "sun strength must be finite and non-negative");
+        require(std::isfinite(d.angle) && d.angle >= 0.0f, "sun angle must be finite and non-negative");
+        Vec3 to_sun = normalize(d.to_world.column(2));  // sun shines along its local -Z
+        require(is_finite(to_sun), "sun direction is degenerate");
+        light = std::make_unique<SunLight>(to_sun, d.angle, d.color * d.strength);
+    } else {
+        require(std::isfinite(d.power), "light power is not finite");
+        require(d.power >= 0.0f, "light power is negative");
+        if (d.type == "AREA") {
+            bool ellipse = d.shape == "DISK" || d.shape == "ELLIPSE";
+            bool square = d.shape == "SQUARE" || d.shape == "DISK";
+            float sx = d.size, sy = square ? d.size : d.size_y;
+            require(std::isfinite(sx) && std::isfinite(sy), "area light size is not finite");
+            Vec3 u = d.to_world.column(0) * (0.5f * sx), v = d.to_world.column(1) * (0.5f * sy);
+            float area = length(cross(u, v)) * 4.0f * (ellipse ? kPi / 4.0f : 1.0f);
+            require(area > 1e-12f && std::isfinite(area), "area light has zero size");
+            light = std::make_unique<AreaLight>(pos, u, v, ellipse, d.color * (d.power * kAreaLightFactor / area));
+        } else if (d.type == "POINT" || d.type == "SPOT") {
+            require(std::isfinite(d.radius) && d.radius >= 0.0f, "light radius must be finite and non-negative");
+            bool spot = d.type == "SPOT";
+            Vec3 axis = -normalize(d.to_world.column(2));
+            float cos_half = std::cos(0.5f * clampf(d.spot_size, 0.0f, kPi));
+            float smooth = (1.0f - cos_half) * clampf(d.spot_blend, 0.0f, 1.0f);
+            require(!spot || is_finite(axis), "spot direction is degenerate");
+            light = std::make_unique<PointLight>(pos, d.radius, d.color * (d.power * kPointLightFactor), spot, axis,
+                                                 cos_half, smooth);
+        } else {
+            throw std::invalid_argument("unknown light type '" + d.type + "'");
+        }
+    }
+    light->visible_to_camera = d.visible_to_camera;
+    return light;
+}
+
+TriangleLight::TriangleLight(const Vec3& a, const Vec3& b, const Vec3& c, const Color& radiance)
+    : a_(a), e1_(b - a), e2_(c - a), radiance_(radiance) {
+    Vec3 n = cross(e1_, e2_);
+    float len = length(n);
+    area_ = 0.5f * len;
+    n_ = len > 0.0f ? n / len : Vec3(0, 0, 1);
+}
+
+LightSample TriangleLight::sample(const Vec3& ref, Point2 u) const {
+    LightSample s;
+    Point2 b = sample_uniform_triangle(u);
+    Vec3 p = a_ + e1_ * b.x + e2_ * b.y;
+    Vec3 d = p - ref;
+    float dist_sq = length_sq(d);
+    if (!(dist_sq > 0.0f) || !(area_ > 0.0f)) return s;
+    s.dist = std::sqrt(dist_sq);
+    s.wi = d / s.dist;
+    s.pdf = area_to_solid_angle(1.0f / area_, dist_sq, absdot(s.wi, n_));
+    if (s.pdf > 0.0f) s.L = radiance_;
+    return s;
+}
+
+float TriangleLight::pdf_at(const Vec3& ref, const Vec3& p) const {
+    Vec3 d = p - ref;
+    float dist_sq = length_sq(d);
+    if (!(dist_sq > 0.0f) || !(area_ > 0.0f)) return 0.0f;
+    return area_to_solid_angle(1.0f / area_, dist_sq, absdot(d / std::sqrt(dist_sq), n_));
+}
+
+float TriangleLight::pdf(const Vec3& ref, const Vec3& wi) const {
+    // Moeller-Trumbore, used by tests and by callers without a BVH hit.
+    Vec3 pv = cross(wi, e2_);
+    float det = dot(e1_, pv);
+    if (std::fabs(det) < 1e-20f) return 0.0f;
+    float inv = 1.0f / det;
+    Vec3 tv = ref - a_;
+    float b1 = dot(tv, pv) * inv;
+    if (b1 < 0.0f || b1 > 1.0f) return 0.0f;
+    Vec3 qv = cross(tv, e1_);
+    float b2 = dot(wi, qv) * inv;
+    if (b2 < 0.0f || b1 + b2 > 1.0f) return 0.0f;
+    float t = dot(e2_, qv) * inv;
+    if (!(t > 0.0f)) return 0.0f;
+    return pdf_at(ref, ref + wi * t);
+}
+
+float TriangleLight::power(float) const { return luminance(radiance_) * area_ * kPi * 2.0f; }
+
+WorldLight::WorldLight(const Color& radiance) : radiance_(radiance) {}
+
+LightSample WorldLight::sample(const Vec3& ref, Point2 u) const {
+    LightSample s;
+    s.wi = sample_uniform_sphere(u);
+    s.dist = kInf;
+    s.pdf = uniform_sphere_pdf();
+    s.L = radiance_;
+    return s;
+}
+
+float WorldLight::pdf(const Vec3& ref, const Vec3& wi) const { return uniform_sphere_pdf(); }
+
+bool WorldLight::intersect(const Ray& ray, LightHit* hit) const {
+    if (ray.tmax < kInf) return false;
+    hit->t = kInf;
+    hit->L = radiance_;
+    hit->pdf = uniform_sphere_pdf();
+    return true;
+}
+
+float WorldLight::power(float scene_radius) const { return luminance(radiance_) * kPi * sqr(scene_radius) * 4.0f; }
+
+}  // namespace smis

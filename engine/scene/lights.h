@@ -1,0 +1,97 @@
+// Light sources with Cycles' units. Every light samples a direction from a reference point and
+// reports the solid-angle density of that direction through a matching pdf(), so the path tracer
+// can combine light sampling with BSDF sampling by MIS (lecture notes on MIS, "AreaLight" interface).
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "core/sampling.h"
+#include "scene/camera.h"
+
+namespace smis {
+
+struct LightSample {
+    Vec3 wi;          // unit direction from the reference point towards the light
+    float dist = 0;   // distance to the sampled point; kInf for lights at infinity
+    Color L{0.0f};    // radiance arriving at the reference point along -wi (unoccluded)
+    float pdf = 0;    // solid-angle density of wi (for delta lights: 1, and delta = true)
+    bool delta = false;
+    bool valid() const { return pdf > 0.0f && std::isfinite(pdf) && is_finite(L) && !is_black(L); }
+};
+
+// A light struck by a ray (BSDF-sampled or camera).
+struct LightHit {
+    float t = kInf;
+    Color L{0.0f};
+    float pdf = 0;  // solid-angle density the light's sample() would have produced for this direction
+};
+
+class Light {
+public:
+    virtual ~Light() = default;
+    virtual LightSample sample(const Vec3& ref, Point2 u) const = 0;
+    // Solid-angle density of sample() producing direction wi from ref (0 if it cannot).
+    virtual float pdf(const Vec3& ref, const Vec3& wi) const = 0;
+    // Intersection by a ray for lights that are not scene geometry (area, point/spot disks, sun, world).
+    // Lights at infinity report t = kInf and are only struck by rays that escape the scene.
+    virtual bool intersect(const Ray& ray, LightHit* hit) const { return false; }
+    virtual bool at_infinity() const { return false; }
+    virtual bool is_delta() const { return false; }
+    // Emitted power (luminance-weighted), used for light selection proportional to power. Lights at
+    // infinity deliver power in proportion to the scene's cross-section, hence the radius.
+    virtual float power(float scene_radius) const = 0;
+    bool visible_to_camera = true;
+};
+
+// Blender light description, in Blender's units (converted as Cycles converts them).
+struct LightDesc {
+    std::string type;   // AREA, POINT, SPOT, SUN
+    Transform to_world;
+    Color color{1.0f};
+    float power = 0;     // W (AREA/POINT/SPOT)
+    float strength = 0;  // W/m^2 (SUN)
+    std::string shape = "SQUARE";
+    float size = 1, size_y = 1, radius = 0, spot_size = 0.785398f, spot_blend = 0.15f, angle = 0;
+    bool visible_to_camera = true;
+};
+
+// Throws std::invalid_argument with a clear message for lights that cannot emit (negative power,
+// zero size, non-finite values).
+std::unique_ptr<Light> make_light(const LightDesc& desc);
+
+// Emissive triangle of a mesh (world space), two-sided like Cycles' mesh emission.
+class TriangleLight : public Light {
+public:
+    TriangleLight(const Vec3& a, const Vec3& b, const Vec3& c, const Color& radiance);
+    LightSample sample(const Vec3& ref, Point2 u) const override;
+    float pdf(const Vec3& ref, const Vec3& wi) const override;
+    // Density of hitting point p (normal n) from ref, already known from a BVH hit.
+    float pdf_at(const Vec3& ref, const Vec3& p) const;
+    float power(float scene_radius) const override;
+    const Color& radiance() const { return radiance_; }
+    float area() const { return area_; }
+
+private:
+    Vec3 a_, e1_, e2_, n_;
+    float area_;
+    Color radiance_;
+};
+
+// Uniform world background (Blender World "Background" colour x strength): radiance at infinity.
+class WorldLight : public Light {
+public:
+    explicit WorldLight(const Color& radiance);
+    LightSample sample(const Vec3& ref, Point2 u) const override;
+    float pdf(const Vec3& ref, const Vec3& wi) const override;
+    bool intersect(const Ray& ray, LightHit* hit) const override;
+    bool at_infinity() const override { return true; }
+    float power(float scene_radius) const override;
+    const Color& radiance() const { return radiance_; }
+
+private:
+    Color radiance_;
+};
+
+}  // namespace smis

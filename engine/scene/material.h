@@ -1,0 +1,30 @@
+// A material as the add-on translates it from Blender's shader nodes: Cycles' flattened closure list
+// (lobes with their mix weights already multiplied in) plus emitted radiance.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "scene/bsdf.h"
+
+namespace smis {
+
+struct Material {
+    std::string name;
+    std::vector<Lobe> lobes;
+    Color emission{0.0f};  // radiance, emitted from both sides like Cycles' mesh emission
+    bool emissive() const { return max_component(emission) > 0.0f; }
+
+    // The BSDF at a hit. `frame` faces the incoming direction (Cycles flips the normal of back-facing
+    // hits); a back-facing hit on glass means the ray is leaving the medium, so eta is inverted.
+    Bsdf make_bsdf(const Frame& frame, const Vec3& ng, bool backfacing) const {
+        Bsdf bsdf(frame, ng);
+        for (Lobe lobe : lobes) {
+            if (backfacing && (lobe.kind == LobeKind::Dielectric || lobe.fresnel == FresnelMode::Dielectric))
+                lobe.eta = 1.0f / lobe.eta;
+            bsdf.add(lobe);
+        }
+        return bsdf;
+    }
+};
+
+}  // namespace smis

@@ -1,0 +1,311 @@
+#include "scene/scene.h"
+
+#include <stdexcept>
+
+namespace smis {
+namespace {
+
+// Embree reports errors through a C callback; exceptions must not cross it, so remember the first one.
+void embree_error(void* user, RTCError code, const char* msg) {
+    auto* first = static_cast<std::string*>(user);
+    if (code != RTC_ERROR_NONE && first->empty()) *first = std::string("Embree error: ") + (msg ? msg : "unknown");
+}
+
+inline Vec3 load3(const float* p) { return {p[0], p[1], p[2]}; }
+
+}  // namespace
+
+Scene::Scene() {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_) throw std::runtime_error("could not create the Embree device");
+    rtcSetDeviceErrorFunction(device_, embree_error, &embree_error_);
+    // A default material (neutral grey diffuse) so id 0 is always valid.
+    Material grey;
+    grey.name = "default grey";
+    Lobe diffuse;
+    diffuse.weight = Color(0.8f);
+    grey.lobes.push_back(diffuse);
+    materials_.push_back(grey);
+}
+
+Scene::~Scene() {
+    for (Mesh& m : meshes_)
+        if (m.prototype) rtcReleaseScene(m.prototype);
+    if (scene_) rtcReleaseScene(scene_);
+    if (device_) rtcReleaseDevice(device_);
+}
+
+uint32_t Scene::add_material(Material material) {
+    if (committed_) throw std::logic_error("scene already committed");
+    // Non-finite parameters would poison every pixel that sees the material: clamp them to safe values.
+    for (Lobe& l : material.lobes) {
+        if (!is_finite(l.weight)) l.weight = Color(0.0f);
+        l.weight = vmax(l.weight, Color(0.0f));
+        if (!is_finite(l.f0)) l.f0 = Color(1.0f);
+        l.f0 = vmin(vmax(l.f0, Color(0.0f)), Color(1.0f));
+        l.alpha = std::isfinite(l.alpha) ? clampf(l.alpha, 0.0f, 1.0f) : 1.0f;
+        l.eta = (std::isfinite(l.eta) && l.eta > 0.0f) ? l.eta : 1.5f;
+    }
+    if (!is_finite(material.emission)) material.emission = Color(0.0f);
+    material.emission = vmax(material.emission, Color(0.0f));
+    materials_.push_back(std::move(material));
+    return static_cast<uint32_t>(materials_.size() - 1);
+}
+
+uint32_t Scene::add_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
+                         const float* corner_normals, const int32_t* material_index,
+                         const std::vector<uint32_t>& slot_materials) {
+    if (committed_) throw std::logic_error("scene already committed");
+    Mesh mesh;
+    // Embree reads 16 bytes past the last vertex of shared buffers: keep one float3 of padding.
+    mesh.positions.assign(vertices, vertices + 3 * nv);
+    mesh.positions.resize(3 * nv + 4, 0.0f);
+    mesh.indices.reserve(3 * nt);
+    if (corner_normals) mesh.corner_normals.reserve(3 * nt);
+    mesh.materials.reserve(nt);
+    for (size_t t = 0; t < nt; ++t) {
+        int32_t i0 = triangles[3 * t], i1 = triangles[3 * t + 1], i2 = triangles[3 * t + 2];
+        bool in_range = i0 >= 0 && i1 >= 0 && i2 >= 0 && size_t(i0) < nv && size_t(i1) < nv && size_t(i2) < nv;
+        bool ok = in_range;
+        if (ok) {
+            Vec3 a = load3(vertices + 3 * i0), b = load3(vertices + 3 * i1), c = load3(vertices + 3 * i2);
+            Vec3 n = cross(b - a, c - a);
+            float len2 = length_sq(n);
+            ok = is_finite(a) && is_finite(b) && is_finite(c) && std::isfinite(len2) && len2 > 0.0f;
+        }
+        if (!ok) {
+            ++mesh.dropped;
+            continue;
+        }
+        mesh.indices.insert(mesh.indices.end(), {uint32_t(i0), uint32_t(i1), uint32_t(i2)});
+        if (corner_normals)
+            for (int k = 0; k < 3; ++k) mesh.corner_normals.push_back(load3(corner_normals + 9 * t + 3 * k));
+        uint32_t mat = 0;
+        if (material_index) {
+            int32_t slot = material_index[t];
+            if (slot >= 0 && size_t(slot) < slot_materials.size()) mat = slot_materials[slot];
+        } else if (!slot_materials.empty()) {
+            mat = slot_materials[0];
+        }
+        mesh.materials.push_back(mat < materials_.size() ? mat : 0);
+    }
+    stats_.dropped_triangles += mesh.dropped;
+    meshes_.push_back(std::move(mesh));
+    return static_cast<uint32_t>(meshes_.size() - 1);
+}
+
+uint32_t Scene::mesh_dropped(uint32_t mesh) const { return mesh < meshes_.size() ? meshes_[mesh].dropped : 0; }
+
+void Scene::add_instance(uint32_t mesh, const Transform& to_world) {
+    if (committed_) throw std::logic_error("scene already committed");
+    if (mesh >= meshes_.size()) throw std::invalid_argument("instance of an unknown mesh");
+    if (!to_world.is_finite() || !(std::fabs(to_world.determinant3()) > 0.0f))
+        throw std::invalid_argument("instance transform is not finite or is singular");
+    if (meshes_[mesh].indices.empty()) return;
+    instances_.push_back({mesh, to_world, false, -1});
+    meshes_[mesh].users++;
+}
+
+uint32_t Scene::add_light(const LightDesc& desc) {
+    if (committed_) throw std::logic_error("scene already committed");
+    lights_.push_back(make_light(desc));
+    return static_cast<uint32_t>(lights_.size() - 1);
+}
+
+void Scene::set_world(const Color& radiance) {
+    world_ = is_finite(radiance) ? vmax(radiance, Color(0.0f)) : Color(0.0f);
+}
+
+void Scene::set_camera(const CameraDesc& desc) {
+    camera_ = Camera(desc);
+    has_camera_ = true;
+}
+
+void Scene::build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id) {
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    size_t nv = (mesh.positions.size() - 4) / 3, nt = mesh.indices.size() / 3;
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.positions.data(), 0,
+                               3 * sizeof(float), nv);
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
+                               3 * sizeof(uint32_t), nt);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(target, geom, id);
+    rtcReleaseGeometry(geom);
+}
+
+void Scene::add_triangle_lights(Instance& inst) {
+    const Mesh& mesh = meshes_[inst.mesh];
+    const std::vector<int32_t>& local = emissive_local_[inst.mesh];
+    inst.light_base = static_cast<int32_t>(lights_.size());
+    for (size_t t = 0; t < local.size(); ++t) {
+        if (local[t] < 0) continue;
+        Vec3 v[3];
+        for (int k = 0; k < 3; ++k) {
+            Vec3 p = load3(&mesh.positions[3 * mesh.indices[3 * t + k]]);
+            v[k] = inst.identity ? p : inst.to_world.point(p);
+        }
+        lights_.push_back(std::make_unique<TriangleLight>(v[0], v[1], v[2], materials_[mesh.materials[t]].emission));
+        stats_.emissive_triangles++;
+    }
+}
+
+void Scene::commit() {
+    if (committed_) return;
+    if (!has_camera_) throw std::invalid_argument("scene has no camera");
+    scene_ = rtcNewScene(device_);
+    // ROBUST: watertight traversal, so rays do not leak through edges shared by two triangles.
+    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+
+    // Meshes used once are flattened into world space (one BVH level, as Cycles does for unique
+    // objects); meshes used several times become one Embree prototype shared by Embree instances.
+    for (Mesh& mesh : meshes_) {
+        if (mesh.users < 2) continue;
+        mesh.prototype = rtcNewScene(device_);
+        rtcSetSceneFlags(mesh.prototype, RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(mesh.prototype, RTC_BUILD_QUALITY_HIGH);
+        build_mesh_geometry(mesh.prototype, mesh, 0);
+        rtcCommitScene(mesh.prototype);
+    }
+    emissive_local_.assign(meshes_.size(), {});
+    for (size_t m = 0; m < meshes_.size(); ++m) {
+        const Mesh& mesh = meshes_[m];
+        std::vector<int32_t>& local = emissive_local_[m];
+        int32_t count = 0;
+        for (uint32_t mat : mesh.materials) local.push_back(materials_[mat].emissive() ? count++ : -1);
+        if (count == 0) local.clear();
+    }
+    Vec3 lo(kInf), hi(-kInf);
+    for (Instance& inst : instances_) {
+        Mesh& mesh = meshes_[inst.mesh];
+        stats_.triangles += mesh.indices.size() / 3;
+        unsigned geom_id = static_cast<unsigned>(geom_to_instance_.size());
+        if (!mesh.prototype) {
+            // Sole user: move the vertices into world space. A mirroring transform flips the winding,
+            // so swap two corners to keep the geometric normal on Blender's outward side.
+            for (size_t i = 0; i + 4 < mesh.positions.size(); i += 3) {
+                Vec3 p = inst.to_world.point(load3(&mesh.positions[i]));
+                mesh.positions[i] = p.x, mesh.positions[i + 1] = p.y, mesh.positions[i + 2] = p.z;
+            }
+            float sign = inst.to_world.determinant3() < 0.0f ? -1.0f : 1.0f;
+            for (Vec3& n : mesh.corner_normals) n = inst.to_world.normal(n) * sign;
+            if (sign < 0.0f)
+                for (size_t t = 0; t < mesh.indices.size(); t += 3) {
+                    std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+                    if (!mesh.corner_normals.empty()) std::swap(mesh.corner_normals[t + 1], mesh.corner_normals[t + 2]);
+                }
+            inst.identity = true;
+            build_mesh_geometry(scene_, mesh, geom_id);
+        } else {
+            RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+            rtcSetGeometryInstancedScene(geom, mesh.prototype);
+            rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &inst.to_world.m[0][0]);
+            rtcCommitGeometry(geom);
+            rtcAttachGeometryByID(scene_, geom, geom_id);
+            rtcReleaseGeometry(geom);
+            stats_.embree_instances++;
+        }
+        geom_to_instance_.push_back(static_cast<uint32_t>(&inst - instances_.data()));
+        for (size_t i = 0; i < mesh.indices.size(); ++i) {
+            Vec3 p = load3(&mesh.positions[3 * mesh.indices[i]]);
+            if (!inst.identity) p = inst.to_world.point(p);
+            lo = vmin(lo, p);
+            hi = vmax(hi, p);
+        }
+        if (!emissive_local_[inst.mesh].empty()) add_triangle_lights(inst);
+    }
+    rtcCommitScene(scene_);
+    if (!embree_error_.empty()) throw std::runtime_error(embree_error_);
+    radius_ = instances_.empty() ? 1.0f : std::max(1e-3f, 0.5f * length(hi - lo));
+    if (!std::isfinite(radius_)) radius_ = 1.0f;
+
+    if (max_component(world_) > 0.0f) lights_.push_back(std::make_unique<WorldLight>(world_));
+    std::vector<float> power;
+    for (uint32_t i = 0; i < lights_.size(); ++i) {
+        const Light& l = *lights_[i];
+        power.push_back(l.power(radius_));
+        if (l.at_infinity()) infinite_lights_.push_back(i);
+        else if (!l.is_delta() && !dynamic_cast<const TriangleLight*>(&l)) hittable_lights_.push_back(i);
+    }
+    light_selection_ = DiscreteDistribution(power);
+    stats_.meshes = meshes_.size();
+    stats_.instances = instances_.size();
+    stats_.lights = lights_.size();
+    stats_.materials = materials_.size();
+    committed_ = true;
+}
+
+bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
+    rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
+    rh.ray.tnear = ray.tmin;
+    rh.ray.tfar = ray.tmax;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.flags = 0;
+    rh.ray.time = 0.0f;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    fill_hit(ray, rh, hit);
+    return true;
+}
+
+void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const {
+    unsigned top = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
+    const Instance& inst = instances_[geom_to_instance_[top]];
+    const Mesh& mesh = meshes_[inst.mesh];
+    uint32_t prim = rh.hit.primID;
+    const uint32_t* idx = &mesh.indices[3 * prim];
+    Vec3 a = load3(&mesh.positions[3 * idx[0]]), b = load3(&mesh.positions[3 * idx[1]]),
+         c = load3(&mesh.positions[3 * idx[2]]);
+    float u = rh.hit.u, v = rh.hit.v, w = 1.0f - u - v;
+    // Interpolating the vertices is more precise than o + t d for far-away or grazing hits.
+    Vec3 p = a * w + b * u + c * v;
+    Vec3 ng = cross(b - a, c - a);
+    Vec3 ns = ng;
+    if (!mesh.corner_normals.empty()) {
+        const Vec3* cn = &mesh.corner_normals[3 * prim];
+        ns = cn[0] * w + cn[1] * u + cn[2] * v;
+    }
+    if (!inst.identity) {
+        p = inst.to_world.point(p);
+        float sign = inst.to_world.determinant3() < 0.0f ? -1.0f : 1.0f;
+        ng = inst.to_world.normal(ng) * sign;
+        ns = inst.to_world.normal(ns) * sign;
+    }
+    ng = normalize(ng);
+    ns = normalize(ns);
+    if (!is_finite(ns) || dot(ns, ng) == 0.0f) ns = ng;
+    if (dot(ns, ng) < 0.0f) ns = -ns;  // shading normal on the geometric side (authoring errors)
+    hit->t = rh.ray.tfar;
+    hit->p = p;
+    hit->ng = ng;
+    hit->ns = ns;
+    hit->material = mesh.materials[prim];
+    hit->light = -1;
+    if (inst.light_base >= 0) {
+        int32_t local = emissive_local_[inst.mesh][prim];
+        if (local >= 0) hit->light = inst.light_base + local;
+    }
+}
+
+bool Scene::occluded(const Vec3& origin, const Vec3& dir, float tmax) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay r;
+    r.org_x = origin.x, r.org_y = origin.y, r.org_z = origin.z;
+    r.dir_x = dir.x, r.dir_y = dir.y, r.dir_z = dir.z;
+    r.tnear = 0.0f;
+    r.tfar = tmax;
+    r.mask = 0xFFFFFFFFu;
+    r.flags = 0;
+    r.time = 0.0f;
+    rtcOccluded1(scene_, &ctx, &r);
+    return r.tfar < 0.0f;
+}
+
+}  // namespace smis

@@ -1,0 +1,114 @@
+// The Scene owns geometry (Embree), materials, lights and the camera. It is built once through the
+// add_* calls (the add-on's sync layer, or tests), frozen by commit(), then only read while rendering.
+#pragma once
+#include <embree3/rtcore.h>
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/distribution.h"
+#include "scene/camera.h"
+#include "scene/lights.h"
+#include "scene/material.h"
+
+namespace smis {
+
+struct SurfaceHit {
+    float t = kInf;
+    Vec3 p;               // world position
+    Vec3 ng;              // unit geometric normal (triangle winding: Blender's outward side)
+    Vec3 ns;              // unit shading normal, on the same side as ng
+    uint32_t material = 0;
+    int32_t light = -1;   // index into Scene::lights() when the triangle emits, else -1
+};
+
+struct SceneStats {
+    uint64_t meshes = 0, instances = 0, embree_instances = 0, triangles = 0, dropped_triangles = 0, lights = 0,
+             emissive_triangles = 0, materials = 0;
+};
+
+class Scene {
+public:
+    Scene();
+    ~Scene();
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
+
+    // --- building ---------------------------------------------------------------------------------
+    uint32_t add_material(Material material);
+    // vertices: nv x 3, triangles: nt x 3 indices, corner_normals: nt x 3 x 3 or null, material_index: nt
+    // (slot numbers) or null, slot_materials: engine material per slot. Degenerate triangles, triangles
+    // with out-of-range indices and non-finite vertices are dropped and counted (mesh_dropped()).
+    uint32_t add_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
+                      const float* corner_normals, const int32_t* material_index,
+                      const std::vector<uint32_t>& slot_materials);
+    uint32_t mesh_dropped(uint32_t mesh) const;
+    void add_instance(uint32_t mesh, const Transform& to_world);
+    uint32_t add_light(const LightDesc& desc);  // throws std::invalid_argument for unusable lights
+    void set_world(const Color& radiance);
+    void set_camera(const CameraDesc& desc);
+    bool has_camera() const { return has_camera_; }
+    void commit();  // builds the BVH and the light-selection table; throws if no camera was set
+
+    // --- queries (thread-safe after commit) --------------------------------------------------------
+    bool intersect(const Ray& ray, SurfaceHit* hit) const;
+    bool occluded(const Vec3& origin, const Vec3& dir, float tmax) const;
+    // Lights that are not geometry (area, point/spot disks) struck before `ray.tmax`; adds their
+    // MIS-weighted contribution through the callback.
+    template <class F>
+    void for_each_light_hit(const Ray& ray, F&& f) const {
+        LightHit h;
+        for (uint32_t i : hittable_lights_)
+            if (lights_[i]->intersect(ray, &h)) f(i, h);
+    }
+    const Camera& camera() const { return camera_; }
+    const Material& material(uint32_t id) const { return materials_[id]; }
+    const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
+    const Light& light(uint32_t i) const { return *lights_[i]; }
+    const DiscreteDistribution& light_selection() const { return light_selection_; }
+    float light_pmf(uint32_t i) const { return light_selection_.pmf(i); }
+    const std::vector<uint32_t>& infinite_lights() const { return infinite_lights_; }
+    const SceneStats& stats() const { return stats_; }
+    float radius() const { return radius_; }
+
+private:
+    struct Mesh {
+        std::vector<float> positions;        // 3 floats per vertex (object space; world when flattened)
+        std::vector<uint32_t> indices;       // 3 per triangle
+        std::vector<Vec3> corner_normals;    // 3 per triangle, or empty for flat shading
+        std::vector<uint32_t> materials;     // per triangle, engine material id
+        uint32_t dropped = 0;
+        uint32_t users = 0;
+        RTCScene prototype = nullptr;        // when instanced more than once
+    };
+    struct Instance {
+        uint32_t mesh;
+        Transform to_world;
+        bool identity;         // flattened into world space
+        int32_t light_base;    // first triangle light of this instance, -1 if none emit
+    };
+    void build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id);
+    void add_triangle_lights(Instance& inst);
+    void fill_hit(const Ray& ray, const struct RTCRayHit& rh, SurfaceHit* hit) const;
+
+    std::string embree_error_;
+    RTCDevice device_ = nullptr;
+    RTCScene scene_ = nullptr;
+    std::vector<Material> materials_;
+    std::vector<Mesh> meshes_;
+    std::vector<Instance> instances_;
+    std::vector<uint32_t> geom_to_instance_;       // top-level geometry id -> instance
+    std::vector<std::vector<int32_t>> emissive_local_;  // per mesh: triangle -> local emitter index
+    std::vector<std::unique_ptr<Light>> lights_;
+    std::vector<uint32_t> hittable_lights_, infinite_lights_;
+    DiscreteDistribution light_selection_;
+    Camera camera_;
+    bool has_camera_ = false, committed_ = false;
+    Color world_{0.0f};
+    float radius_ = 1.0f;
+    SceneStats stats_;
+};
+
+}  // namespace smis

@@ -1,0 +1,151 @@
+// Scene building and camera framing: dropped geometry is counted, instances hit the right place,
+// the camera frames the image the way Blender does.
+#include <gtest/gtest.h>
+
+#include "scene/scene.h"
+
+using namespace smis;
+
+namespace {
+
+Transform translation(float x, float y, float z) {
+    Transform t;
+    t.m[0][3] = x, t.m[1][3] = y, t.m[2][3] = z;
+    return t;
+}
+
+CameraDesc looking_down_minus_z(int w, int h) {
+    CameraDesc c;
+    c.width = w;
+    c.height = h;
+    return c;  // identity matrix: at the origin, looking down -Z
+}
+
+// A unit quad in the z = 0 plane, two triangles, facing +Z.
+const float kQuad[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+const int32_t kQuadTris[] = {0, 1, 2, 0, 2, 3};
+
+}  // namespace
+
+TEST(Camera, PerspectiveFramingMatchesBlender) {
+    CameraDesc c = looking_down_minus_z(200, 100);
+    c.lens = 50.0f;
+    c.sensor_width = 36.0f;
+    Camera cam(c);
+    // Sensor fit AUTO on a landscape image: the 36 mm sensor spans the width.
+    Ray r = cam.generate_ray(200.0f, 50.0f);  // right edge, middle row
+    EXPECT_NEAR(r.d.x / -r.d.z, 0.5f * 36.0f / 50.0f, 1e-5f);
+    Ray top = cam.generate_ray(100.0f, 100.0f);
+    EXPECT_NEAR(top.d.y / -top.d.z, 0.5f * 36.0f / 50.0f * 0.5f, 1e-5f);
+    // Portrait: AUTO puts the sensor width on the larger (vertical) axis.
+    Camera portrait(looking_down_minus_z(100, 200));
+    Ray up = portrait.generate_ray(50.0f, 200.0f);
+    EXPECT_NEAR(up.d.y / -up.d.z, 0.5f * 36.0f / 50.0f, 1e-5f);
+}
+
+TEST(Camera, ShiftIsInUnitsOfTheFittedDimension) {
+    CameraDesc c = looking_down_minus_z(200, 100);
+    c.shift_x = 0.25f;
+    c.shift_y = 0.1f;
+    Camera cam(c);
+    Ray center = cam.generate_ray(100.0f, 50.0f);
+    float full_width = 36.0f / 50.0f;
+    EXPECT_NEAR(center.d.x / -center.d.z, 0.25f * full_width, 1e-5f);
+    EXPECT_NEAR(center.d.y / -center.d.z, 0.1f * full_width, 1e-5f);
+}
+
+TEST(Camera, OrthographicScaleSpansTheFittedAxis) {
+    CameraDesc c = looking_down_minus_z(100, 50);
+    c.orthographic = true;
+    c.ortho_scale = 4.0f;
+    Camera cam(c);
+    EXPECT_NEAR(cam.generate_ray(100.0f, 25.0f).o.x, 2.0f, 1e-5f);
+    EXPECT_NEAR(cam.generate_ray(50.0f, 50.0f).o.y, 1.0f, 1e-5f);
+}
+
+TEST(Camera, BorderWindowIsClamped) {
+    CameraDesc c = looking_down_minus_z(100, 80);
+    int b[4] = {10, 20, 60, 200};
+    std::copy(b, b + 4, c.border);
+    Camera cam(c);
+    EXPECT_EQ(cam.window_width(), 50);
+    EXPECT_EQ(cam.window_height(), 60);
+}
+
+TEST(Scene, DropsDegenerateAndNonFiniteTriangles) {
+    Scene s;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float v[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, nan, 0, 0};
+    const int32_t t[] = {0, 1, 2,   // fine
+                         0, 1, 3,   // collinear: zero area
+                         0, 1, 4,   // NaN vertex
+                         0, 1, 7,   // index out of range
+                         0, 0, 2};  // repeated vertex
+    uint32_t mesh = s.add_mesh(v, 5, t, 5, nullptr, nullptr, {});
+    EXPECT_EQ(s.mesh_dropped(mesh), 4u);
+    EXPECT_EQ(s.stats().dropped_triangles, 4u);
+}
+
+TEST(Scene, InstancesShareOnePrototypeAndHitWhereTheyAre) {
+    Scene s;
+    uint32_t mesh = s.add_mesh(kQuad, 4, kQuadTris, 2, nullptr, nullptr, {});
+    s.add_instance(mesh, translation(-3, 0, -5));
+    s.add_instance(mesh, translation(3, 0, -10));
+    s.set_camera(looking_down_minus_z(16, 16));
+    s.commit();
+    EXPECT_EQ(s.stats().embree_instances, 2u);
+    SurfaceHit hit;
+    ASSERT_TRUE(s.intersect({{-3, 0, 0}, {0, 0, -1}}, &hit));
+    EXPECT_NEAR(hit.t, 5.0f, 1e-5f);
+    EXPECT_NEAR(hit.ng.z, 1.0f, 1e-6f);
+    ASSERT_TRUE(s.intersect({{3, 0.5f, 0}, {0, 0, -1}}, &hit));
+    EXPECT_NEAR(hit.t, 10.0f, 1e-5f);
+    EXPECT_NEAR(hit.p.y, 0.5f, 1e-5f);
+    EXPECT_FALSE(s.intersect({{0, 0, 0}, {0, 0, -1}}, &hit));
+    EXPECT_TRUE(s.occluded({3, 0, 0}, {0, 0, -1}, 11.0f));
+    EXPECT_FALSE(s.occluded({3, 0, 0}, {0, 0, -1}, 9.0f));
+}
+
+TEST(Scene, MirroredSingleUserMeshKeepsOutwardNormal) {
+    Scene s;
+    uint32_t mesh = s.add_mesh(kQuad, 4, kQuadTris, 2, nullptr, nullptr, {});
+    Transform mirror = translation(0, 0, -5);
+    mirror.m[0][0] = -1.0f;  // mirror in x: winding flips, the outward side must not
+    s.add_instance(mesh, mirror);
+    s.set_camera(looking_down_minus_z(16, 16));
+    s.commit();
+    SurfaceHit hit;
+    ASSERT_TRUE(s.intersect({{0.2f, 0.1f, 0}, {0, 0, -1}}, &hit));
+    EXPECT_NEAR(hit.ng.z, 1.0f, 1e-6f);
+}
+
+TEST(Scene, EmissiveTrianglesBecomeLightsPerInstance) {
+    Scene s;
+    Material glow;
+    glow.emission = Color(2.0f);
+    uint32_t mat = s.add_material(glow);
+    uint32_t mesh = s.add_mesh(kQuad, 4, kQuadTris, 2, nullptr, nullptr, {mat});
+    s.add_instance(mesh, translation(0, 0, -5));
+    s.add_instance(mesh, translation(0, 0, -6));
+    s.set_camera(looking_down_minus_z(16, 16));
+    s.commit();
+    EXPECT_EQ(s.stats().emissive_triangles, 4u);
+    SurfaceHit hit;
+    ASSERT_TRUE(s.intersect({{0.1f, 0.2f, 0}, {0, 0, -1}}, &hit));
+    ASSERT_GE(hit.light, 0);
+    EXPECT_GT(s.light_pmf(hit.light), 0.0f);
+}
+
+TEST(Scene, RejectsUnusableLights) {
+    Scene s;
+    LightDesc neg;
+    neg.type = "POINT";
+    neg.power = -10.0f;
+    EXPECT_THROW(s.add_light(neg), std::invalid_argument);
+    LightDesc flat;
+    flat.type = "AREA";
+    flat.power = 10.0f;
+    flat.size = 0.0f;
+    EXPECT_THROW(s.add_light(flat), std::invalid_argument);
+    EXPECT_THROW((void)s.commit(), std::invalid_argument);  // no camera
+}
