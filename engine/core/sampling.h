@@ -39,14 +39,15 @@ inline Vec3 sample_uniform_sphere(Point2 u) {
 }
 inline float uniform_sphere_pdf() { return kInv4Pi; }
 
-// Uniform direction in the cone around +z with cos(half-angle) = cos_max; pdf in solid angle.
-inline Vec3 sample_uniform_cone(Point2 u, float cos_max) {
-    float cos_t = (1.0f - u.x) + u.x * cos_max;
-    float sin_t = safe_sqrt(1.0f - cos_t * cos_t);
+// Uniform direction in the cone around +z whose half-angle has 1 - cos = one_minus_cos (passed
+// directly because 1 - cos loses all precision for small cones such as the sun's); pdf in solid angle.
+inline Vec3 sample_uniform_cone(Point2 u, float one_minus_cos) {
+    float cos_t = 1.0f - u.x * one_minus_cos;
+    float sin_t = safe_sqrt(u.x * one_minus_cos * (2.0f - u.x * one_minus_cos));
     float phi = 2.0f * kPi * u.y;
     return {std::cos(phi) * sin_t, std::sin(phi) * sin_t, cos_t};
 }
-inline float uniform_cone_pdf(float cos_max) { return 1.0f / (2.0f * kPi * (1.0f - cos_max)); }
+inline float uniform_cone_pdf(float one_minus_cos) { return 1.0f / (2.0f * kPi * one_minus_cos); }
 
 // Uniform point on a triangle as barycentrics (b1, b2) (Heitz 2019 low-distortion map); pdf 1/area.
 inline Point2 sample_uniform_triangle(Point2 u) {

@@ -162,17 +162,18 @@ private:
     float cos_half_, smooth_;
 };
 
-// Sun: irradiance `strength` (W/m^2) from a cone of angular diameter `angle` (delta when 0).
+// Sun: strength S (W/m^2) from a cone of angular diameter `angle` (a delta direction when 0).
 class SunLight : public Light {
 public:
     SunLight(const Vec3& to_sun, float angle, const Color& irradiance) : dir_(to_sun), frame_(to_sun) {
         float half = 0.5f * std::min(angle, kPi);
         cos_max_ = std::cos(half);
+        one_minus_cos_ = 2.0f * sqr(std::sin(0.5f * half));
         delta_ = half < 1e-4f;
         irradiance_ = irradiance;
-        // Uniform radiance over the cone whose cosine-weighted integral is the irradiance.
-        float cos_integral = kPi * (1.0f - cos_max_ * cos_max_);
-        radiance_ = delta_ ? irradiance : irradiance / cos_integral;
+        // Cycles 3.4 spreads the strength uniformly over the disc's solid angle (measured: a surface
+        // facing the sun receives S (1 + cos(angle/2)) / 2, not S), so radiance = S / solid angle.
+        radiance_ = delta_ ? irradiance : irradiance / (2.0f * kPi * one_minus_cos_);
     }
     bool is_delta() const override { return delta_; }
     bool at_infinity() const override { return true; }
@@ -186,19 +187,19 @@ public:
             s.delta = true;
             return s;
         }
-        s.wi = frame_.to_world(sample_uniform_cone(u, cos_max_));
-        s.pdf = uniform_cone_pdf(cos_max_);
+        s.wi = frame_.to_world(sample_uniform_cone(u, one_minus_cos_));
+        s.pdf = uniform_cone_pdf(one_minus_cos_);
         s.L = radiance_;
         return s;
     }
     float pdf(const Vec3& ref, const Vec3& wi) const override {
-        return (!delta_ && dot(wi, dir_) >= cos_max_) ? uniform_cone_pdf(cos_max_) : 0.0f;
+        return (!delta_ && dot(wi, dir_) >= cos_max_) ? uniform_cone_pdf(one_minus_cos_) : 0.0f;
     }
     bool intersect(const Ray& ray, LightHit* hit) const override {
         if (delta_ || dot(ray.d, dir_) < cos_max_ || ray.tmax < kInf) return false;
         hit->t = kInf;
         hit->L = radiance_;
-        hit->pdf = uniform_cone_pdf(cos_max_);
+        hit->pdf = uniform_cone_pdf(one_minus_cos_);
         return true;
     }
     float power(float scene_radius) const override { return luminance(irradiance_) * kPi * sqr(scene_radius); }
@@ -206,7 +207,7 @@ public:
 private:
     Vec3 dir_;
     Frame frame_;
-    float cos_max_;
+    float cos_max_, one_minus_cos_;
     bool delta_;
     Color irradiance_, radiance_;
 };

@@ -1,0 +1,71 @@
+"""Path samples per second: our path tracer against Cycles on the same scene, measured in one run.
+
+    blender -b --factory-startup --addons smis_render --python bench/path_speed.py -- [SCENE.blend] [SPP]
+
+Both engines render the same resolution, bounce limit, sample count and pixel filter, without
+denoising or adaptive sampling; wall time of the whole render call (export + BVH + rendering) is
+measured for each, best of REPEATS. Writes bench/results/path_speed.{json,csv}."""
+import csv
+import json
+import os
+import sys
+import time
+
+import bpy
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+blend = args[0] if args else os.path.join(ROOT, "scenes", "cornell.blend")
+spp = int(args[1]) if len(args) > 1 else 256
+REPEATS = 2
+
+
+def timed_render(engine):
+    scene = bpy.context.scene
+    scene.render.engine = engine
+    best = float("inf")
+    for _ in range(REPEATS):
+        t0 = time.perf_counter()
+        bpy.ops.render.render()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+bpy.ops.wm.open_mainfile(filepath=blend)
+scene = bpy.context.scene
+w = scene.render.resolution_x * scene.render.resolution_percentage // 100
+h = scene.render.resolution_y * scene.render.resolution_percentage // 100
+c = scene.cycles
+c.device = "CPU"
+c.samples = spp
+c.use_adaptive_sampling = False
+c.use_denoising = False
+c.pixel_filter_type = "BOX"
+scene.smis.samples = spp
+scene.smis.max_bounces = c.max_bounces
+scene.smis.filter_type = "BOX"
+scene.smis.filter_width = 1.0
+scene.render.threads_mode = "AUTO"
+
+paths = w * h * spp
+t_cycles = timed_render("CYCLES")
+t_smis = timed_render("SMIS")
+result = {
+    "scene": os.path.basename(blend), "width": w, "height": h, "spp": spp, "max_bounces": c.max_bounces,
+    "threads": os.cpu_count(),
+    "cycles_seconds": t_cycles, "smis_seconds": t_smis,
+    "cycles_paths_per_second": paths / t_cycles, "smis_paths_per_second": paths / t_smis,
+    "ratio_smis_over_cycles": t_cycles / t_smis,
+}
+out_dir = os.path.join(ROOT, "bench", "results")
+os.makedirs(out_dir, exist_ok=True)
+with open(os.path.join(out_dir, "path_speed.json"), "w") as f:
+    json.dump(result, f, indent=2)
+with open(os.path.join(out_dir, "path_speed.csv"), "w", newline="") as f:
+    wr = csv.DictWriter(f, fieldnames=list(result))
+    wr.writeheader()
+    wr.writerow(result)
+print("PATH SPEED " + json.dumps(result))
+print(f"Cycles: {result['cycles_paths_per_second'] / 1e6:.3f} M paths/s   "
+      f"SMIS: {result['smis_paths_per_second'] / 1e6:.3f} M paths/s   "
+      f"ratio SMIS/Cycles: {result['ratio_smis_over_cycles']:.2f}")
