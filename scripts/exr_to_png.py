@@ -7,8 +7,9 @@ import os
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "addon"))
-from smis_render import _smis  # noqa: E402
+# The native module directly: the add-on package itself needs bpy.
+sys.path.insert(0, os.path.join(ROOT, "addon", "smis_render"))
+import _smis  # noqa: E402
 
 BLENDER_OCIO = "/usr/share/blender/datafiles/colormanagement/config.ocio"
 

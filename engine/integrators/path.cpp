@@ -59,7 +59,8 @@ Color PathIntegrator::Li(const Scene& scene, const RenderSettings& settings, Ray
             const Light& light = scene.light(li);
             LightSample ls = light.sample(hit.p, u);
             if (!ls.valid()) {
-                ++counters.samples_rejected;
+                // A light seen from behind is simply dark; only numerical failures count as rejected.
+                if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;
             } else {
                 Color f = bsdf.eval(wo, ls.wi);
                 if (!is_black(f)) {
