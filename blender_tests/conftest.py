@@ -13,8 +13,7 @@ import numpy as np  # noqa: F401  (tests import it from here too)
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = os.path.join(ROOT, "scenes")
 REFERENCES = os.path.join(ROOT, "blender_tests", "references")
-sys.path.insert(0, os.path.join(ROOT, "addon", "smis_render"))
-import _smis  # noqa: E402  (the native module, for reading EXRs)
+from smis_render import _smis  # noqa: E402  (the native module, for reading EXRs; the add-on is enabled)
 
 
 class RenderRun:

@@ -6,8 +6,9 @@
 //  * eval() returns f(wo, wi) * |cos theta_i|  (the BSDF times the foreshortening of wi), like Mitsuba.
 //  * pdf() is the solid-angle density of sample() producing wi; sample() returns the same value as
 //    eval()/pdf() for non-delta lobes (value = eval, pdf = pdf), so sample(), eval() and pdf() agree.
-//  * Delta lobes (smooth mirror, smooth glass) return delta = true from sample(); their value is the
-//    weight of the Dirac (f*cos/pdf with pdf = 1 for the chosen event), and eval()/pdf() return 0.
+//  * Delta lobes (smooth mirror, smooth glass) return delta = true from sample(); pdf is the
+//    probability of the discrete event chosen (e.g. F for reflection off glass) and value/pdf is the
+//    throughput multiplier of that event; eval()/pdf() return 0 for them.
 //  * Radiance transport: refraction from IOR eta_i into eta_t scales radiance by (eta_i/eta_t)^2.
 #pragma once
 #include "core/math.h"

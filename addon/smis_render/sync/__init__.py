@@ -1,0 +1,59 @@
+"""Blender depsgraph -> engine scene, one way.
+
+Each module translates one kind of Blender data into plain dicts and numpy
+buffers for the native `_smis.Scene`; nothing here does light transport and
+the engine never sees a Blender object.
+"""
+
+import time
+from dataclasses import dataclass, field
+
+from . import camera, instances, materials, world
+from .camera import CameraError
+from .instances import Cancelled
+
+
+class ExportError(Exception):
+    """A problem that makes the scene unrenderable; reported as an ERROR."""
+
+
+@dataclass
+class Export:
+    scene: object                  # the committed _smis.Scene
+    camera: dict                   # the dict given to set_camera (resolution, border)
+    counts: instances.ExportCounts
+    stats: dict = field(default_factory=dict)   # scene.stats() after commit
+    seconds: float = 0.0
+
+
+def export_depsgraph(native, depsgraph, reporter, engine=None):
+    """Build and commit an engine scene. Raises ExportError, or Cancelled on test_break."""
+    t0 = time.perf_counter()
+    scene = native.Scene()
+    bl_scene = depsgraph.scene
+
+    try:
+        cam = camera.export_camera(engine, depsgraph, reporter.warning)
+        scene.set_camera(cam)
+    except (CameraError, ValueError) as exc:
+        raise ExportError(str(exc)) from exc
+
+    scene.set_world(world.export_world(bl_scene.world, reporter.warning))
+
+    test_break = engine.break_requested if engine is not None else None
+    mats = materials.MaterialCache(scene, reporter)
+    counts = instances.export_instances(depsgraph, scene, mats, reporter, test_break)
+
+    if counts.instances == 0 and counts.lights == 0:
+        reporter.warning("The scene is empty (no renderable objects or lights); "
+                         "rendering the world background only")
+    try:
+        scene.commit()
+    except ValueError as exc:
+        raise ExportError("The engine refused the scene: %s" % exc) from exc
+
+    return Export(scene=scene, camera=cam, counts=counts, stats=dict(scene.stats()),
+                  seconds=time.perf_counter() - t0)
+
+
+__all__ = ["Export", "ExportError", "Cancelled", "export_depsgraph"]

@@ -1,0 +1,70 @@
+"""Blender lights -> engine light dicts.
+
+Units are Blender's, as Cycles reads them: `energy` is the power in W for
+point, spot and area lights and the irradiance in W/m^2 for the sun. The
+engine converts them with Cycles' formulas.
+"""
+
+import math
+
+
+def _matrix(m):
+    return [list(row) for row in m]
+
+
+def light_dict(light, matrix, visible_camera=True):
+    """The engine dict for a Blender Light datablock placed by `matrix` (matrix_world)."""
+    d = {"type": light.type, "matrix": _matrix(matrix), "color": tuple(light.color),
+         "visible_camera": bool(visible_camera)}
+    if light.type == 'SUN':
+        d["strength"] = float(light.energy)
+        d["angle"] = float(light.angle)
+    else:
+        d["power"] = float(light.energy)
+    if light.type in {'POINT', 'SPOT'}:
+        d["radius"] = float(light.shadow_soft_size)
+    if light.type == 'SPOT':
+        d["spot_size"] = float(light.spot_size)
+        d["spot_blend"] = float(light.spot_blend)
+    if light.type == 'AREA':
+        d["shape"] = light.shape
+        d["size"] = float(light.size)
+        # SQUARE and DISK use `size` on both axes; Blender keeps a stale size_y.
+        square = light.shape in {'SQUARE', 'DISK'}
+        d["size_y"] = float(light.size if square else light.size_y)
+    return d
+
+
+def problem(d):
+    """Why a light dict must be skipped, or None. The engine checks too; this gives
+    the user a message in Blender's words."""
+    energy = d["strength"] if d["type"] == 'SUN' else d["power"]
+    word = "strength" if d["type"] == 'SUN' else "power"
+    if not math.isfinite(energy):
+        return "its %s is not a finite number" % word
+    if energy < 0.0:
+        return "its %s is negative (%g)" % (word, energy)
+    if energy == 0.0:
+        return "its %s is zero" % word
+    if d["type"] == 'AREA' and not (d["size"] > 0.0 and d["size_y"] > 0.0):
+        return "its size is zero"
+    return None
+
+
+def export_light(scene, obj, matrix, reporter):
+    """Add one light instance; returns True if added, False if skipped (with a warning)."""
+    light = obj.data
+    if light.type not in {'POINT', 'SPOT', 'SUN', 'AREA'}:
+        reporter.warning("Light '%s': type %s is not supported, skipped" % (obj.name, light.type))
+        return False
+    # Object > Visibility > Camera: whether the lamp itself shows in camera rays.
+    d = light_dict(light, matrix, getattr(obj, "visible_camera", True))
+    why = problem(d)
+    if why is None:
+        try:
+            scene.add_light(d)
+            return True
+        except ValueError as exc:
+            why = str(exc)
+    reporter.warning("Light '%s' skipped: %s" % (obj.name, why))
+    return False

@@ -1,0 +1,30 @@
+"""Reports to the user, each distinct message once per render."""
+
+
+class Reporter:
+    """Wraps `RenderEngine.report` and drops repeated messages.
+
+    A material used by 500 objects must produce one warning, not 500. One
+    Reporter lives as long as the engine instance, i.e. one frame (all view
+    layers), which is what "once per render" means here.
+    """
+
+    def __init__(self, engine):
+        self._engine = engine
+        self._seen = set()
+
+    def _report(self, kind, message):
+        key = (kind, message)
+        if key in self._seen:
+            return
+        self._seen.add(key)
+        if self._engine is not None:
+            self._engine.report({kind}, message)
+        else:  # used outside a render (tests, scripts)
+            print("SMIS %s: %s" % (kind.lower(), message))
+
+    def warning(self, message):
+        self._report('WARNING', message)
+
+    def info(self, message):
+        self._report('INFO', message)

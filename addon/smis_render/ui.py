@@ -1,0 +1,278 @@
+"""Properties-editor panels, and SMIS added to the standard panels that apply to it."""
+
+import bpy
+
+from . import native
+
+ENGINE = 'SMIS'
+
+
+class SMISButtonsPanel:
+    bl_space_type = 'PROPERTIES'
+    bl_region_type = 'WINDOW'
+    bl_context = "render"
+    COMPAT_ENGINES = {ENGINE}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+
+class SMIS_RENDER_PT_sampling(SMISButtonsPanel, bpy.types.Panel):
+    bl_label = "Sampling"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.smis
+
+        err = native.problem()
+        if err:
+            box = layout.box()
+            box.alert = True
+            box.label(text="Native engine module missing", icon='ERROR')
+            # The full message names the expected file; wrap it over a few labels.
+            for chunk in _wrap(err, 60):
+                box.label(text=chunk)
+
+        col = layout.column()
+        col.prop(settings, "samples")
+        col.prop(settings, "time_limit")
+        # As Cycles lays it out: the seed with the animated-seed toggle beside it.
+        row = col.row(align=True)
+        row.prop(settings, "seed")
+        row.prop(settings, "use_animated_seed", text="", icon='TIME')
+        col = layout.column(align=True)
+        col.prop(settings, "filter_type")
+        col.prop(settings, "filter_width")
+
+
+class SMIS_RENDER_PT_light_paths(SMISButtonsPanel, bpy.types.Panel):
+    bl_label = "Light Paths"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.smis
+
+        col = layout.column()
+        col.prop(settings, "integrator")
+        col.prop(settings, "max_bounces")
+        col.prop(settings, "mis_heuristic")
+
+
+class SMIS_RENDER_PT_performance(SMISButtonsPanel, bpy.types.Panel):
+    bl_label = "Performance"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.smis
+        rd = context.scene.render
+
+        col = layout.column()
+        col.prop(settings, "threads")
+        if settings.threads == 0:
+            # Say what 0 resolves to, since Blender's own thread setting can override it.
+            if rd.threads_mode == 'FIXED':
+                col.label(text="Using Blender's fixed thread count: %d" % rd.threads)
+            else:
+                col.label(text="Using all cores")
+
+
+class SMIS_LIGHT_PT_light(SMISButtonsPanel, bpy.types.Panel):
+    """Only the light settings the engine reads.
+
+    Cycles' light panel also shows Cycles-only switches (max bounces, cast shadow,
+    multiple importance, portal) that SMIS ignores, and Blender's generic
+    DATA_PT_light shows only the type, so SMIS has its own.
+    """
+    bl_label = "Light"
+    bl_context = "data"
+
+    @classmethod
+    def poll(cls, context):
+        return context.light is not None and super().poll(context)
+
+    def draw(self, context):
+        layout = self.layout
+        light = context.light
+
+        layout.row().prop(light, "type", expand=True)
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+
+        col = layout.column()
+        col.prop(light, "color")
+        col.prop(light, "energy", text="Strength" if light.type == 'SUN' else "Power")
+        col.separator()
+        if light.type in {'POINT', 'SPOT'}:
+            col.prop(light, "shadow_soft_size", text="Radius")
+            if light.type == 'SPOT':
+                col.separator()
+                col.prop(light, "spot_size", text="Spot Size")
+                col.prop(light, "spot_blend", text="Blend", slider=True)
+                col.prop(light, "show_cone")
+        elif light.type == 'SUN':
+            col.prop(light, "angle")
+        elif light.type == 'AREA':
+            col.prop(light, "shape")
+            sub = col.column(align=True)
+            if light.shape in {'SQUARE', 'DISK'}:
+                sub.prop(light, "size")
+            else:
+                sub.prop(light, "size", text="Size X")
+                sub.prop(light, "size_y", text="Y")
+
+
+def _draw_surface(layout, id_data, fallback_prop):
+    """The node tree feeding the Surface input of the Cycles/All output, as Cycles'
+    Surface panels show it: the same output node the exporter reads."""
+    layout.prop(id_data, "use_nodes", icon='NODETREE')
+    layout.separator()
+    layout.use_property_split = True
+    if not id_data.use_nodes:
+        layout.prop(id_data, fallback_prop)
+        return
+    ntree = id_data.node_tree
+    node = ntree.get_output_node('CYCLES') if ntree else None
+    if node is None:
+        layout.label(text="No output node")
+        return
+    surface = node.inputs.get("Surface")
+    if surface is None:
+        layout.label(text="Incompatible output node")
+        return
+    layout.template_node_view(ntree, node, surface)
+
+
+class SMIS_MATERIAL_PT_surface(SMISButtonsPanel, bpy.types.Panel):
+    bl_label = "Surface"
+    bl_context = "material"
+
+    @classmethod
+    def poll(cls, context):
+        mat = context.material
+        return mat is not None and not mat.grease_pencil and super().poll(context)
+
+    def draw(self, context):
+        _draw_surface(self.layout, context.material, "diffuse_color")
+
+
+class SMIS_WORLD_PT_surface(SMISButtonsPanel, bpy.types.Panel):
+    bl_label = "Surface"
+    bl_context = "world"
+
+    @classmethod
+    def poll(cls, context):
+        return context.world is not None and super().poll(context)
+
+    def draw(self, context):
+        _draw_surface(self.layout, context.world, "color")
+
+
+def _wrap(text, width):
+    words, line, lines = text.split(), "", []
+    for w in words:
+        if line and len(line) + 1 + len(w) > width:
+            lines.append(line)
+            line = w
+        else:
+            line = (line + " " + w).strip()
+    if line:
+        lines.append(line)
+    return lines
+
+
+classes = (
+    SMIS_RENDER_PT_sampling,
+    SMIS_RENDER_PT_light_paths,
+    SMIS_RENDER_PT_performance,
+    SMIS_LIGHT_PT_light,
+    SMIS_MATERIAL_PT_surface,
+    SMIS_WORLD_PT_surface,
+)
+
+
+# --- Blender's own panels -------------------------------------------------------
+
+# Generic panels of Blender ('BLENDER_RENDER' is the marker for "works with any
+# engine") that do NOT apply to SMIS.
+_EXCLUDED_GENERIC = {
+    'DATA_PT_light',            # replaced by SMIS_LIGHT_PT_light
+    'DATA_PT_area',             # idem
+    'DATA_PT_spot',             # idem (and it is a child of EEVEE's light panel)
+    'DATA_PT_falloff_curve',    # custom light falloff is not supported
+    'DATA_PT_preview',          # no material/light previews (bl_use_preview = False)
+    'VIEWLAYER_PT_filter',
+    'VIEWLAYER_PT_layer_passes',  # passes are declared by the engine itself
+    'RENDER_PT_freestyle',
+}
+
+# Blender's material slot list; its poll reads the panel's own COMPAT_ENGINES.
+# Cycles' panels cannot be reused the same way: their polls call
+# `CyclesButtonsPanel.poll(context)`, which reads the set of the shared base class, so
+# adding SMIS to one panel's set shows nothing, and adding it to the base set would
+# show every Cycles panel. Hence SMIS' own Surface panels for materials and worlds.
+_EXTRA_PANELS = (
+    'EEVEE_MATERIAL_PT_context_material',
+)
+
+# panel class -> the COMPAT_ENGINES it had in its own __dict__ (None if inherited)
+_patched = {}
+
+
+def _is_excluded(name):
+    return name in _EXCLUDED_GENERIC or 'freestyle' in name.lower()
+
+
+def _panels_to_patch():
+    panels = []
+    for panel in bpy.types.Panel.__subclasses__():
+        engines = getattr(panel, 'COMPAT_ENGINES', None)
+        if engines and 'BLENDER_RENDER' in engines and not _is_excluded(panel.__name__):
+            panels.append(panel)
+    for name in _EXTRA_PANELS:
+        panel = getattr(bpy.types, name, None)
+        if panel is not None:
+            panels.append(panel)
+    return panels
+
+
+def _add_engine_to_panels():
+    for panel in _panels_to_patch():
+        if panel in _patched:
+            continue
+        # Assign a NEW set on the class itself: many panels inherit COMPAT_ENGINES
+        # from a shared base (all Cycles panels share CyclesButtonsPanel's set), and
+        # mutating that set in place would switch on every sibling panel too.
+        _patched[panel] = panel.__dict__.get('COMPAT_ENGINES')
+        panel.COMPAT_ENGINES = set(panel.COMPAT_ENGINES) | {ENGINE}
+
+
+def _remove_engine_from_panels():
+    for panel, own in _patched.items():
+        if own is None:
+            try:
+                del panel.COMPAT_ENGINES  # back to the inherited set
+            except AttributeError:
+                pass
+        else:
+            panel.COMPAT_ENGINES = own
+    _patched.clear()
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    _add_engine_to_panels()
+
+
+def unregister():
+    _remove_engine_from_panels()
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)
