@@ -64,3 +64,44 @@ def test_cancel_stops_the_render_promptly(monkeypatch):
     assert "cancel" in cancel_at, "the engine never polled test_break()"
     assert done - cancel_at["cancel"] < 0.5, f"render took {done - cancel_at['cancel']:.2f} s to stop"
     assert done - t0 < 30
+
+
+def test_region_render_equals_the_crop_of_the_full_render():
+    blend = scene_path("cornell.blend")
+    base = SETTINGS.format(seed=5, threads=2)
+    full = render(blend, base)
+    region = render(blend, base + """
+scene.render.use_border = True
+scene.render.use_crop_to_border = True
+scene.render.border_min_x, scene.render.border_max_x = 0.25, 0.75
+scene.render.border_min_y, scene.render.border_max_y = 0.5, 1.0
+""")
+    assert full.returncode == 0 and region.returncode == 0, region.output[-2000:]
+    a, b = full.image, region.image
+    h, w = a.shape[:2]
+    x0, x1, y0, y1 = int(0.25 * w), int(0.75 * w), int(0.5 * h), h
+    assert b.shape[:2] == (y1 - y0, x1 - x0)
+    assert np.array_equal(a[y0:y1, x0:x1], b)  # row 0 is the bottom row in both
+
+
+def test_collection_instances_share_one_mesh():
+    setup = """
+scene.render.resolution_x = scene.render.resolution_y = 32
+scene.smis.samples = 2
+cube = bpy.data.objects['Cube']
+src = bpy.data.collections.new('Src')
+for c in list(cube.users_collection):
+    c.objects.unlink(cube)
+src.objects.link(cube)
+for i in range(50):
+    inst = bpy.data.objects.new('Inst%d' % i, None)
+    inst.instance_type = 'COLLECTION'
+    inst.instance_collection = src
+    inst.location = ((i % 10) - 5.0, (i // 10) - 2.5, 0.0)
+    inst.scale = (0.2, 0.2, 0.2)
+    scene.collection.objects.link(inst)
+"""
+    run = render(setup=setup)
+    assert run.returncode == 0, run.output[-2000:]
+    done = [l for l in run.output.splitlines() if "Done" in l and "instances" in l][-1]
+    assert " 1 meshes" in done and " 50 instances" in done, done

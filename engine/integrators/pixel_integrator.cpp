@@ -1,6 +1,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/float_mode.h"
 #include "integrators/integrator.h"
 
 namespace smis {
@@ -18,6 +19,7 @@ void PixelIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) 
     tbb::parallel_for(
         tbb::blocked_range<int>(0, tiles_x * tiles_y, 1),
         [&](const tbb::blocked_range<int>& range) {
+            ScopedFlushDenormals same_float_mode_on_every_thread;
             LocalCounters local;
             for (int tile = range.begin(); tile != range.end(); ++tile) {
                 if (ctx.should_stop()) break;
