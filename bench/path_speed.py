@@ -14,6 +14,8 @@ import time
 import bpy
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "scenes"))
+from cycles_settings import make_cycles_unbiased  # noqa: E402
 args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 blend = args[0] if args else os.path.join(ROOT, "scenes", "cornell.blend")
 spp = int(args[1]) if len(args) > 1 else 256
@@ -36,11 +38,8 @@ scene = bpy.context.scene
 w = scene.render.resolution_x * scene.render.resolution_percentage // 100
 h = scene.render.resolution_y * scene.render.resolution_percentage // 100
 c = scene.cycles
-c.device = "CPU"
+make_cycles_unbiased(scene)
 c.samples = spp
-c.use_adaptive_sampling = False
-c.use_denoising = False
-c.pixel_filter_type = "BOX"
 scene.smis.samples = spp
 scene.smis.max_bounces = c.max_bounces
 scene.smis.filter_type = "BOX"

@@ -37,6 +37,9 @@ import bpy
 import bmesh
 from mathutils import Matrix
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cycles_settings import make_cycles_unbiased  # noqa: E402
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 WHITE = (0.8, 0.8, 0.8)
@@ -73,25 +76,7 @@ def new_scene(res_x, res_y, samples):
     c.samples = samples
     c.preview_samples = 32
     c.seed = 0
-    c.use_denoising = False
-    c.use_preview_denoising = False
-    c.use_adaptive_sampling = False
-    n = 8
-    c.max_bounces = n
-    c.diffuse_bounces = n
-    c.glossy_bounces = n
-    c.transmission_bounces = n
-    c.volume_bounces = n
-    c.transparent_max_bounces = n
-    c.blur_glossy = 0.0
-    c.light_sampling_threshold = 0.0
-    c.sample_clamp_direct = 0.0
-    c.sample_clamp_indirect = 0.0
-    c.caustics_reflective = True
-    c.caustics_refractive = True
-    c.pixel_filter_type = 'BOX'
-    c.filter_width = 1.0
-    sc.render.filter_size = 1.0  # the same property seen from the render settings
+    make_cycles_unbiased(sc, max_bounces=8)
     return sc
 
 

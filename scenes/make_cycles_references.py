@@ -20,6 +20,9 @@ import time
 
 import bpy
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cycles_settings import make_cycles_unbiased  # noqa: E402
+
 
 def main():
     argv = sys.argv
@@ -38,22 +41,7 @@ def main():
     c.samples = samples
     c.seed = seed
     c.use_animated_seed = False
-    c.use_denoising = False
-    c.use_adaptive_sampling = False
-    n = c.max_bounces
-    c.diffuse_bounces = n
-    c.glossy_bounces = n
-    c.transmission_bounces = n
-    c.volume_bounces = n
-    c.transparent_max_bounces = n
-    c.blur_glossy = 0.0
-    c.light_sampling_threshold = 0.0
-    c.sample_clamp_direct = 0.0
-    c.sample_clamp_indirect = 0.0
-    c.caustics_reflective = True
-    c.caustics_refractive = True
-    c.pixel_filter_type = 'BOX'
-    c.filter_width = 1.0
+    make_cycles_unbiased(sc)
     c.use_auto_tile = False
     sc.render.resolution_percentage = 100
     sc.render.use_border = False

@@ -26,22 +26,19 @@ Color get_color(const py::dict& d, const char* key, Color fallback) {
     return {v[0], v[1], v[2]};
 }
 
-Transform get_matrix(const py::dict& d, const char* key) {
-    if (!d.contains(key)) throw py::value_error(std::string("missing ") + key);
-    auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(d[key]);
-    if (!a || a.ndim() != 2 || a.shape(0) < 3 || a.shape(1) != 4) throw py::value_error(std::string(key) + " must be 4x4");
+using MatrixArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+Transform to_transform(const MatrixArray& a) {
+    if (a.ndim() != 2 || a.shape(0) < 3 || a.shape(1) != 4) throw py::value_error("matrix must be 4x4");
     Transform t;
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 4; ++c) t.m[r][c] = static_cast<float>(a.at(r, c));
     return t;
 }
 
-Transform to_transform(const py::array_t<double, py::array::c_style | py::array::forcecast>& a) {
-    if (a.ndim() != 2 || a.shape(0) < 3 || a.shape(1) != 4) throw py::value_error("matrix must be 4x4");
-    Transform t;
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 4; ++c) t.m[r][c] = static_cast<float>(a.at(r, c));
-    return t;
+Transform get_matrix(const py::dict& d, const char* key) {
+    if (!d.contains(key)) throw py::value_error(std::string("missing ") + key);
+    return to_transform(d[key].cast<MatrixArray>());
 }
 
 Lobe parse_lobe(const py::dict& d) {
@@ -147,7 +144,7 @@ PYBIND11_MODULE(_smis, m) {
             py::arg("material_index") = py::none(), py::arg("materials") = std::vector<uint32_t>{})
         .def("mesh_dropped", &Scene::mesh_dropped)
         .def("add_instance",
-             [](Scene& s, uint32_t mesh, py::array_t<double, py::array::c_style | py::array::forcecast> matrix) {
+             [](Scene& s, uint32_t mesh, MatrixArray matrix) {
                  value_errors([&] { s.add_instance(mesh, to_transform(matrix)); });
              })
         .def("add_light",
