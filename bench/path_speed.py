@@ -4,7 +4,7 @@
 
 Both engines render the same resolution, bounce limit, sample count and pixel filter, without
 denoising or adaptive sampling; wall time of the whole render call (export + BVH + rendering) is
-measured for each, best of REPEATS. Writes bench/results/path_speed.{json,csv}."""
+measured for each, interleaved, best of REPEATS. Writes bench/results/path_speed.{json,csv}."""
 import csv
 import json
 import os
@@ -19,18 +19,15 @@ from cycles_settings import make_cycles_unbiased  # noqa: E402
 args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 blend = args[0] if args else os.path.join(ROOT, "scenes", "cornell.blend")
 spp = int(args[1]) if len(args) > 1 else 256
-REPEATS = 2
+REPEATS = 3
 
 
 def timed_render(engine):
     scene = bpy.context.scene
     scene.render.engine = engine
-    best = float("inf")
-    for _ in range(REPEATS):
-        t0 = time.perf_counter()
-        bpy.ops.render.render()
-        best = min(best, time.perf_counter() - t0)
-    return best
+    t0 = time.perf_counter()
+    bpy.ops.render.render()
+    return time.perf_counter() - t0
 
 
 bpy.ops.wm.open_mainfile(filepath=blend)
@@ -47,8 +44,11 @@ scene.smis.filter_width = 1.0
 scene.render.threads_mode = "AUTO"
 
 paths = w * h * spp
-t_cycles = timed_render("CYCLES")
-t_smis = timed_render("SMIS")
+# Interleaved, best of REPEATS each: a load that comes and goes on the machine hits both engines.
+t_cycles = t_smis = float("inf")
+for _ in range(REPEATS):
+    t_cycles = min(t_cycles, timed_render("CYCLES"))
+    t_smis = min(t_smis, timed_render("SMIS"))
 result = {
     "scene": os.path.basename(blend), "width": w, "height": h, "spp": spp, "max_bounces": c.max_bounces,
     "threads": os.cpu_count(),

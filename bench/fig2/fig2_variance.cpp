@@ -54,7 +54,8 @@ Stats stats_of(const std::vector<double>& x) {
     }
     s.var = m2 / (K - 1);
     m4 /= K;
-    s.var_se = std::sqrt(std::max(0.0, (m4 - s.var * s.var * (K - 3) / (K - 1)) / K));
+    // Delta-method standard error of s^2 plus its second-order term (see engine/tests/mis_fig2_test.cpp).
+    s.var_se = std::sqrt(std::max(0.0, (m4 - s.var * s.var * (K - 3) / (K - 1)) / K) + std::pow(6.0 * s.var / K, 2));
     s.mean_se = std::sqrt(s.var / K);
     return s;
 }

@@ -67,7 +67,10 @@ Measured measure_values(const std::vector<double>& x, int samples_per_realizatio
     }
     double s2 = m2 / (K - 1);
     m4 /= K;
-    double var_s2 = std::max(0.0, (m4 - s2 * s2 * (K - 3) / (K - 1)) / K);
+    // Delta-method variance of s^2, plus its second-order term (order s^2/K, chi-square like): that term
+    // dominates when the first-order one vanishes, e.g. for f2 = 2 [x >= 1/2] under a uniform p(x),
+    // whose estimates take the two values 0 and 2 with probability 1/2 each.
+    double var_s2 = std::max(0.0, (m4 - s2 * s2 * (K - 3) / (K - 1)) / K) + std::pow(6.0 * s2 / K, 2);
     Measured m;
     m.mean = mean;
     m.mean_se = std::sqrt(s2 / K);
