@@ -170,6 +170,10 @@ class SMISRenderEngine(bpy.types.RenderEngine):
                            if k != "nan_caught" and isinstance(v, int) and v)
         if others:
             self._reporter.info("SMIS counters: " + others)
+        integrator = session.integrator_stats()
+        if integrator:
+            self._reporter.info("SMIS integrator: " + ", ".join(
+                "%s %.4g" % (k.replace("_", " "), v) for k, v in sorted(integrator.items())))
 
         parts = ["Cancelled" if p.get("cancelled") or self.break_requested() else "Done",
                  "%d/%d samples" % (p["samples_done"], p["samples_total"]),

@@ -55,8 +55,49 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
         items=[
             ('PATH', "Path Tracing",
              "Unidirectional path tracing with next event estimation and MIS"),
+            ('PSF_SMIS', "Path-Space Filtering (SMIS)",
+             "Reuses the indirect light of nearby paths, weighted by stochastic MIS (West et al. 2020, "
+             "eq. 17). Biased (no visibility in the weights, reused scattering), much less noise"),
+            ('PSF_KELLER', "Path-Space Filtering (Keller)",
+             "Keller et al. 2014: reuses nearby paths accepted by surface similarity. Biased"),
+            ('PSF_SMIS_UNBIASED', "Path-Space Filtering (SMIS, unbiased)",
+             "Eq. 17 with exact visibility and scattering for every connection and density: "
+             "unbiased but costly (one shadow ray per technique pair)"),
+            ('PSF_PATH', "Path-Space Filtering: no reuse",
+             "The path tracer on the paths of the two-stage filtering pipeline (baseline)"),
         ],
         default='PATH',
+    )
+    psf_radius_px: FloatProperty(
+        name="Filter Radius",
+        description="Radius in screen pixels, projected to world space at each path's first "
+                    "non-specular vertex, within which paths share their indirect light. Larger "
+                    "reuses more (less noise, more blur); cost grows with the neighbours gathered",
+        default=6.0, min=0.1, soft_max=32.0, subtype='PIXEL',
+    )
+    psf_radius_alpha: FloatProperty(
+        name="Radius Shrink",
+        description="Progressive shrink of the radius, r_i = r_0 (i+1)^((alpha-1)/2) as in "
+                    "progressive photon mapping: 1 keeps it fixed, smaller shrinks faster",
+        default=2.0 / 3.0, min=0.05, max=1.0,
+    )
+    psf_max_neighbors: IntProperty(
+        name="Max Neighbours",
+        description="Most paths combined per pixel (a random subset beyond this). The SMIS weights "
+                    "cost the square of this per pixel",
+        default=32, min=1, soft_max=128,
+    )
+    psf_keller_normal_cos: FloatProperty(
+        name="Keller Normal Cosine",
+        description="Keller et al. weighting: accept a neighbour only if the cosine between the "
+                    "shading normals is at least this",
+        default=0.9, min=-1.0, max=1.0,
+    )
+    psf_keller_plane: FloatProperty(
+        name="Keller Plane Distance",
+        description="Keller et al. weighting: accept a neighbour only if its distance to the "
+                    "query's tangent plane is at most this fraction of the radius",
+        default=0.1, min=0.0, soft_max=1.0,
     )
 
     filter_type: EnumProperty(
@@ -93,6 +134,11 @@ def session_settings(scene):
         "threads": threads,
         "integrator": s.integrator,
         "filter": s.filter_type,
+        "psf_radius_px": float(s.psf_radius_px),
+        "psf_radius_alpha": float(s.psf_radius_alpha),
+        "psf_max_neighbors": s.psf_max_neighbors,
+        "psf_keller_normal_cos": float(s.psf_keller_normal_cos),
+        "psf_keller_plane": float(s.psf_keller_plane),
         "filter_width": float(s.filter_width),
     }
 

@@ -63,6 +63,29 @@ class SMIS_RENDER_PT_light_paths(SMISButtonsPanel, bpy.types.Panel):
         col.prop(settings, "mis_heuristic")
 
 
+class SMIS_RENDER_PT_path_space_filtering(SMISButtonsPanel, bpy.types.Panel):
+    """Shown only for the path-space filtering integrators, with only the settings that apply."""
+    bl_label = "Path-Space Filtering"
+    bl_parent_id = "SMIS_RENDER_PT_light_paths"
+
+    @classmethod
+    def poll(cls, context):
+        return super().poll(context) and context.scene.smis.integrator.startswith("PSF_")
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.smis
+        col = layout.column()
+        col.prop(settings, "psf_radius_px")
+        col.prop(settings, "psf_radius_alpha")
+        col.prop(settings, "psf_max_neighbors")
+        if settings.integrator == 'PSF_KELLER':
+            col.prop(settings, "psf_keller_normal_cos")
+            col.prop(settings, "psf_keller_plane")
+
+
 class SMIS_RENDER_PT_performance(SMISButtonsPanel, bpy.types.Panel):
     bl_label = "Performance"
     bl_options = {'DEFAULT_CLOSED'}
@@ -191,6 +214,7 @@ def _wrap(text, width):
 classes = (
     SMIS_RENDER_PT_sampling,
     SMIS_RENDER_PT_light_paths,
+    SMIS_RENDER_PT_path_space_filtering,
     SMIS_RENDER_PT_performance,
     SMIS_LIGHT_PT_light,
     SMIS_MATERIAL_PT_surface,

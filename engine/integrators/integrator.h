@@ -5,6 +5,7 @@
 #pragma once
 #include <atomic>
 #include <chrono>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -26,6 +27,12 @@ struct RenderSettings {
     std::string integrator = "PATH";
     std::string filter = "BLACKMAN_HARRIS";
     float filter_width = 1.5f;
+    // Path-space filtering (integrators PSF_*).
+    float psf_radius_px = 6.0f;        // gather radius in screen pixels, projected to world at the vertex
+    float psf_radius_alpha = 2.0f / 3.0f;  // radius shrink: r_i = r_0 (i + 1)^((alpha - 1) / 2)
+    int psf_max_neighbors = 32;        // techniques gathered per pixel (random subset beyond this)
+    float psf_keller_normal_cos = 0.9f;    // Keller et al. 2014 acceptance: normals within ~26 degrees
+    float psf_keller_plane = 0.1f;     // ... and within 0.1 radius of the query's tangent plane
 };
 
 // Counters reported to the user (stats line) and checked by the stress tests.
@@ -62,6 +69,8 @@ public:
     virtual ~Integrator() = default;
     // Adds samples [s0, s1) to every pixel of the window; returns early when ctx.should_stop().
     virtual void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) = 0;
+    // Integrator-specific measurements (stage timings, reuse statistics) for stats and benchmarks.
+    virtual std::map<std::string, double> stats() const { return {}; }
 };
 
 class PixelIntegrator : public Integrator {

@@ -88,6 +88,11 @@ RenderSettings parse_settings(const py::dict& d) {
     s.integrator = get<std::string>(d, "integrator", s.integrator);
     s.filter = get<std::string>(d, "filter", s.filter);
     s.filter_width = get<float>(d, "filter_width", s.filter_width);
+    s.psf_radius_px = get<float>(d, "psf_radius_px", s.psf_radius_px);
+    s.psf_radius_alpha = get<float>(d, "psf_radius_alpha", s.psf_radius_alpha);
+    s.psf_max_neighbors = get<int>(d, "psf_max_neighbors", s.psf_max_neighbors);
+    s.psf_keller_normal_cos = get<float>(d, "psf_keller_normal_cos", s.psf_keller_normal_cos);
+    s.psf_keller_plane = get<float>(d, "psf_keller_plane", s.psf_keller_plane);
     return s;
 }
 
@@ -257,7 +262,8 @@ PYBIND11_MODULE(_smis, m) {
                  d["samples_rejected"] = p.samples_rejected;
                  return d;
              })
-        .def("pixels", [](const RenderSession& r) { return to_image(r.pixels(), r.width(), r.height()); });
+        .def("pixels", [](const RenderSession& r) { return to_image(r.pixels(), r.width(), r.height()); })
+        .def("integrator_stats", &RenderSession::integrator_stats);
 
     m.def("write_exr", [](const std::string& path, py::array_t<float, py::array::c_style | py::array::forcecast> img) {
         int w, h;

@@ -33,6 +33,7 @@ public:
     std::vector<float> pixels() const { return film_.resolve(); }  // window RGBA, bottom row first
     int width() const { return film_.width(); }
     int height() const { return film_.height(); }
+    std::map<std::string, double> integrator_stats() const { return integrator_->stats(); }
     // The error that ended the render, if one did (re-thrown by wait()/run() callers).
     std::string error() const;
 

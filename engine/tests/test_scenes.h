@@ -79,3 +79,61 @@ inline MeanErr channel_mean(const std::vector<float>& rgba, int c) {
 }
 
 }  // namespace smis::testing
+
+namespace smis::testing {
+
+// Axis-aligned box [lo, hi] as 12 triangles with outward winding (Blender's convention).
+inline void add_box(Scene& s, const Vec3& lo, const Vec3& hi, uint32_t material) {
+    const float v[] = {lo.x, lo.y, lo.z, hi.x, lo.y, lo.z, hi.x, hi.y, lo.z, lo.x, hi.y, lo.z,
+                       lo.x, lo.y, hi.z, hi.x, lo.y, hi.z, hi.x, hi.y, hi.z, lo.x, hi.y, hi.z};
+    const int32_t t[] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                         2, 3, 7, 2, 7, 6, 1, 2, 6, 1, 6, 5, 3, 0, 4, 3, 4, 7};
+    uint32_t mesh = s.add_mesh(v, 8, t, 12, nullptr, nullptr, {material});
+    s.add_instance(mesh, Transform());
+}
+
+inline Material glossy(const Color& color, float roughness) {
+    Material m;
+    Lobe l;
+    l.kind = LobeKind::Microfacet;
+    l.weight = color;
+    l.alpha = roughness * roughness;
+    m.lobes.push_back(l);
+    return m;
+}
+
+// A small closed room (the camera looks in through the open... closed front wall behind it), a
+// diffuse occluder box and a glossy box under a ceiling area light: occlusion, glossy reflection and
+// indirect light, everything path-space filtering must get right.
+inline std::shared_ptr<Scene> small_room(int w, int h) {
+    auto s = std::make_shared<Scene>();
+    uint32_t white = s->add_material(diffuse(Color(0.7f)));
+    uint32_t red = s->add_material(diffuse(Color(0.7f, 0.15f, 0.1f)));
+    uint32_t shiny = s->add_material(glossy(Color(0.8f, 0.7f, 0.5f), 0.3f));
+    // Room interior x, y in [-1, 1], z in [0, 2]: walls are thin boxes.
+    add_box(*s, {-1.1f, -1.1f, -0.1f}, {1.1f, 1.1f, 0.0f}, white);   // floor
+    add_box(*s, {-1.1f, -1.1f, 2.0f}, {1.1f, 1.1f, 2.1f}, white);    // ceiling
+    add_box(*s, {-1.1f, 1.0f, 0.0f}, {1.1f, 1.1f, 2.0f}, white);     // back
+    add_box(*s, {-1.1f, -1.1f, 0.0f}, {-1.0f, 1.1f, 2.0f}, red);     // left
+    add_box(*s, {1.0f, -1.1f, 0.0f}, {1.1f, 1.1f, 2.0f}, white);     // right
+    add_box(*s, {-1.1f, -3.1f, 0.0f}, {1.1f, -3.0f, 2.0f}, white);   // front, behind the camera
+    add_box(*s, {-0.6f, -0.2f, 0.0f}, {-0.1f, 0.4f, 0.9f}, white);   // occluder
+    add_box(*s, {0.2f, -0.5f, 0.0f}, {0.7f, 0.0f, 0.5f}, shiny);     // glossy box
+    LightDesc light;
+    light.type = "AREA";
+    light.shape = "SQUARE";
+    light.size = 0.6f;
+    light.power = 60.0f;
+    light.to_world.m[2][3] = 1.98f;  // facing down (-Z), as Blender's default
+    s->add_light(light);
+    CameraDesc c = camera_at({0.0f, -2.9f, 1.0f}, w, h);
+    // Look along +Y: rotate the camera's -Z onto +Y (rotation of +90 degrees about X).
+    c.to_world.m[1][1] = 0.0f, c.to_world.m[1][2] = -1.0f;
+    c.to_world.m[2][1] = 1.0f, c.to_world.m[2][2] = 0.0f;
+    c.lens = 22.0f;
+    s->set_camera(c);
+    s->commit();
+    return s;
+}
+
+}  // namespace smis::testing

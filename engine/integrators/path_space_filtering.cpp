@@ -1,0 +1,348 @@
+// Path-space filtering (West et al. 2020, §4; Keller et al. 2014), as a progressive two-stage
+// integrator. One iteration:
+//   Stage 1 traces one path per pixel. Its prefix ybar runs from the camera through Dirac bounces to
+//   the first non-specular vertex x1; its suffix zbar starts with the BSDF-sampled direction out of
+//   x1 and its first vertex z1, and carries back the radiance leaving z1 towards x1.
+//   Stage 2 gathers, for every prefix, the prefixes of other paths whose x1 lies within a radius
+//   (6 pixels projected to world space at x1 by default) from a hashed grid, and combines their
+//   suffixes with the weighting under test.
+// What is reused and why: only the *indirect* light at x1, i.e. the suffix radiance excluding the
+// emission at z1. Everything the pixel's own path can estimate well stays per pixel: emission along
+// the prefix, next-event estimation at x1, and the emission its own BSDF sample finds at z1 (MIS'd
+// with NEE). Reusing the direct light would not reduce its variance much (NEE already handles it) but
+// would blur shadows; the indirect light is smooth over a small radius, which is where reuse pays.
+// Densities are in the area measure at z1 (solid-angle pdf x |cos theta_z1| / d^2), for every term
+// of the SMIS denominator (eq. 17).
+#include "integrators/path_space_filtering.h"
+
+#include <chrono>
+
+#include "integrators/hash_grid.h"
+#include "integrators/path_tracing.h"
+#include "integrators/tiles.h"
+
+namespace smis {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Everything stage 2 needs about one pixel's path. Shading state is stored, not the Bsdf, and
+// rebuilt on demand from the material (cheap, and keeps the record small).
+struct PathRecord {
+    Color fixed{0.0f};   // per-pixel part: prefix emission, NEE at x1, emission found by x1's sample
+    bool has_vertex = false;
+    bool has_suffix = false;
+    // Prefix endpoint x1.
+    Color beta{0.0f};    // prefix throughput f_e / p up to x1
+    Vec3 p, wo, ng, ns;
+    uint32_t material = 0;
+    bool backfacing = false;
+    float radius = 0.0f;
+    // Suffix: its first vertex z1.
+    Vec3 z, z_ng, z_wo, z_ns;
+    uint32_t z_material = 0;
+    bool z_backfacing = false;
+    Color L_out{0.0f};        // radiance leaving z1 towards x1, emission at z1 excluded
+    // z1's own estimators, kept so the unbiased variant can re-evaluate z1's BSDF for another x1:
+    // L_out(wo) = f(wo, nee_dir) nee_weighted + f(wo, next_dir) next_weighted.
+    Vec3 nee_dir, next_dir;
+    Color nee_weighted{0.0f}, next_weighted{0.0f};
+};
+
+Bsdf bsdf_at(const Scene& scene, uint32_t material, const Vec3& ns, const Vec3& ng, bool backfacing) {
+    return scene.material(material).make_bsdf(Frame(ns), ng, backfacing);
+}
+
+// Stage 1 for one pixel sample.
+PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+                        LocalCounters& counters, const Camera& camera) {
+    PathRecord rec;
+    PathState st;
+    st.prev_p = ray.o;
+    Color beta(1.0f);
+    float eta_scale = 1.0f, prefix_length = 0.0f;
+    for (;; ++st.depth) {
+        SurfaceHit hit;
+        bool found = scene.intersect(ray, &hit);
+        rec.fixed += beta * emission_along(scene, settings, ray, found, hit, st);
+        if (!found || st.depth > settings.max_bounces) return rec;
+        prefix_length += hit.t;
+        ShadingPoint sp = make_shading_point(scene, hit, ray.d);
+        if (sp.bsdf.empty()) return rec;
+        float u_lobe = 0.0f;
+        Point2 u;
+        if (sp.bsdf.is_delta()) {  // still in the prefix: follow the Dirac bounce
+            u_lobe = rng.next_float();
+            u = {rng.next_float(), rng.next_float()};
+            BsdfSample bs = sp.bsdf.sample(sp.wo, u, u_lobe);
+            if (!bs.valid()) return rec;
+            beta *= bs.value / bs.pdf;
+            if (bs.transmission) eta_scale *= sqr(bs.eta);
+            st.prev_delta = true;
+            st.prev_pdf = bs.pdf;
+            st.prev_p = hit.p;
+            ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
+            if (!russian_roulette(st.depth, beta, eta_scale, rng) || is_black(beta)) return rec;
+            continue;
+        }
+
+        // x1: the first non-specular vertex ends the prefix.
+        rec.has_vertex = true;
+        rec.beta = beta;
+        rec.p = hit.p;
+        rec.wo = sp.wo;
+        rec.ng = sp.ng;
+        rec.ns = sp.ns;
+        rec.material = hit.material;
+        rec.backfacing = sp.backfacing;
+        rec.radius = settings.psf_radius_px * camera.pixel_footprint(prefix_length);
+        DirectSample ds = sample_direct(scene, settings, sp, rng, counters);
+        if (ds.valid) rec.fixed += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
+        u_lobe = rng.next_float();
+        u = {rng.next_float(), rng.next_float()};
+        BsdfSample bs = sp.bsdf.sample(sp.wo, u, u_lobe);
+        if (!bs.valid()) {
+            ++counters.samples_rejected;
+            return rec;
+        }
+        PathState st1{st.depth + 1, bs.delta, bs.pdf, hit.p};
+        Ray r1{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
+        Color bsdf_weight = beta * bs.value / bs.pdf;
+        if (bs.delta) {
+            // A Dirac lobe of a mixed BSDF: its suffix has no density to share, so the pixel keeps it.
+            if (bs.transmission) eta_scale *= sqr(bs.eta);
+            rec.fixed += bsdf_weight * trace_path(scene, settings, r1, st1, rng, counters);
+            return rec;
+        }
+        SurfaceHit h1;
+        bool found1 = scene.intersect(r1, &h1);
+        rec.fixed += bsdf_weight * emission_along(scene, settings, r1, found1, h1, st1);
+        if (!found1 || st1.depth > settings.max_bounces) return rec;
+
+        // z1: shade it once, keeping its NEE and BSDF estimators apart for re-evaluation.
+        ShadingPoint sp1 = make_shading_point(scene, h1, r1.d);
+        if (sp1.bsdf.empty()) return rec;
+        DirectSample ds1 = sample_direct(scene, settings, sp1, rng, counters);
+        Color L_out(0.0f);
+        if (ds1.valid) {
+            rec.nee_dir = ds1.wi;
+            rec.nee_weighted = ds1.weighted;
+            L_out += sp1.bsdf.eval(sp1.wo, ds1.wi) * ds1.weighted;
+        }
+        float u1_lobe = rng.next_float();
+        Point2 u1{rng.next_float(), rng.next_float()};
+        BsdfSample bs1 = sp1.bsdf.sample(sp1.wo, u1, u1_lobe);
+        if (bs1.valid()) {
+            PathState st2{st1.depth + 1, bs1.delta, bs1.pdf, h1.p};
+            Color L_in = trace_path(scene, settings, Ray{spawn_origin(sp1, bs1.wi), bs1.wi, 0.0f, kInf}, st2, rng,
+                                    counters);
+            rec.next_dir = bs1.wi;
+            // Dirac lobes at z1 cannot be re-evaluated for another direction (eval() is 0 for them):
+            // the unbiased variant loses them, which is stated where it is selected.
+            rec.next_weighted = bs1.delta ? Color(0.0f) : L_in / bs1.pdf;
+            L_out += bs1.value / bs1.pdf * L_in;
+        } else {
+            ++counters.samples_rejected;
+        }
+        rec.has_suffix = true;
+        rec.z = h1.p;
+        rec.z_ng = h1.ng;
+        rec.z_wo = sp1.wo;
+        rec.z_ns = sp1.ns;
+        rec.z_material = h1.material;
+        rec.z_backfacing = sp1.backfacing;
+        rec.L_out = L_out;
+        return rec;
+    }
+}
+
+// Density of technique `tech` (a prefix endpoint with its BSDF) producing suffix vertex z, in the
+// area measure at z: p_omega(wo, omega) |cos theta_z| / d^2, assuming visibility.
+float area_density(const PathRecord& tech, const Bsdf& bsdf, const Vec3& z, const Vec3& z_ng) {
+    Vec3 d = z - tech.p;
+    float dist2 = length_sq(d);
+    if (!(dist2 > 0.0f)) return 0.0f;
+    Vec3 w = d / std::sqrt(dist2);
+    return bsdf.pdf(tech.wo, w) * absdot(w, z_ng) / dist2;
+}
+
+}  // namespace
+
+void PathSpaceFilteringIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) {
+    for (uint32_t s = s0; s < s1 && !ctx.should_stop(); ++s) iteration(ctx, s);
+}
+
+void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
+    const Scene& scene = ctx.scene;
+    const RenderSettings& settings = ctx.settings;
+    const int w = ctx.film.width(), h = ctx.film.height();
+    std::vector<PathRecord> records(size_t(w) * h);
+
+    // Stage 1: one full path per pixel.
+    auto t0 = Clock::now();
+    for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
+        Rng rng;
+        Ray ray = camera_ray(ctx, x, y, s, &rng);
+        records[size_t(y) * w + x] = trace_record(scene, settings, ray, rng, local, scene.camera());
+        ++local.paths;
+    });
+    if (ctx.should_stop()) return;  // a partial iteration never reaches the film
+    stage1_seconds_ += seconds_since(t0);
+
+    // The radius shrinks over iterations like progressive photon mapping's (Knaus & Zwicker 2011):
+    // r_i = r_0 (i + 1)^((alpha - 1) / 2), so the bias vanishes as iterations accumulate.
+    const float shrink = std::pow(float(s) + 1.0f, 0.5f * (settings.psf_radius_alpha - 1.0f));
+    std::vector<uint32_t> stored;
+    std::vector<Vec3> positions(records.size());
+    std::vector<float> radii;
+    for (size_t i = 0; i < records.size(); ++i) {
+        if (!records[i].has_vertex) continue;
+        records[i].radius *= shrink;
+        positions[i] = records[i].p;
+        stored.push_back(static_cast<uint32_t>(i));
+        radii.push_back(records[i].radius);
+    }
+
+    t0 = Clock::now();
+    HashGrid grid;
+    if (weighting_ != PsfWeighting::Path && !stored.empty()) {
+        // Cells about half the typical radius: a query then visits a few cells of few points.
+        std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
+        grid.build(positions, stored, 0.5f * radii[radii.size() / 2]);
+    }
+    grid_seconds_ += seconds_since(t0);
+
+    // Stage 2: every prefix combines the suffixes gathered around its x1.
+    t0 = Clock::now();
+    std::atomic<uint64_t> gathered{0}, accepted{0};
+    const int max_n = std::max(1, settings.psf_max_neighbors);
+    for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
+        const size_t k = size_t(y) * w + x;
+        const PathRecord& q = records[k];
+        Color L = q.fixed;
+        if (q.has_vertex && weighting_ == PsfWeighting::Path) {
+            if (q.has_suffix) {
+                // The path tracer's own estimate: f cos / p_omega times the suffix radiance.
+                Bsdf b = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing);
+                Vec3 d = normalize(q.z - q.p);
+                float pdf = b.pdf(q.wo, d);
+                if (pdf > 0.0f) L += q.beta * b.eval(q.wo, d) * q.L_out / pdf;
+            }
+        } else if (q.has_vertex) {
+            // The techniques: x1 endpoints within the radius, own first; beyond max_n a uniform
+            // random subset (reservoir sampling), chosen from positions only, never from the suffixes,
+            // so the estimator stays a multi-sample balance heuristic over a fixed set (unbiased).
+            Rng pick = pixel_sample_rng(x + scene.camera().window_x0(), y + scene.camera().window_y0(), s,
+                                        settings.seed ^ 0x5a5a5a5au);
+            std::vector<uint32_t> nb{static_cast<uint32_t>(k)};
+            nb.reserve(max_n);
+            uint32_t seen = 0;
+            const float r2 = q.radius * q.radius;
+            grid.query(q.p, q.radius, [&](uint32_t j) {
+                if (j == k || length_sq(records[j].p - q.p) > r2) return;
+                ++seen;
+                if (nb.size() < size_t(max_n)) nb.push_back(j);
+                else {
+                    uint32_t slot = pick.next_u32() % seen;
+                    if (slot < uint32_t(max_n - 1)) nb[1 + slot] = j;
+                }
+            });
+            gathered += nb.size();
+            std::vector<Bsdf> techniques;
+            techniques.reserve(nb.size());
+            for (uint32_t j : nb) {
+                const PathRecord& t = records[j];
+                techniques.push_back(bsdf_at(scene, t.material, t.ns, t.ng, t.backfacing));
+            }
+            const Bsdf& own = techniques[0];
+            const bool exact = weighting_ == PsfWeighting::SmisUnbiased;
+            Color sum(0.0f);
+            uint32_t n_accepted = 0;
+            for (size_t ii = 0; ii < nb.size(); ++ii) {
+                const PathRecord& smp = records[nb[ii]];
+                if (weighting_ == PsfWeighting::Keller) {
+                    // Keller et al. 2014: binary similarity of the prefix endpoints (same material,
+                    // normals within psf_keller_normal_cos, near the query's tangent plane).
+                    bool similar = smp.material == q.material && dot(smp.ns, q.ns) >= settings.psf_keller_normal_cos &&
+                                   std::fabs(dot(smp.p - q.p, q.ng)) <= settings.psf_keller_plane * q.radius;
+                    if (!similar) continue;
+                    ++n_accepted;
+                }
+                if (!smp.has_suffix) continue;
+                // Connection f_1(ybar_k, zbar_i) in the area measure at z1.
+                Vec3 d = smp.z - q.p;
+                float dist2 = length_sq(d);
+                if (!(dist2 > 0.0f)) continue;
+                Vec3 wdir = d / std::sqrt(dist2);
+                Color f = own.eval(q.wo, wdir);
+                if (is_black(f)) continue;
+                Color L_z = smp.L_out;
+                if (exact) {
+                    // Visibility and z1's scattering for the new direction (§4.2).
+                    if (scene.occluded(offset_ray_origin(q.p, dot(wdir, q.ng) > 0 ? q.ng : -q.ng), wdir,
+                                       std::sqrt(dist2) * (1.0f - 1e-4f)))
+                        continue;
+                    Vec3 z_wo = -wdir;
+                    bool back = dot(z_wo, smp.z_ng) < 0.0f;
+                    Vec3 zng = back ? -smp.z_ng : smp.z_ng;
+                    Vec3 zns = back ? -smp.z_ns : smp.z_ns;
+                    if (dot(smp.z_ns, smp.z_ng) < 0.0f) zns = -zns;
+                    Bsdf bz = bsdf_at(scene, smp.z_material, zns, zng, back);
+                    L_z = bz.eval(z_wo, smp.nee_dir) * smp.nee_weighted + bz.eval(z_wo, smp.next_dir) * smp.next_weighted;
+                }
+                Color contribution = f * L_z * (absdot(wdir, smp.z_ng) / dist2);
+                if (weighting_ == PsfWeighting::Keller) {
+                    float p_own = area_density(smp, techniques[ii], smp.z, smp.z_ng);
+                    if (p_own > 0.0f) sum += contribution / p_own;
+                    continue;
+                }
+                // Eq. (17): the balance heuristic normalised over the sampled techniques.
+                float denom = 0.0f;
+                for (size_t jj = 0; jj < nb.size(); ++jj) {
+                    const PathRecord& t = records[nb[jj]];
+                    float pj = area_density(t, techniques[jj], smp.z, smp.z_ng);
+                    if (exact && pj > 0.0f && jj != ii) {
+                        Vec3 dz = smp.z - t.p;
+                        float dd = length(dz);
+                        Vec3 wz = dz / dd;
+                        if (scene.occluded(offset_ray_origin(t.p, dot(wz, t.ng) > 0 ? t.ng : -t.ng), wz,
+                                           dd * (1.0f - 1e-4f)))
+                            pj = 0.0f;
+                    }
+                    denom += pj;
+                }
+                if (denom > 0.0f) sum += contribution / denom;
+            }
+            if (weighting_ == PsfWeighting::Keller) {
+                accepted += n_accepted;
+                if (n_accepted > 0) sum = sum / float(n_accepted);
+            }
+            L += q.beta * sum;
+        }
+        ctx.film.add(x, y, guard_sample(L, local));
+    });
+    gather_seconds_ += seconds_since(t0);
+    iterations_++;
+    stored_vertices_ += stored.size();
+    gathered_ += gathered.load();
+    queries_ += stored.size();
+    accepted_ += accepted.load();
+    bytes_per_vertex_ = sizeof(PathRecord) + (stored.empty() ? 0.0 : double(grid.memory_bytes()) / stored.size());
+}
+
+std::map<std::string, double> PathSpaceFilteringIntegrator::stats() const {
+    double it = iterations_ ? double(iterations_) : 1.0;
+    return {
+        {"iterations", double(iterations_)},
+        {"stage1_seconds_per_iteration", stage1_seconds_ / it},
+        {"grid_build_seconds_per_iteration", grid_seconds_ / it},
+        {"gather_seconds_per_iteration", gather_seconds_ / it},
+        {"stored_vertices_per_iteration", stored_vertices_ / it},
+        {"techniques_per_query", queries_ ? double(gathered_) / queries_ : 0.0},
+        {"keller_accepted_per_query", queries_ ? double(accepted_) / queries_ : 0.0},
+        {"bytes_per_stored_vertex", bytes_per_vertex_},
+    };
+}
+
+}  // namespace smis

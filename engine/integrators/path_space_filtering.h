@@ -1,0 +1,32 @@
+// Path-space filtering with stochastic MIS (West et al. 2020, §4), with Keller et al. 2014's
+// weighting and plain path tracing on the same paths as baselines.
+#pragma once
+#include <atomic>
+
+#include "integrators/integrator.h"
+
+namespace smis {
+
+enum class PsfWeighting {
+    Path,          // no reuse: the path tracer on the stage-1 paths
+    Keller,        // binary acceptance by surface similarity, normalised over accepted samples
+    Smis,          // balance-heuristic SMIS over the gathered techniques, eq. (17), practical (§4.3)
+    SmisUnbiased,  // eq. (17) with every connection and density evaluated exactly (§4.2)
+};
+
+class PathSpaceFilteringIntegrator : public Integrator {
+public:
+    explicit PathSpaceFilteringIntegrator(PsfWeighting weighting) : weighting_(weighting) {}
+    void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) override;
+    std::map<std::string, double> stats() const override;
+
+private:
+    void iteration(RenderContext& ctx, uint32_t s);
+    PsfWeighting weighting_;
+    // Measurements, summed over iterations.
+    double stage1_seconds_ = 0, grid_seconds_ = 0, gather_seconds_ = 0;
+    uint64_t iterations_ = 0, stored_vertices_ = 0, gathered_ = 0, queries_ = 0, accepted_ = 0;
+    double bytes_per_vertex_ = 0;
+};
+
+}  // namespace smis

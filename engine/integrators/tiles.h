@@ -1,0 +1,52 @@
+// Parallel loop over the pixels of the film window in small tiles handed out by TBB's work-stealing
+// scheduler. Each tile belongs to one thread and pixels are visited in a fixed order, so anything
+// computed per pixel is independent of the thread count.
+#pragma once
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/float_mode.h"
+#include "integrators/integrator.h"
+
+namespace smis {
+
+// fn(x, y, local_counters) for every window pixel (x, y), y = 0 the bottom row. Stops handing out
+// tiles once ctx.should_stop().
+template <class Fn>
+void for_each_pixel_in_tiles(RenderContext& ctx, Fn&& fn) {
+    constexpr int kTile = 16;
+    const int w = ctx.film.width(), h = ctx.film.height();
+    const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, tiles_x * tiles_y, 1),
+        [&](const tbb::blocked_range<int>& range) {
+            ScopedFlushDenormals same_float_mode_on_every_thread;
+            LocalCounters local;
+            for (int tile = range.begin(); tile != range.end(); ++tile) {
+                if (ctx.should_stop()) break;
+                int tx = tile % tiles_x, ty = tile / tiles_x;
+                for (int y = ty * kTile; y < std::min(h, (ty + 1) * kTile); ++y)
+                    for (int x = tx * kTile; x < std::min(w, (tx + 1) * kTile); ++x) fn(x, y, local);
+                local.flush(ctx.counters);
+            }
+        },
+        tbb::simple_partitioner());
+}
+
+// The camera ray of sample `s` of window pixel (x, y), and the sample's own random stream.
+inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s, Rng* rng) {
+    const Camera& cam = ctx.scene.camera();
+    int fx = x + cam.window_x0(), fy = y + cam.window_y0();
+    *rng = pixel_sample_rng(fx, fy, s, ctx.settings.seed);
+    Point2 off = ctx.filter.sample({rng->next_float(), rng->next_float()});
+    return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y);
+}
+
+// Non-finite radiance never reaches the film: the sample counts as black and is reported.
+inline Color guard_sample(const Color& L, LocalCounters& local) {
+    if (film_accepts(L)) return L;
+    ++local.nan_caught;
+    return Color(0.0f);
+}
+
+}  // namespace smis
