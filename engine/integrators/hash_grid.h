@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "core/rng.h"
 
 namespace smis {
 
@@ -66,10 +67,9 @@ private:
         return (u(x) << 42) | (u(y) << 21) | u(z);
     }
     uint64_t key_of(const Vec3& p) const { return pack(cell_coord(p.x), cell_coord(p.y), cell_coord(p.z)); }
-    size_t bucket(uint64_t key) const {
-        uint64_t h = key * 0x9E3779B97F4A7C15ull;
-        return static_cast<size_t>(h >> 20) & (buckets_ - 1);
-    }
+    // A full 64-bit mix: a plain multiplicative hash keeps x out of the low bits, and cells that
+    // differ only in x then all share one bucket.
+    size_t bucket(uint64_t key) const { return static_cast<size_t>(mix64(key)) & (buckets_ - 1); }
     float cell_ = 1.0f, inv_cell_ = 1.0f;
     size_t buckets_ = 1;
     std::vector<uint32_t> start_;

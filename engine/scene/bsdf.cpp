@@ -417,15 +417,26 @@ Color Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
     return is_finite(sum) ? sum : Color(0.0f);
 }
 
+Bsdf::FixedWo Bsdf::fix_wo(const Vec3& wo) const {
+    FixedWo f;
+    f.wo = wo;
+    f.wo_local = frame_.to_local(wo);
+    selection_probabilities(f.wo_local, f.probs);
+    return f;
+}
+
+float Bsdf::pdf(const FixedWo& fixed, const Vec3& wi) const {
+    if (count_ == 0) return 0.0f;
+    Vec3 wi_l = frame_.to_local(wi);
+    if (!sides_consistent(ng_, fixed.wo, wi, fixed.wo_local, wi_l)) return 0.0f;
+    float sum = 0.0f;
+    for (int i = 0; i < count_; ++i) sum += fixed.probs[i] * lobe_pdf(lobes_[i], fixed.wo_local, wi_l);
+    return std::isfinite(sum) ? sum : 0.0f;
+}
+
 float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
     if (count_ == 0) return 0.0f;
-    Vec3 wo_l = frame_.to_local(wo), wi_l = frame_.to_local(wi);
-    if (!sides_consistent(ng_, wo, wi, wo_l, wi_l)) return 0.0f;
-    float probs[kMaxLobes];
-    selection_probabilities(wo_l, probs);
-    float sum = 0.0f;
-    for (int i = 0; i < count_; ++i) sum += probs[i] * lobe_pdf(lobes_[i], wo_l, wi_l);
-    return std::isfinite(sum) ? sum : 0.0f;
+    return pdf(fix_wo(wo), wi);
 }
 
 BsdfSample Bsdf::sample(const Vec3& wo, Point2 u, float u_lobe) const {

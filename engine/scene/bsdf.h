@@ -80,6 +80,14 @@ public:
     // World-space interface; wo, wi point away from the surface.
     Color eval(const Vec3& wo, const Vec3& wi) const;
     float pdf(const Vec3& wo, const Vec3& wi) const;
+    // The pdf for many wi with one wo (path-space filtering evaluates every technique's density for
+    // every gathered sample): the wo-dependent work (local frame, lobe selection) is done once.
+    struct FixedWo {
+        Vec3 wo, wo_local;
+        float probs[kMaxLobes];
+    };
+    FixedWo fix_wo(const Vec3& wo) const;
+    float pdf(const FixedWo& fixed, const Vec3& wi) const;
     BsdfSample sample(const Vec3& wo, Point2 u, float u_lobe) const;
     // Sum of lobe weights (colour), used for albedo passes and furnace tests.
     Color albedo_weight() const;
