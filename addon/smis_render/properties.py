@@ -85,7 +85,7 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
         name="Max Neighbours",
         description="Most paths combined per pixel (a random subset beyond this). The SMIS weights "
                     "cost the square of this per pixel",
-        default=32, min=1, soft_max=128,
+        default=16, min=1, soft_max=128,
     )
     psf_keller_normal_cos: FloatProperty(
         name="Keller Normal Cosine",

@@ -30,7 +30,7 @@ struct RenderSettings {
     // Path-space filtering (integrators PSF_*).
     float psf_radius_px = 6.0f;        // gather radius in screen pixels, projected to world at the vertex
     float psf_radius_alpha = 2.0f / 3.0f;  // radius shrink: r_i = r_0 (i + 1)^((alpha - 1) / 2)
-    int psf_max_neighbors = 32;        // techniques gathered per pixel (random subset beyond this)
+    int psf_max_neighbors = 16;        // techniques gathered per pixel (random subset beyond this)
     float psf_keller_normal_cos = 0.9f;    // Keller et al. 2014 acceptance: normals within ~26 degrees
     float psf_keller_plane = 0.1f;     // ... and within 0.1 radius of the query's tangent plane
 };

@@ -29,6 +29,7 @@ PixelStats across_renders(const std::shared_ptr<Scene>& scene, const std::string
         st.seed = seed0 + r;
         st.max_bounces = 4;
         st.psf_radius_px = radius_px;  // large, so any bias of the reuse would show
+        st.psf_max_neighbors = 32;     // much reuse, for the same reason
         st.psf_radius_alpha = 1.0f;    // fixed radius: the comparison is about the weights
         auto img = render(scene, st);
         for (int i = 0; i < kW * kH; ++i) est[i].add(img[4 * i + 1]);
