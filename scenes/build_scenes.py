@@ -12,6 +12,20 @@ OUTDIR defaults to the folder holding this script (scenes/). Writes:
                          (the "Lambertian only" accuracy case). 128x128.
   demo.blend             Cornell box + spheres + box, area + point + spot light,
                          blue-grey world. 320x240.
+  psf_glossy.blend       Path-space filtering comparison, glossy-heavy (after West et
+                         al. 2020, Fig. 4): GGX objects of roughness 0.05-0.6 (spheres,
+                         a torus, tall thin cylinders, small beveled cubes and rods,
+                         a Principled plastic and a Mix Shader sphere) on a diffuse
+                         floor before a diffuse back wall; 3 area lights (invisible to
+                         the camera), dim world. 256x256.
+  psf_room.blend         Path-space filtering comparison, mostly diffuse (after Fig. 5):
+                         a closed room seen from inside, a box table with a glossy
+                         (Principled) top, diffuse cabinet/stool/vase/ball, a picture,
+                         small glossy wall-socket and switch plates, a metal ball;
+                         2 ceiling area lights (invisible to the camera). 256x256.
+
+Only some scenes:  blender -b --factory-startup --python scenes/build_scenes.py -- [OUTDIR] psf_glossy psf_room
+(arguments that name a scene select it; any other argument is OUTDIR).
 
 Every file is saved with render engine CYCLES and Cycles' unbiased settings
 (see /work/shared/BLENDER_NOTES.md): all per-type bounce limits = max_bounces = 8,
@@ -53,11 +67,26 @@ GOLD = (1.0, 0.71, 0.29)
 LIGHT_SIZE = (1.0, 0.8)
 LIGHT_POWER = 40.0  # W  -> radiance 40 / (4 * 0.8) = 12.5 W/(m^2 sr)
 
+# Path-space filtering scenes, powers chosen by rendering (PATH, Filmic view): median pixel
+# luminance about 0.35 (psf_glossy) and 0.32 (psf_room), nothing clipped but the highlights.
+PSF_GLOSSY_LIGHTS = (85.0, 45.0, 20.0)  # W: key 1.2x0.6 m, fill 0.8x0.8 m, rim disk 0.5 m
+PSF_ROOM_LIGHT_POWER = 45.0  # W for each 0.5x0.5 m ceiling light
+
+
+def _script_args():
+    argv = sys.argv
+    return argv[argv.index("--") + 1:] if "--" in argv else []
+
 
 def out_dir():
-    argv = sys.argv
-    args = argv[argv.index("--") + 1:] if "--" in argv else []
+    args = [a for a in _script_args() if a not in SCENE_NAMES]
     return os.path.abspath(args[0]) if args else HERE
+
+
+def selected_scenes():
+    """Scene names given on the command line, or every scene."""
+    names = [a for a in _script_args() if a in SCENE_NAMES]
+    return names or list(SCENE_NAMES)
 
 
 # --------------------------------------------------------------------------
@@ -271,17 +300,235 @@ def build_demo(path):
     save(path)
 
 
+# --------------------------------------------------------------------------
+# path-space filtering scenes (West et al. 2020, Sec. 4.4, Figs. 4-6)
+# --------------------------------------------------------------------------
+def mix_material(name, fac, first, second):
+    """Mix Shader of two BSDF nodes; `first`/`second` are (node_type, {input: value})."""
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nt = m.node_tree
+    for node in list(nt.nodes):
+        if node.type != 'OUTPUT_MATERIAL':
+            nt.nodes.remove(node)
+    out = nt.nodes["Material Output"]
+    mix = nt.nodes.new('ShaderNodeMixShader')
+    mix.inputs["Fac"].default_value = fac
+    for slot, (node_type, inputs) in ((1, first), (2, second)):
+        bsdf = nt.nodes.new(node_type)
+        bsdf.location = (-300, 150 - 300 * (slot - 1))
+        inputs = dict(inputs)
+        dist = inputs.pop("distribution", None)
+        if dist is not None:
+            bsdf.distribution = dist
+        for key, val in inputs.items():
+            bsdf.inputs[key].default_value = (*val, 1.0) if isinstance(val, tuple) and len(val) == 3 else val
+        nt.links.new(bsdf.outputs[0], mix.inputs[slot])
+    nt.links.new(mix.outputs[0], out.inputs["Surface"])
+    return m
+
+
+def principled(name, base, metallic, roughness, specular=0.5):
+    m = _material(name, 'ShaderNodeBsdfPrincipled', distribution='GGX',
+                  **{"Base Color": base, "Metallic": metallic, "Roughness": roughness,
+                     "Specular": specular})
+    m.diffuse_color = (*base, 1.0)
+    return m
+
+
+def _finish_mesh(sc, name, bm, mat, location=(0.0, 0.0, 0.0), rotation_deg=(0.0, 0.0, 0.0),
+                 smooth=False, auto_smooth_deg=35.0):
+    """Mesh object from a bmesh; smooth shading with auto smooth keeps hard edges hard."""
+    me = bpy.data.meshes.new(name)
+    bm.to_mesh(me)
+    bm.free()
+    if smooth:
+        me.polygons.foreach_set("use_smooth", [True] * len(me.polygons))
+        me.use_auto_smooth = True
+        me.auto_smooth_angle = math.radians(auto_smooth_deg)
+    me.update()
+    me.materials.append(mat)
+    ob = link(sc, bpy.data.objects.new(name, me))
+    ob.location = location
+    ob.rotation_euler = [math.radians(a) for a in rotation_deg]
+    return ob
+
+
+def cylinder_object(sc, name, mat, location, radius, depth, rotation_deg=(0.0, 0.0, 0.0), segments=32):
+    """Closed cylinder along local Z, centred on `location`."""
+    bm = bmesh.new()
+    bmesh.ops.create_cone(bm, cap_ends=True, cap_tris=False, segments=segments,
+                          radius1=radius, radius2=radius, depth=depth)
+    return _finish_mesh(sc, name, bm, mat, location, rotation_deg, smooth=True)
+
+
+def torus_object(sc, name, mat, location, major, minor, rotation_deg=(0.0, 0.0, 0.0),
+                 major_segments=64, minor_segments=24):
+    """Torus around local Z (ring radius `major`, tube radius `minor`), smooth shaded."""
+    bm = bmesh.new()
+    rings = []
+    for i in range(major_segments):
+        u = 2.0 * math.pi * i / major_segments
+        ring = []
+        for j in range(minor_segments):
+            v = 2.0 * math.pi * j / minor_segments
+            r = major + minor * math.cos(v)
+            ring.append(bm.verts.new((r * math.cos(u), r * math.sin(u), minor * math.sin(v))))
+        rings.append(ring)
+    for i in range(major_segments):
+        a, b = rings[i], rings[(i + 1) % major_segments]
+        for j in range(minor_segments):
+            k = (j + 1) % minor_segments
+            bm.faces.new((a[j], b[j], b[k], a[k]))
+    bm.normal_update()
+    return _finish_mesh(sc, name, bm, mat, location, rotation_deg, smooth=True, auto_smooth_deg=180.0)
+
+
+def beveled_cube_object(sc, name, mat, location, size, rotation_deg=(0.0, 0.0, 0.0), bevel=0.2,
+                        segments=3):
+    """Cube of edge `size` with rounded edges (bevel as a fraction of the edge)."""
+    bm = bmesh.new()
+    bmesh.ops.create_cube(bm, size=size)
+    bmesh.ops.bevel(bm, geom=list(bm.verts) + list(bm.edges), offset=bevel * size, offset_type='OFFSET',
+                    segments=segments, profile=0.5, affect='EDGES', clamp_overlap=True)
+    return _finish_mesh(sc, name, bm, mat, location, rotation_deg, smooth=True, auto_smooth_deg=50.0)
+
+
+def aim(ob, target):
+    """Point the object's local -Z (a light's or camera's forward axis) at `target`, Y up."""
+    from mathutils import Vector
+    d = Vector(target) - Vector(ob.location)
+    ob.rotation_euler = d.to_track_quat('-Z', 'Y').to_euler()
+    return ob
+
+
+def build_psf_glossy(path):
+    """Glossy-heavy scene: GGX roughness 0.05 ... 0.6, small glossy details, 3 area lights."""
+    sc = new_scene(256, 256, samples=1024)
+    set_world(sc, (0.02, 0.022, 0.026), 1.0)  # dim, so open directions are not pitch black
+    t = 0.1
+    floor = diffuse("FloorGrey", (0.45, 0.45, 0.45))
+    wall = diffuse("WallWarm", (0.7, 0.62, 0.52))
+    box_object(sc, "Floor", (-4.0, -4.0, -t), (4.0, 2.0 + t, 0.0), floor)
+    box_object(sc, "BackWall", (-4.0, 2.0, 0.0), (4.0, 2.0 + t, 3.5), wall)
+
+    # large glossy objects, roughness from 0.05 to 0.6
+    sphere_object(sc, "GoldSphere", glossy_ggx("GoldGGX005", GOLD, 0.05), (-0.95, 0.55, 0.42), 0.42)
+    sphere_object(sc, "CopperSphere", glossy_ggx("CopperGGX035", (0.95, 0.64, 0.54), 0.35),
+                  (0.98, 0.7, 0.38), 0.38)
+    torus_object(sc, "SilverTorus", glossy_ggx("SilverGGX015", (0.92, 0.92, 0.95), 0.15),
+                 (0.08, 0.7, 0.42), 0.32, 0.09, rotation_deg=(90.0, 0.0, 20.0))
+    cylinder_object(sc, "TallRodRough", glossy_ggx("BlueGGX060", (0.55, 0.68, 0.9), 0.6),
+                    (-0.38, 1.35, 0.8), 0.06, 1.6)
+    cylinder_object(sc, "TallRodSmooth", glossy_ggx("SteelGGX025", (0.8, 0.8, 0.82), 0.25),
+                    (0.55, 1.45, 0.65), 0.045, 1.3)
+    sphere_object(sc, "PlasticSphere", principled("BluePlastic", (0.08, 0.2, 0.55), 0.0, 0.2),
+                  (0.42, -0.05, 0.24), 0.24)
+    sphere_object(sc, "RedVarnish", mix_material(
+        "RedVarnish", 0.35,
+        ('ShaderNodeBsdfDiffuse', {"Color": (0.6, 0.08, 0.05)}),
+        ('ShaderNodeBsdfGlossy', {"distribution": 'GGX', "Color": (0.9, 0.9, 0.9), "Roughness": 0.1})),
+        (-0.45, -0.25, 0.2), 0.2)
+
+    # small glossy details: beveled cubes and thin rods on the floor, in front
+    cubes = [((-1.0, -0.5, 0.08), 20.0, glossy_ggx("CubeGGX010", (0.95, 0.8, 0.5), 0.1)),
+             ((-0.75, -0.72, 0.08), -35.0, principled("CubeMetal020", (0.9, 0.6, 0.45), 1.0, 0.2)),
+             ((0.05, -0.55, 0.08), 10.0, glossy_ggx("CubeGGX040", (0.85, 0.85, 0.88), 0.4)),
+             ((0.85, -0.42, 0.08), 45.0, glossy_ggx("CubeGGX005", (0.7, 0.85, 0.7), 0.05))]
+    for i, (loc, rz, mat) in enumerate(cubes):
+        beveled_cube_object(sc, "SmallCube%d" % i, mat, loc, 0.16, rotation_deg=(0.0, 0.0, rz))
+    rod = glossy_ggx("RodGGX008", (0.9, 0.88, 0.85), 0.08)
+    for i, (x, y, rz) in enumerate([(0.45, -0.85, 70.0), (0.6, -0.8, 80.0), (0.75, -0.78, 95.0)]):
+        cylinder_object(sc, "FloorRod%d" % i, rod, (x, y, 0.022), 0.022, 0.6,
+                        rotation_deg=(90.0, 0.0, rz), segments=16)
+    cylinder_object(sc, "LeaningRod", glossy_ggx("RodGGX030", (0.95, 0.7, 0.4), 0.3),
+                    (-1.35, 0.35, 0.45), 0.025, 1.0, rotation_deg=(0.0, 25.0, 10.0), segments=16)
+
+    # two area lights from the top (warm and cool) and a small one at the back
+    aim(add_light(sc, "AreaKey", 'AREA', (-1.7, -0.8, 2.6), shape='RECTANGLE', size=1.2, size_y=0.6,
+                  energy=PSF_GLOSSY_LIGHTS[0], color=(1.0, 0.9, 0.78)), (-0.2, 0.5, 0.3))
+    aim(add_light(sc, "AreaFill", 'AREA', (1.9, 0.0, 2.2), shape='SQUARE', size=0.8,
+                  energy=PSF_GLOSSY_LIGHTS[1], color=(0.78, 0.86, 1.0)), (0.3, 0.6, 0.3))
+    aim(add_light(sc, "AreaRim", 'AREA', (0.2, 1.7, 2.4), shape='DISK', size=0.5,
+                  energy=PSF_GLOSSY_LIGHTS[2], color=(1.0, 1.0, 1.0)), (0.0, 0.4, 0.3))
+
+    cam = add_camera(sc, (0.0, -3.0, 1.3), (0.0, 0.0, 0.0), lens=38.0)
+    aim(cam, (0.0, 0.25, 0.45))
+    save(path)
+
+
+def build_psf_room(path):
+    """Mostly diffuse closed room, a few glossy objects, lit by 2 ceiling area lights."""
+    sc = new_scene(256, 256, samples=1024)
+    set_world(sc)  # black: the room is closed anyway
+    t = 0.1
+    x0, x1, y0, y1, h = -2.0, 2.0, -2.2, 2.2, 2.6
+    ceiling = diffuse("Ceiling", (0.8, 0.8, 0.8))
+    plaster = diffuse("Plaster", (0.72, 0.68, 0.6))
+    accent = diffuse("AccentBlue", (0.35, 0.5, 0.62))
+    floor = diffuse("FloorWood", (0.42, 0.3, 0.2))
+    box_object(sc, "Floor", (x0 - t, y0 - t, -t), (x1 + t, y1 + t, 0.0), floor)
+    box_object(sc, "Ceiling", (x0 - t, y0 - t, h), (x1 + t, y1 + t, h + t), ceiling)
+    box_object(sc, "BackWall", (x0, y1, 0.0), (x1, y1 + t, h), plaster)
+    box_object(sc, "FrontWall", (x0, y0 - t, 0.0), (x1, y0, h), plaster)
+    box_object(sc, "LeftWall", (x0 - t, y0 - t, 0.0), (x0, y1 + t, h), accent)
+    box_object(sc, "RightWall", (x1, y0 - t, 0.0), (x1 + t, y1 + t, h), plaster)
+
+    # table from boxes, glossy varnished top
+    top = principled("TableTopVarnish", (0.3, 0.14, 0.06), 0.0, 0.12)
+    legs = diffuse("TableLegs", (0.18, 0.12, 0.08))
+    tx0, tx1, ty0, ty1, tz = -1.0, 0.6, 0.3, 1.3, 0.74
+    box_object(sc, "TableTop", (tx0, ty0, tz), (tx1, ty1, tz + 0.04), top)
+    for i, (lx, ly) in enumerate([(tx0 + 0.05, ty0 + 0.05), (tx1 - 0.1, ty0 + 0.05),
+                                  (tx0 + 0.05, ty1 - 0.1), (tx1 - 0.1, ty1 - 0.1)]):
+        box_object(sc, "TableLeg%d" % i, (lx, ly, 0.0), (lx + 0.05, ly + 0.05, tz), legs)
+
+    # diffuse objects
+    box_object(sc, "Cabinet", (1.35, 0.6, 0.0), (x1, 2.0, 0.9), diffuse("CabinetWhite", (0.75, 0.75, 0.72)))
+    unit_cube_object(sc, "Stool", diffuse("StoolGreen", (0.2, 0.42, 0.22)), (0.85, -0.3, 0.22), 25.0,
+                     (0.4, 0.4, 0.44))
+    sphere_object(sc, "Ball", diffuse("BallOrange", (0.8, 0.35, 0.08)), (-0.55, 0.75, tz + 0.04 + 0.14), 0.14)
+    cylinder_object(sc, "Vase", diffuse("VaseWhite", (0.8, 0.8, 0.78)), (1.65, 1.6, 0.9 + 0.18), 0.1, 0.36)
+    box_object(sc, "Picture", (-0.7, y1 - 0.02, 1.25), (0.5, y1, 1.95), diffuse("PictureRed", (0.55, 0.18, 0.12)))
+    box_object(sc, "Rug", (-1.6, -0.6, 0.0), (0.9, 1.8, 0.01), diffuse("RugBeige", (0.55, 0.5, 0.4)))
+
+    # a few glossy objects: wall socket plates, a metal ball on the table
+    socket = glossy_ggx("SocketGloss", (0.9, 0.9, 0.88), 0.1)
+    box_object(sc, "WallSocket", (-1.5, y1 - 0.012, 0.3), (-1.34, y1, 0.4), socket)
+    box_object(sc, "WallSocket2", (x1 - 0.012, -0.2, 0.3), (x1, -0.04, 0.4), socket)
+    box_object(sc, "LightSwitch", (x1 - 0.012, -0.55, 1.05), (x1, -0.45, 1.17), socket)
+    sphere_object(sc, "MetalBall", principled("BrushedSteel", (0.8, 0.8, 0.8), 1.0, 0.25),
+                  (0.2, 0.95, tz + 0.04 + 0.1), 0.1)
+
+    for i, (x, y) in enumerate([(-0.6, 0.3), (0.9, 1.3)]):
+        add_light(sc, "CeilingLight%d" % i, 'AREA', (x, y, h - 0.02), shape='SQUARE', size=0.5,
+                  energy=PSF_ROOM_LIGHT_POWER, color=(1.0, 0.95, 0.88))
+
+    cam = add_camera(sc, (-1.2, -2.0, 1.55), (0.0, 0.0, 0.0), lens=22.0)
+    aim(cam, (0.2, 1.0, 0.7))
+    save(path)
+
+
+
 def save(path):
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
     print("build_scenes: wrote", path)
 
 
+SCENE_NAMES = {
+    "cornell": build_cornell,
+    "cornell_diffuse": build_cornell_diffuse,
+    "demo": build_demo,
+    "psf_glossy": build_psf_glossy,
+    "psf_room": build_psf_room,
+}
+
+
 def main():
     out = out_dir()
     os.makedirs(out, exist_ok=True)
-    build_cornell(os.path.join(out, "cornell.blend"))
-    build_cornell_diffuse(os.path.join(out, "cornell_diffuse.blend"))
-    build_demo(os.path.join(out, "demo.blend"))
+    for name in selected_scenes():
+        SCENE_NAMES[name](os.path.join(out, name + ".blend"))
 
 
 main()

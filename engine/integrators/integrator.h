@@ -69,6 +69,9 @@ public:
     virtual ~Integrator() = default;
     // Adds samples [s0, s1) to every pixel of the window; returns early when ctx.should_stop().
     virtual void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) = 0;
+    // Largest number of samples per pass. Multi-stage integrators finish whole iterations only, so
+    // they take one sample per pass: a time limit then wastes at most one iteration.
+    virtual uint32_t max_pass_samples() const { return 16; }
     // Integrator-specific measurements (stage timings, reuse statistics) for stats and benchmarks.
     virtual std::map<std::string, double> stats() const { return {}; }
 };

@@ -19,6 +19,7 @@ public:
     explicit PathSpaceFilteringIntegrator(PsfWeighting weighting) : weighting_(weighting) {}
     void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) override;
     std::map<std::string, double> stats() const override;
+    uint32_t max_pass_samples() const override { return 1; }
 
 private:
     void iteration(RenderContext& ctx, uint32_t s);

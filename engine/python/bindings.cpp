@@ -5,6 +5,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <tbb/global_control.h>
+
 #include "film/image_io.h"
 #include "render/session.h"
 #include "scene/scene.h"
@@ -264,6 +266,23 @@ PYBIND11_MODULE(_smis, m) {
              })
         .def("pixels", [](const RenderSession& r) { return to_image(r.pixels(), r.width(), r.height()); })
         .def("integrator_stats", &RenderSession::integrator_stats);
+
+    // Blender computes split normals with parallel floating-point sums whose order varies from run
+    // to run (measured: a few hundred normals differ in the last bit between two exports of the
+    // same mesh). The sync layer computes them inside this guard, which limits TBB (shared with
+    // Blender) to one thread, so the same scene exports the same numbers and renders the same image.
+    struct SerialTbb {
+        std::unique_ptr<tbb::global_control> control;
+    };
+    py::class_<SerialTbb>(m, "SerialTbb")
+        .def(py::init<>())
+        .def("__enter__",
+             [](SerialTbb& s) {
+                 s.control = std::make_unique<tbb::global_control>(
+                     tbb::global_control::max_allowed_parallelism, 1);
+                 return &s;
+             })
+        .def("__exit__", [](SerialTbb& s, py::args) { s.control.reset(); });
 
     m.def("write_exr", [](const std::string& path, py::array_t<float, py::array::c_style | py::array::forcecast> img) {
         int w, h;

@@ -54,8 +54,9 @@ void RenderSession::render_loop() {
     int threads = settings_.threads > 0 ? settings_.threads : tbb::info::default_concurrency();
     try {
         tbb::task_arena arena(threads);
-        // Passes grow from 1 sample so the first preview comes quickly, then double up to 16 samples
-        // so progress and cancellation stay responsive. Pass boundaries do not change the image.
+        // Passes grow from 1 sample so the first preview comes quickly, then double up to the
+        // integrator's pass size so progress and cancellation stay responsive. Pass boundaries do
+        // not change the image.
         uint32_t s = 0, step = 1;
         while (s < settings_.samples && !ctx.should_stop()) {
             uint32_t e = std::min(settings_.samples, s + step);
@@ -63,7 +64,7 @@ void RenderSession::render_loop() {
             if (ctx.should_stop()) break;
             s = e;
             samples_done_.store(s);
-            step = std::min<uint32_t>(step * 2, 16);
+            step = std::min<uint32_t>(step * 2, integrator_->max_pass_samples());
         }
     } catch (const std::exception& e) {
         std::lock_guard<std::mutex> lock(mutex_);

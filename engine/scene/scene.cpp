@@ -16,10 +16,7 @@ inline Vec3 load3(const float* p) { return {p[0], p[1], p[2]}; }
 }  // namespace
 
 Scene::Scene() {
-    // Embree's parallel BVH builders are not deterministic (measured: one-ULP differences in a few
-    // pixels between identical renders), and the same seed must give the same image: build on one
-    // thread. Traversal is unaffected; it runs on our render threads.
-    device_ = rtcNewDevice("threads=1");
+    device_ = rtcNewDevice(nullptr);
     if (!device_) throw std::runtime_error("could not create the Embree device");
     rtcSetDeviceErrorFunction(device_, embree_error, &embree_error_);
     // A default material (neutral grey diffuse) so id 0 is always valid.
@@ -158,8 +155,7 @@ void Scene::commit() {
     scene_ = rtcNewScene(device_);
     // ROBUST: watertight traversal, so rays do not leak through edges shared by two triangles.
     rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-    // MEDIUM: the binned SAH builder, which stays fast on one thread for large scenes.
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_MEDIUM);
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
 
     // Meshes used once are flattened into world space (one BVH level, as Cycles does for unique
     // objects); meshes used several times become one Embree prototype shared by Embree instances.
@@ -167,7 +163,7 @@ void Scene::commit() {
         if (mesh.users < 2) continue;
         mesh.prototype = rtcNewScene(device_);
         rtcSetSceneFlags(mesh.prototype, RTC_SCENE_FLAG_ROBUST);
-        rtcSetSceneBuildQuality(mesh.prototype, RTC_BUILD_QUALITY_MEDIUM);
+        rtcSetSceneBuildQuality(mesh.prototype, RTC_BUILD_QUALITY_HIGH);
         build_mesh_geometry(mesh.prototype, mesh, 0);
         rtcCommitScene(mesh.prototype);
     }

@@ -10,6 +10,8 @@ from typing import Optional
 
 import numpy as np
 
+from .. import native
+
 
 @dataclass
 class MeshBuffers:
@@ -57,7 +59,9 @@ def mesh_buffers(mesh, slot_count):
 
     corner_normals = None
     if n_tris and _needs_corner_normals(mesh):
-        mesh.calc_normals_split()
+        # Blender sums normals in parallel in a varying order; one thread makes them reproducible.
+        with native.load().SerialTbb():
+            mesh.calc_normals_split()
         corner_normals = np.empty(n_tris * 9, dtype=np.float32)
         tris.foreach_get("split_normals", corner_normals)
         corner_normals = corner_normals.reshape(n_tris, 3, 3)
