@@ -41,6 +41,22 @@ public:
             lo[a] = cell_coord(p[a] - r);
             hi[a] = cell_coord(p[a] + r);
         }
+        // A ball far larger than the cells (an infinite or huge radius, e.g. a pixel seeing geometry
+        // at 1e5 while the median radius is tiny) spans up to (2e6)^3 cells: the loop below then
+        // never ends (a hang found by fuzz_test). When the box covers far more cells than there are
+        // points, scan the points instead and report those whose cell lies in the box: the same set
+        // (only the visiting order differs). Ordinary queries (8-27 cells) never take this branch.
+        double cells = 1.0;
+        for (int a = 0; a < 3; ++a) cells *= double(hi[a]) - double(lo[a]) + 1.0;
+        if (cells > 8.0 * double(entries_.size()) + 1024.0) {
+            for (const Entry& e : entries_) {
+                int c[3];
+                unpack(e.key, c);
+                if (c[0] >= lo[0] && c[0] <= hi[0] && c[1] >= lo[1] && c[1] <= hi[1] && c[2] >= lo[2] && c[2] <= hi[2])
+                    fn(e.index);
+            }
+            return;
+        }
         for (int x = lo[0]; x <= hi[0]; ++x)
             for (int y = lo[1]; y <= hi[1]; ++y)
                 for (int z = lo[2]; z <= hi[2]; ++z) {
@@ -65,6 +81,9 @@ private:
     static uint64_t pack(int x, int y, int z) {
         auto u = [](int v) { return static_cast<uint64_t>(static_cast<uint32_t>(v + (1 << 20)) & 0x1FFFFF); };
         return (u(x) << 42) | (u(y) << 21) | u(z);
+    }
+    static void unpack(uint64_t key, int* c) {
+        for (int a = 0; a < 3; ++a) c[a] = int((key >> (42 - 21 * a)) & 0x1FFFFF) - (1 << 20);
     }
     uint64_t key_of(const Vec3& p) const { return pack(cell_coord(p.x), cell_coord(p.y), cell_coord(p.z)); }
     // A full 64-bit mix: a plain multiplicative hash keeps x out of the low bits, and cells that

@@ -23,10 +23,12 @@ RenderSession::~RenderSession() {
 
 void RenderSession::start() {
     if (worker_.joinable()) return;
+    start_time_ = std::chrono::steady_clock::now();  // before the thread: progress() reads it
     worker_ = std::thread([this] { render_loop(); });
 }
 
 void RenderSession::run() {
+    start_time_ = std::chrono::steady_clock::now();
     render_loop();
     if (!error_.empty()) throw std::runtime_error(error_);
 }
@@ -45,7 +47,6 @@ std::string RenderSession::error() const {
 }
 
 void RenderSession::render_loop() {
-    start_time_ = std::chrono::steady_clock::now();
     auto deadline = settings_.time_limit > 0
                         ? start_time_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                             std::chrono::duration<double>(settings_.time_limit))
@@ -88,7 +89,7 @@ RenderProgress RenderSession::progress() const {
     p.nan_caught = counters_.nan_caught.load();
     p.samples_rejected = counters_.samples_rejected.load();
     auto now = p.finished ? end_time_ : std::chrono::steady_clock::now();
-    p.elapsed = start_time_.time_since_epoch().count() ? std::chrono::duration<double>(now - start_time_).count() : 0.0;
+    p.elapsed = started() ? std::chrono::duration<double>(now - start_time_).count() : 0.0;
     double pixels = double(film_.width()) * film_.height();
     p.fraction = std::min(1.0, p.paths / (pixels * settings_.samples));
     p.paths_per_second = p.elapsed > 0 ? p.paths / p.elapsed : 0.0;

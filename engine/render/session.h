@@ -39,6 +39,7 @@ public:
 
 private:
     void render_loop();
+    bool started() const { return start_time_.time_since_epoch().count() != 0; }
     std::shared_ptr<const Scene> scene_;
     RenderSettings settings_;
     Film film_;

@@ -7,6 +7,16 @@ namespace smis {
 Camera::Camera(const CameraDesc& desc) : desc_(desc) {
     if (desc.width <= 0 || desc.height <= 0) throw std::invalid_argument("camera resolution must be positive");
     if (!desc.to_world.is_finite()) throw std::invalid_argument("camera matrix is not finite");
+    // The clip range becomes every camera ray's [tnear, tfar]: a NaN or negative clip_start reached
+    // Embree as tnear < 0, which aborts the process on Embree's `ray.tnear() >= 0` assertion (found
+    // by fuzz_test). Shift and pixel aspect feed the ray direction, so they must be finite too.
+    if (!(desc.clip_start >= 0.0f) || !std::isfinite(desc.clip_start) || !(desc.clip_end > desc.clip_start))
+        throw std::invalid_argument("camera clip range invalid");
+    if (!std::isfinite(desc.shift_x) || !std::isfinite(desc.shift_y))
+        throw std::invalid_argument("camera shift is not finite");
+    if (!(desc.pixel_aspect_x > 0.0f) || !(desc.pixel_aspect_y > 0.0f) || !std::isfinite(desc.pixel_aspect_x) ||
+        !std::isfinite(desc.pixel_aspect_y))
+        throw std::invalid_argument("camera pixel aspect invalid");
     const Transform& m = desc.to_world;
     origin_ = Vec3(m.m[0][3], m.m[1][3], m.m[2][3]);
     right_ = normalize(m.column(0));

@@ -13,6 +13,35 @@ void embree_error(void* user, RTCError code, const char* msg) {
 
 inline Vec3 load3(const float* p) { return {p[0], p[1], p[2]}; }
 
+// Embree's own validity test for a ray (RayK::valid(), asserted inside rtcIntersect1/rtcOccluded1):
+// every origin and direction component within FLT_LARGE = 1.844e18, tnear in [0, inf], tfar not NaN.
+// Rays outside it (a camera or geometry at ~1e19 and beyond, NaN directions from degenerate input)
+// abort the process on Embree's assertion (found by fuzz_test) and are undefined behaviour in builds
+// without assertions, so the scene answers them itself: nothing is hit, everything is occluded.
+constexpr float kEmbreeLarge = 1.844e18f;
+inline bool embree_accepts(const Vec3& o, const Vec3& d, float tnear, float tfar) {
+    return std::fabs(o.x) <= kEmbreeLarge && std::fabs(o.y) <= kEmbreeLarge && std::fabs(o.z) <= kEmbreeLarge &&
+           std::fabs(d.x) <= kEmbreeLarge && std::fabs(d.y) <= kEmbreeLarge && std::fabs(d.z) <= kEmbreeLarge &&
+           tnear >= 0.0f && tnear <= kInf && !std::isnan(tfar);
+}
+
+// Embree intersects an instanced mesh in its local space, through the inverse transform. A transform
+// that is singular in float passed the old `det != 0` test (e.g. a denormal scale: det = -1.4e-45):
+// its inverse is infinite or huge, the local rays fail Embree's validity assertion and abort the
+// process (found by fuzz_test). Require a finite inverse whose entries stay below 1e12 (no axis
+// scaled below ~1e-12), which keeps local rays well inside Embree's limit of 1.8e18.
+bool invertible_in_float(const Transform& t) {
+    float det = t.determinant3();
+    if (!std::isfinite(det) || det == 0.0f) return false;
+    Vec3 c0 = t.column(0), c1 = t.column(1), c2 = t.column(2);
+    for (const Vec3& r : {cross(c1, c2), cross(c2, c0), cross(c0, c1)}) {  // rows of the inverse x det
+        Vec3 inv = r / det;
+        if (!is_finite(inv) || std::fabs(inv.x) > 1e12f || std::fabs(inv.y) > 1e12f || std::fabs(inv.z) > 1e12f)
+            return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 Scene::Scene() {
@@ -99,7 +128,7 @@ uint32_t Scene::mesh_dropped(uint32_t mesh) const { return mesh < meshes_.size()
 void Scene::add_instance(uint32_t mesh, const Transform& to_world) {
     if (committed_) throw std::logic_error("scene already committed");
     if (mesh >= meshes_.size()) throw std::invalid_argument("instance of an unknown mesh");
-    if (!to_world.is_finite() || !(std::fabs(to_world.determinant3()) > 0.0f))
+    if (!to_world.is_finite() || !invertible_in_float(to_world))
         throw std::invalid_argument("instance transform is not finite or is singular");
     if (meshes_[mesh].indices.empty()) return;
     instances_.push_back({mesh, to_world, false, -1});
@@ -236,6 +265,7 @@ void Scene::commit() {
 }
 
 bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
+    if (!embree_accepts(ray.o, ray.d, ray.tmin, ray.tmax)) return false;  // see embree_accepts()
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
@@ -294,6 +324,7 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
 }
 
 bool Scene::occluded(const Vec3& origin, const Vec3& dir, float tmax) const {
+    if (!embree_accepts(origin, dir, 0.0f, tmax)) return true;  // see embree_accepts()
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay r;
