@@ -40,9 +40,8 @@ struct PathRecord {
     bool backfacing = false;
     float radius = 0.0f;
     // Suffix: its first vertex z1.
-    Vec3 z, z_ng, z_wo, z_ns;
+    Vec3 z, z_ng, z_ns;       // z1, its geometric and shading normals (both on the geometric side)
     uint32_t z_material = 0;
-    bool z_backfacing = false;
     Color L_out{0.0f};        // radiance leaving z1 towards x1, emission at z1 excluded
     // z1's own estimators, kept so the unbiased variant can re-evaluate z1's BSDF for another x1:
     // L_out(wo) = f(wo, nee_dir) nee_weighted + f(wo, next_dir) next_weighted.
@@ -148,10 +147,8 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         rec.has_suffix = true;
         rec.z = h1.p;
         rec.z_ng = h1.ng;
-        rec.z_wo = sp1.wo;
-        rec.z_ns = sp1.ns;
+        rec.z_ns = h1.ns;
         rec.z_material = h1.material;
-        rec.z_backfacing = sp1.backfacing;
         rec.L_out = L_out;
         return rec;
     }
@@ -296,7 +293,6 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     bool back = dot(z_wo, smp.z_ng) < 0.0f;
                     Vec3 zng = back ? -smp.z_ng : smp.z_ng;
                     Vec3 zns = back ? -smp.z_ns : smp.z_ns;
-                    if (dot(smp.z_ns, smp.z_ng) < 0.0f) zns = -zns;
                     Bsdf bz = bsdf_at(scene, smp.z_material, zns, zng, back);
                     L_z = bz.eval(z_wo, smp.nee_dir) * smp.nee_weighted + bz.eval(z_wo, smp.next_dir) * smp.next_weighted;
                 }
