@@ -11,7 +11,7 @@ echo "== C++ tests (ctest)"
 # scenes rendered) reach the log; ctest's own summary line closes the step either way.
 (cd "$BUILD_DIR" && ctest -R "^(Fuzz|Stress)\." -V > stress_fuzz.log 2>&1) || { cat "$BUILD_DIR/stress_fuzz.log"; exit 1; }
 grep -hE "fuzz:|\[stress\]" "$BUILD_DIR/stress_fuzz.log" | sed -E 's/^[0-9]+: //' | sort -u
-grep -hE "tests passed|tests failed" "$BUILD_DIR/stress_fuzz.log" | sed 's/^/stress and fuzz: /'
+grep -hE "[0-9]+% tests passed" "$BUILD_DIR/stress_fuzz.log" | sed 's/^/stress and fuzz: /'
 (cd "$BUILD_DIR" && ctest --output-on-failure -j "$(nproc)" -E "^(Fuzz|Stress)\.")
 echo "== Blender tests (pytest inside blender --background)"
 blender -b --factory-startup --addons smis_render --python "$ROOT/blender_tests/run.py" -- "$@"
