@@ -53,7 +53,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import metrics as M  # noqa: E402
-from render import RenderError, remove, render_smis  # noqa: E402
+from render import RenderError, parse_value, remove, render_smis  # noqa: E402
 
 SCENES = ["psf_glossy", "psf_room"]
 INTEGRATORS = ["PATH", "PSF_KELLER", "PSF_SMIS"]
@@ -70,17 +70,6 @@ RESULTS = os.path.join(HERE, "results")
 
 def log(msg):
     print("[psf_bench %s] %s" % (time.strftime("%H:%M:%S"), msg), flush=True)
-
-
-def parse_value(text):
-    for conv in (int, float):
-        try:
-            return conv(text)
-        except ValueError:
-            pass
-    if text in ("True", "False"):
-        return text == "True"
-    return text
 
 
 def scene_blend(name):

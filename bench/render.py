@@ -107,6 +107,18 @@ def parse_blender_time(output):
     return parse_timecode(total) - (parse_timecode(saving) if saving else 0.0)
 
 
+def parse_value(text):
+    """A --set value from the command line: int, float, bool, or the string itself."""
+    for conv in (int, float):
+        try:
+            return conv(text)
+        except ValueError:
+            pass
+    if text in ("True", "False"):
+        return text == "True"
+    return text
+
+
 def _py_literal(value):
     return repr(value)  # str, int, float, bool: valid Python
 
@@ -231,17 +243,9 @@ if __name__ == "__main__":
     ap.add_argument("--out", default=None)
     a = ap.parse_args()
 
-    def value(text):
-        for conv in (int, float):
-            try:
-                return conv(text)
-            except ValueError:
-                pass
-        return text
-
     if a.engine == "SMIS":
         kv = dict(s.split("=", 1) for s in a.set)
-        run = render_smis(a.blend, {k: value(v) for k, v in kv.items()}, a.out, a.threads)
+        run = render_smis(a.blend, {k: parse_value(v) for k, v in kv.items()}, a.out, a.threads)
     else:
         run = render_cycles(a.blend, a.samples, out_dir=a.out, threads=a.threads)
     print(json.dumps(dict(run.summary(), path=run.path)))

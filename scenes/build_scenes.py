@@ -119,24 +119,33 @@ def set_world(sc, color=(0.0, 0.0, 0.0), strength=1.0):
     return w
 
 
-def _material(name, node_type, **inputs):
+def _node_material(name):
+    """A new material whose node tree holds only its Material Output: (material, tree, output)."""
     m = bpy.data.materials.new(name)
     m.use_nodes = True
     nt = m.node_tree
     for node in list(nt.nodes):
         if node.type != 'OUTPUT_MATERIAL':
             nt.nodes.remove(node)
-    out = nt.nodes["Material Output"]
+    return m, nt, nt.nodes["Material Output"]
+
+
+def _bsdf_node(nt, node_type, inputs, location):
+    """A BSDF node with its distribution and input values set (RGB tuples get alpha 1)."""
     bsdf = nt.nodes.new(node_type)
-    bsdf.location = (-250, 0)
+    bsdf.location = location
+    inputs = dict(inputs)
     dist = inputs.pop("distribution", None)
     if dist is not None:
         bsdf.distribution = dist
     for key, val in inputs.items():
-        sock = bsdf.inputs[key]
-        if isinstance(val, tuple) and len(val) == 3:
-            val = (*val, 1.0)
-        sock.default_value = val
+        bsdf.inputs[key].default_value = (*val, 1.0) if isinstance(val, tuple) and len(val) == 3 else val
+    return bsdf
+
+
+def _material(name, node_type, **inputs):
+    m, nt, out = _node_material(name)
+    bsdf = _bsdf_node(nt, node_type, inputs, (-250, 0))
     nt.links.new(bsdf.outputs[0], out.inputs["Surface"])
     # viewport colour, handy in solid mode
     if "Color" in inputs:
@@ -305,24 +314,11 @@ def build_demo(path):
 # --------------------------------------------------------------------------
 def mix_material(name, fac, first, second):
     """Mix Shader of two BSDF nodes; `first`/`second` are (node_type, {input: value})."""
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    nt = m.node_tree
-    for node in list(nt.nodes):
-        if node.type != 'OUTPUT_MATERIAL':
-            nt.nodes.remove(node)
-    out = nt.nodes["Material Output"]
+    m, nt, out = _node_material(name)
     mix = nt.nodes.new('ShaderNodeMixShader')
     mix.inputs["Fac"].default_value = fac
     for slot, (node_type, inputs) in ((1, first), (2, second)):
-        bsdf = nt.nodes.new(node_type)
-        bsdf.location = (-300, 150 - 300 * (slot - 1))
-        inputs = dict(inputs)
-        dist = inputs.pop("distribution", None)
-        if dist is not None:
-            bsdf.distribution = dist
-        for key, val in inputs.items():
-            bsdf.inputs[key].default_value = (*val, 1.0) if isinstance(val, tuple) and len(val) == 3 else val
+        bsdf = _bsdf_node(nt, node_type, inputs, (-300, 150 - 300 * (slot - 1)))
         nt.links.new(bsdf.outputs[0], mix.inputs[slot])
     nt.links.new(mix.outputs[0], out.inputs["Surface"])
     return m
