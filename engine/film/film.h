@@ -28,7 +28,6 @@ public:
         resolve(out.data());
         return out;
     }
-    uint32_t samples(int x, int y) const { return count_[size_t(y) * width_ + x].load(std::memory_order_acquire); }
 
 private:
     int width_, height_;

@@ -331,7 +331,6 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     iterations_++;
     stored_vertices_ += stored.size();
     gathered_ += gathered.load();
-    queries_ += stored.size();
     accepted_ += accepted.load();
     bytes_per_vertex_ = sizeof(PathRecord) + (stored.empty() ? 0.0 : double(grid.memory_bytes()) / stored.size());
 }
@@ -344,8 +343,9 @@ std::map<std::string, double> PathSpaceFilteringIntegrator::stats() const {
         {"grid_build_seconds_per_iteration", grid_seconds_ / it},
         {"gather_seconds_per_iteration", gather_seconds_ / it},
         {"stored_vertices_per_iteration", stored_vertices_ / it},
-        {"techniques_per_query", queries_ ? double(gathered_) / queries_ : 0.0},
-        {"keller_accepted_per_query", queries_ ? double(accepted_) / queries_ : 0.0},
+        // Every stored vertex queries the grid once.
+        {"techniques_per_query", stored_vertices_ ? double(gathered_) / stored_vertices_ : 0.0},
+        {"keller_accepted_per_query", stored_vertices_ ? double(accepted_) / stored_vertices_ : 0.0},
         {"bytes_per_stored_vertex", bytes_per_vertex_},
     };
 }

@@ -37,8 +37,6 @@ public:
     int window_y0() const { return window_[1]; }
     int window_width() const { return window_[2] - window_[0]; }
     int window_height() const { return window_[3] - window_[1]; }
-    Vec3 position() const { return origin_; }
-    Vec3 forward() const { return forward_; }
     // World-space size of one pixel at distance `dist` along the view axis (used by path-space filtering).
     float pixel_footprint(float dist) const;
 

@@ -71,7 +71,6 @@ public:
     float light_pmf(uint32_t i) const { return light_selection_.pmf(i); }
     const std::vector<uint32_t>& infinite_lights() const { return infinite_lights_; }
     const SceneStats& stats() const { return stats_; }
-    float radius() const { return radius_; }
 
 private:
     struct Mesh {

@@ -41,10 +41,10 @@ TEST(PathTracer, FurnaceMatchesGeometricSeriesAtEveryBounceLimit) {
             st.max_bounces = bounces;
             st.mis = mis;
             auto img = render(scene, st);
-            MeanErr m = channel_mean(img, 1);
+            auto m = channel_mean(img, 1);
             double expect = expected_furnace(rho, le, bounces);
             // A tessellated sphere is an exact enclosure, so only Monte Carlo noise separates them.
-            EXPECT_NEAR(m.mean, expect, 4.0 * m.stderr_ + 1e-4) << "bounces " << bounces;
+            EXPECT_NEAR(m.mean(), expect, 4.0 * m.std_error() + 1e-4) << "bounces " << bounces;
         }
     }
 }
@@ -66,9 +66,9 @@ TEST(PathTracer, DiffuseSphereUnderUniformSkyReflectsItsAlbedo) {
     st.max_bounces = 4;
     auto img = render(s, st);
     for (int ch = 0; ch < 3; ++ch) {
-        MeanErr m = channel_mean(img, ch);
+        auto m = channel_mean(img, ch);
         double expect = 2.0 * std::array<double, 3>{0.7, 0.5, 0.3}[ch];
-        EXPECT_NEAR(m.mean, expect, 4.0 * m.stderr_ + 1e-4) << "channel " << ch;
+        EXPECT_NEAR(m.mean(), expect, 4.0 * m.std_error() + 1e-4) << "channel " << ch;
     }
 }
 

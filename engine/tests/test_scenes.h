@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "render/session.h"
+#include "stats.h"
 #include "scene/scene.h"
 
 namespace smis::testing {
@@ -63,19 +64,11 @@ inline std::vector<float> render(const std::shared_ptr<Scene>& scene, RenderSett
     return session.pixels();
 }
 
-// Mean and standard error of one channel over the pixels of an image (pixels independent).
-struct MeanErr {
-    double mean, stderr_;
-};
-inline MeanErr channel_mean(const std::vector<float>& rgba, int c) {
-    double s = 0, s2 = 0;
-    size_t n = rgba.size() / 4;
-    for (size_t i = 0; i < n; ++i) {
-        s += rgba[4 * i + c];
-        s2 += double(rgba[4 * i + c]) * rgba[4 * i + c];
-    }
-    double m = s / n, var = std::max(0.0, s2 / n - m * m);
-    return {m, std::sqrt(var / n)};
+// Mean (with its standard error) of one channel over the pixels of an image (pixels independent).
+inline stats::MeanEstimator channel_mean(const std::vector<float>& rgba, int c) {
+    stats::MeanEstimator m;
+    for (size_t i = 0; i < rgba.size() / 4; ++i) m.add(rgba[4 * i + c]);
+    return m;
 }
 
 }  // namespace smis::testing
