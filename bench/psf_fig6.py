@@ -1,6 +1,6 @@
 """Equal-sample comparison that isolates the weighting (West et al. 2020, Fig. 6): PSF_KELLER and
 PSF_SMIS on the same gathered paths (same seed, radius and neighbours), 8 paths per pixel, against
-the converged PATH reference of psf_bench.py, averaged over seeds; PSF_PATH (no reuse) beside them.
+the converged PATH reference of equal_time.py, averaged over seeds; PSF_PATH (no reuse) beside them.
 
     /usr/bin/python3 bench/psf_fig6.py [--scene psf_glossy] [--spp 8] [--seeds 1 2 3]
 
@@ -26,7 +26,7 @@ a = ap.parse_args()
 
 ref_path = os.path.join(HERE, "references", a.scene + "_ref.exr")
 if not os.path.exists(ref_path):
-    raise SystemExit(f"missing {ref_path}: run bench/psf_bench.py first (it renders and caches it)")
+    raise SystemExit(f"missing {ref_path}: run bench/equal_time.py --suite psf first (it renders and caches it)")
 ref = load_exr(ref_path)
 blend = os.path.join(ROOT, "scenes", a.scene + ".blend")
 integrators = ["PSF_PATH", "PSF_KELLER", "PSF_SMIS"]
