@@ -422,15 +422,43 @@ Bsdf::FixedWo Bsdf::fix_wo(const Vec3& wo) const {
     f.wo = wo;
     f.wo_local = frame_.to_local(wo);
     selection_probabilities(f.wo_local, f.probs);
+    const Vec3& o = f.wo_local;
+    for (int i = 0; i < count_; ++i) {
+        const Lobe& lobe = lobes_[i];
+        float scale = 0.0f;
+        if (o.z > 0.0f && !lobe_is_delta(lobe)) {
+            if (lobe.kind == LobeKind::Diffuse) scale = kInvPi;
+            else if (lobe.kind == LobeKind::Microfacet) scale = ggx_G1(o, lobe.alpha) / (4.0f * o.z);
+        }
+        f.pdf_scale[i] = std::isfinite(scale) ? scale : 0.0f;
+    }
     return f;
 }
 
+// The same densities as lobe_pdf(), without evaluating the BSDF values: path-space filtering sums
+// k^2 of them per pixel (eq. 17). Dielectric lobes take the general route.
 float Bsdf::pdf(const FixedWo& fixed, const Vec3& wi) const {
     if (count_ == 0) return 0.0f;
     Vec3 wi_l = frame_.to_local(wi);
     if (!sides_consistent(ng_, fixed.wo, wi, fixed.wo_local, wi_l)) return 0.0f;
+    const Vec3& wo_l = fixed.wo_local;
     float sum = 0.0f;
-    for (int i = 0; i < count_; ++i) sum += fixed.probs[i] * lobe_pdf(lobes_[i], fixed.wo_local, wi_l);
+    for (int i = 0; i < count_; ++i) {
+        const Lobe& lobe = lobes_[i];
+        float p = 0.0f;
+        if (lobe.kind == LobeKind::Dielectric) {
+            p = lobe_pdf(lobe, wo_l, wi_l);
+        } else if (fixed.pdf_scale[i] > 0.0f && wi_l.z > 0.0f) {
+            if (lobe.kind == LobeKind::Diffuse) {
+                p = wi_l.z * fixed.pdf_scale[i];
+            } else {
+                Vec3 h = wo_l + wi_l;
+                float len2 = length_sq(h);
+                if (len2 > kMinHalfLenSq) p = ggx_D(h / std::sqrt(len2), lobe.alpha) * fixed.pdf_scale[i];
+            }
+        }
+        sum += fixed.probs[i] * p;
+    }
     return std::isfinite(sum) ? sum : 0.0f;
 }
 

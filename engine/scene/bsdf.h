@@ -82,9 +82,12 @@ public:
     float pdf(const Vec3& wo, const Vec3& wi) const;
     // The pdf for many wi with one wo (path-space filtering evaluates every technique's density for
     // every gathered sample): the wo-dependent work (local frame, lobe selection) is done once.
+    // Per lobe, the wo-only factor of its pdf is precomputed too: 1/pi for Lambert (cosine
+    // sampling), G1(wo) / (4 cos_o) for GGX reflection (visible normals: pdf = D(wm) G1(wo) / (4 cos_o)).
     struct FixedWo {
         Vec3 wo, wo_local;
         float probs[kMaxLobes];
+        float pdf_scale[kMaxLobes];
     };
     FixedWo fix_wo(const Vec3& wo) const;
     float pdf(const FixedWo& fixed, const Vec3& wi) const;
