@@ -136,7 +136,7 @@ def _settings_code(prop_group, settings):
     return lines
 
 
-def _run(cmd, out_dir, frame, timeout, retries, check=None):
+def _run(cmd, out_dir, frame, timeout, retries, check=None, env=None):
     output = ""
     path = os.path.join(out_dir, "out_%04d.exr" % frame)
     for attempt in range(retries + 1):
@@ -144,7 +144,7 @@ def _run(cmd, out_dir, frame, timeout, retries, check=None):
             os.remove(path)
         t0 = time.perf_counter()
         proc = subprocess.run(cmd, capture_output=True, text=True, encoding="utf-8", errors="replace",
-                              timeout=timeout)
+                              timeout=timeout, env=env)
         wall = time.perf_counter() - t0
         output = proc.stdout + proc.stderr
         if proc.returncode == 0 and os.path.exists(path) and (check is None or check(output)):
@@ -183,15 +183,20 @@ _HEADER = ["import bpy", "scene = bpy.context.scene",
            "scene.render.use_compositing = False", "scene.render.use_sequencer = False"]
 
 
-def render_smis(blend, settings=None, out_dir=None, threads=0, timeout=3600, frame=1, retries=3):
-    """Render `blend` with our engine; `settings` are applied to scene.smis. Returns a RenderRun."""
+def render_smis(blend, settings=None, out_dir=None, threads=0, timeout=3600, frame=1, retries=3,
+                addon_scripts=None):
+    """Render `blend` with our engine; `settings` are applied to scene.smis. Returns a RenderRun.
+
+    `addon_scripts`: a Blender user-scripts folder whose addons/smis_render is the add-on to use
+    (another build of the engine, for side-by-side comparisons); default: the installed one."""
     settings = dict(settings or {})
     out_dir = out_dir or tempfile.mkdtemp(prefix="smis_bench_")
     os.makedirs(out_dir, exist_ok=True)
     code = _HEADER + _settings_code("scene.smis", settings)
     cmd = _command(blend, "SMIS", out_dir, code, threads, frame)
+    env = dict(os.environ, BLENDER_USER_SCRIPTS=addon_scripts) if addon_scripts else None
     path, wall, output = _run(cmd, out_dir, frame, timeout, retries,
-                              check=lambda out: parse_smis_stats(out) is not None)
+                              check=lambda out: parse_smis_stats(out) is not None, env=env)
     stats = parse_smis_stats(output)
     if stats is None:
         raise RenderError("no SMIS stats line ('Done · N/M samples · T s') in Blender's output\n"

@@ -1,0 +1,150 @@
+"""What an unused feature costs: this build against a build of the engine without the feature.
+
+    /usr/bin/python3 bench/skip_bench.py [--baseline REV] [--repeats 5] [--quick]
+
+The engine analyses each scene before rendering and switches off what the scene does not use
+(media tracking without media, spectral sampling without spectral content in AUTO mode, the
+filtering grid when the integrator does not filter, ...). This benchmark checks that the switch
+really makes the feature free: it builds the engine at REV, a commit from before the features were
+added (default BASELINE below), into a temporary folder, and renders scenes that do not use them
+with both builds, interleaved, best of --repeats, at a fixed sample count. The cost of a feature
+that is present but unused is `this / baseline - 1` of the engine's render time (the goal is at most
+2%; the timing noise on a shared machine is about that large, so read small values as "no
+measurable cost"). Writes bench/results/skip_bench.{json,csv,md}.
+
+Render times are the engine's own (from its stats line, 0.1 s resolution): the sample counts are
+chosen so that each render takes several seconds.
+"""
+import argparse
+import csv
+import datetime
+import json
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+from render import remove, render_smis  # noqa: E402
+
+# The last commit before spectral rendering and participating media were added (path tracer and
+# path-space filtering only).
+BASELINE = "e4eb3ce"
+# (scene, settings, what the scene leaves unused)
+CASES = [
+    ("cornell", {"integrator": "PATH", "samples": 256}, "no media, no spectral content"),
+    ("psf_room", {"integrator": "PATH", "samples": 96}, "no media, no spectral content"),
+    ("psf_glossy", {"integrator": "PSF_SMIS", "samples": 24}, "no media, no spectral content (filtering on)"),
+]
+COMMON = {"max_bounces": 8, "filter_type": "BOX", "filter_width": 1.0, "seed": 1}
+
+
+def log(msg):
+    print("[skip_bench %s] %s" % (time.strftime("%H:%M:%S"), msg), flush=True)
+
+
+def git(*args, cwd=ROOT):
+    return subprocess.run(["git", "-C", cwd, *args], check=True, capture_output=True, text=True).stdout.strip()
+
+
+def build_baseline(rev):
+    """Builds the engine at `rev` (once; cached by commit) and returns its user-scripts folder."""
+    commit = git("rev-parse", "--short", rev)
+    base = os.path.join("/tmp", "smis_skip_baseline_" + commit)
+    src = os.path.join(base, "src")
+    if not os.path.exists(os.path.join(src, "CMakeLists.txt")):
+        os.makedirs(src, exist_ok=True)
+        archive = subprocess.run(["git", "-C", ROOT, "archive", commit], check=True, capture_output=True).stdout
+        subprocess.run(["tar", "-x", "-C", src], input=archive, check=True)
+    build = os.path.join(base, "build")
+    log("building the baseline %s in %s" % (commit, build))
+    subprocess.run(["cmake", "-S", src, "-B", build, "-DCMAKE_BUILD_TYPE=Release"], check=True,
+                   capture_output=True)
+    subprocess.run(["cmake", "--build", build, "-j", str(os.cpu_count()), "--target", "_smis"], check=True,
+                   capture_output=True)
+    scripts = os.path.join(base, "scripts")
+    os.makedirs(os.path.join(scripts, "addons"), exist_ok=True)
+    link = os.path.join(scripts, "addons", "smis_render")
+    if not os.path.islink(link):
+        os.symlink(os.path.join(src, "addon", "smis_render"), link)
+    return commit, scripts
+
+
+def current_scripts():
+    """A user-scripts folder whose add-on is this checkout (independent of what is installed)."""
+    scripts = os.path.join("/tmp", "smis_skip_current")
+    os.makedirs(os.path.join(scripts, "addons"), exist_ok=True)
+    link = os.path.join(scripts, "addons", "smis_render")
+    if os.path.islink(link):
+        os.remove(link)
+    os.symlink(os.path.join(ROOT, "addon", "smis_render"), link)
+    return scripts
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--baseline", default=BASELINE, help="git revision without the features (default %(default)s)")
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--quick", action="store_true", help="2 repeats, quarter sample counts")
+    ap.add_argument("--threads", type=int, default=0)
+    args = ap.parse_args()
+    repeats = 2 if args.quick else args.repeats
+    commit, base_scripts = build_baseline(args.baseline)
+    builds = {"baseline": base_scripts, "this": current_scripts()}
+    rows = []
+    load_start = os.getloadavg()
+    for scene, settings, unused in CASES:
+        blend = os.path.join(ROOT, "scenes", scene + ".blend")
+        s = dict(COMMON, **settings)
+        if args.quick:
+            s["samples"] = max(1, s["samples"] // 4)
+        best = {}
+        skipped_line = ""
+        for rep in range(repeats):
+            for name, scripts in builds.items():  # interleaved: a load change hits both builds
+                run = render_smis(blend, s, threads=args.threads, addon_scripts=scripts)
+                best[name] = min(best.get(name, float("inf")), run.seconds)
+                if name == "this":
+                    skipped_line = next((ln.strip() for ln in run.output.splitlines() if "skipped" in ln), "")
+                remove(run)
+        cost = best["this"] / best["baseline"] - 1.0
+        rows.append({"scene": scene, "settings": s, "unused": unused, "baseline_seconds": best["baseline"],
+                     "this_seconds": best["this"], "cost_percent": 100.0 * cost,
+                     "stats_line_skipped": skipped_line})
+        log("%s (%s): baseline %.1f s, this %.1f s: %+.1f%%" % (scene, unused, best["baseline"], best["this"],
+                                                                100.0 * cost))
+    doc = {"baseline": commit, "this": git("rev-parse", "--short", "HEAD"), "repeats": repeats,
+           "quick": args.quick, "loadavg_start": load_start, "loadavg_end": os.getloadavg(),
+           "written": datetime.datetime.now().isoformat(timespec="seconds"), "cases": rows}
+    out = os.path.join(HERE, "results")
+    os.makedirs(out, exist_ok=True)
+    suffix = "_quick" if args.quick else ""
+    with open(os.path.join(out, "skip_bench%s.json" % suffix), "w") as f:
+        json.dump(doc, f, indent=2)
+    with open(os.path.join(out, "skip_bench%s.csv" % suffix), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["scene", "unused", "baseline_seconds", "this_seconds", "cost_percent"],
+                           extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
+    lines = ["# Cost of present-but-unused features", "",
+             "Generated by `bench/skip_bench.py%s` on %s: this build (%s) against the baseline build %s "
+             "(before spectral rendering and media existed), same scenes and settings, interleaved, best of "
+             "%d. Load average start/end %.2f / %.2f." % (" --quick" if args.quick else "",
+                                                          doc["written"], doc["this"], commit, repeats,
+                                                          load_start[0], doc["loadavg_end"][0]), "",
+             "| scene | integrator, spp | unused here | baseline s | this s | cost | stats line |",
+             "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append("| %s | %s, %d | %s | %.1f | %.1f | %+.1f%% | %s |"
+                     % (r["scene"], r["settings"]["integrator"], r["settings"]["samples"], r["unused"],
+                        r["baseline_seconds"], r["this_seconds"], r["cost_percent"],
+                        r["stats_line_skipped"].replace("|", "/")[:160] or "-"))
+    with open(os.path.join(out, "skip_bench%s.md" % suffix), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    log("wrote bench/results/skip_bench%s.{json,csv,md}" % suffix)
+
+
+if __name__ == "__main__":
+    main()
