@@ -169,6 +169,64 @@ float area_density(const Technique& t, const Vec3& z, const Vec3& z_ng) {
     return t.bsdf.pdf(t.wo, w) * absdot(w, z_ng) / dist2;
 }
 
+bool all_diffuse(const Bsdf& b) {
+    for (int i = 0; i < b.lobe_count(); ++i)
+        if (b.lobe(i).kind != LobeKind::Diffuse) return false;
+    return true;
+}
+
+// The denominator of eq. (17), sum_j p(z | y_j) over the gathered techniques, is k^2 densities per
+// pixel and dominates the gather. Techniques whose BSDF is Lambertian only (most of a diffuse
+// scene) have the density cos_j / pi * |cos_z| / d^2 (cosine sampling; the sidedness test of
+// Bsdf::pdf reduces to both cosines being positive since wo is on the normals' side), which is
+// evaluated here for all of them at once from structure-of-arrays data the compiler vectorises.
+// Other techniques take Bsdf::pdf. Both give the same values as area_density().
+class DensitySum {
+public:
+    void reset() {
+        for (auto* v : {&px_, &py_, &pz_, &nx_, &ny_, &nz_, &gx_, &gy_, &gz_}) v->clear();
+        general_.clear();
+    }
+    void add(const Technique& t) {
+        const Vec3 &p = t.rec->p, &ns = t.bsdf.frame().n, &ng = t.bsdf.ng();
+        if (!all_diffuse(t.bsdf)) {
+            general_.push_back(&t);
+            return;
+        }
+        // Lambert lobes only answer wo on the side of both normals (else every density is 0).
+        if (!(dot(t.wo.wo, ns) > 0.0f) || !(dot(t.wo.wo, ng) > 0.0f)) return;
+        px_.push_back(p.x), py_.push_back(p.y), pz_.push_back(p.z);
+        nx_.push_back(ns.x), ny_.push_back(ns.y), nz_.push_back(ns.z);
+        gx_.push_back(ng.x), gy_.push_back(ng.y), gz_.push_back(ng.z);
+    }
+    float operator()(const Vec3& z, const Vec3& z_ng) const {
+        // Densities into a buffer first, summed afterwards: a float reduction inside the loop
+        // would keep the compiler from vectorising it (it may not reorder the additions).
+        const size_t n = px_.size();
+        pj_.resize(n);
+        float* out = pj_.data();
+        for (size_t j = 0; j < n; ++j) {
+            float dx = z.x - px_[j], dy = z.y - py_[j], dz = z.z - pz_[j];
+            float d2 = dx * dx + dy * dy + dz * dz;
+            float cos_s = dx * nx_[j] + dy * ny_[j] + dz * nz_[j];  // times d
+            float cos_g = dx * gx_[j] + dy * gy_[j] + dz * gz_[j];
+            float cos_z = std::fabs(dx * z_ng.x + dy * z_ng.y + dz * z_ng.z);
+            // (cos_s / d) / pi * (cos_z / d) / d^2
+            float p = cos_s * cos_z * kInvPi / (d2 * d2);
+            out[j] = (cos_s > 0.0f && cos_g > 0.0f && d2 > 0.0f) ? p : 0.0f;
+        }
+        float sum = 0.0f;
+        for (size_t j = 0; j < n; ++j) sum += out[j];
+        for (const Technique* t : general_) sum += area_density(*t, z, z_ng);
+        return std::isfinite(sum) ? sum : 0.0f;
+    }
+
+private:
+    std::vector<float> px_, py_, pz_, nx_, ny_, nz_, gx_, gy_, gz_;
+    std::vector<const Technique*> general_;
+    mutable std::vector<float> pj_;
+};
+
 }  // namespace
 
 void PathSpaceFilteringIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) {
@@ -263,6 +321,11 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             }
             const Bsdf& own = techniques[0].bsdf;
             const bool exact = weighting_ == PsfWeighting::SmisUnbiased;
+            thread_local DensitySum density_sum;
+            if (weighting_ == PsfWeighting::Smis) {
+                density_sum.reset();
+                for (const Technique& t : techniques) density_sum.add(t);
+            }
             Color sum(0.0f);
             uint32_t n_accepted = 0;
             for (size_t ii = 0; ii < nb.size(); ++ii) {
@@ -303,11 +366,16 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     continue;
                 }
                 // Eq. (17): the balance heuristic normalised over the sampled techniques.
+                if (!exact) {
+                    float denom = density_sum(smp.z, smp.z_ng);
+                    if (denom > 0.0f) sum += contribution / denom;
+                    continue;
+                }
                 float denom = 0.0f;
                 for (size_t jj = 0; jj < nb.size(); ++jj) {
                     const PathRecord& t = records[nb[jj]];
                     float pj = area_density(techniques[jj], smp.z, smp.z_ng);
-                    if (exact && pj > 0.0f && jj != ii) {
+                    if (pj > 0.0f && jj != ii) {
                         Vec3 dz = smp.z - t.p;
                         float dd = length(dz);
                         Vec3 wz = dz / dd;
