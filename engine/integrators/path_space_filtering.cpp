@@ -303,7 +303,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             uint32_t seen = 0;
             const float r2 = q.radius * q.radius;
             grid.query(q.p, q.radius, [&](uint32_t j) {
-                if (j == k || length_sq(records[j].p - q.p) > r2) return;
+                // positions[], not records[]: 12 bytes per point instead of a 200-byte record.
+                if (j == k || length_sq(positions[j] - q.p) > r2) return;
                 ++seen;
                 if (nb.size() < size_t(max_n)) nb.push_back(j);
                 else {
