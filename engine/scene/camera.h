@@ -37,6 +37,8 @@ public:
     int window_y0() const { return window_[1]; }
     int window_width() const { return window_[2] - window_[0]; }
     int window_height() const { return window_[3] - window_[1]; }
+    // Distance of p along the view axis: Cycles' Z pass (planar camera-space depth).
+    float view_depth(const Vec3& p) const { return dot(p - origin_, forward_); }
     // World-space size of one pixel at distance `dist` along the view axis (used by path-space filtering).
     float pixel_footprint(float dist) const;
 
