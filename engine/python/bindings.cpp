@@ -207,6 +207,11 @@ PYBIND11_MODULE(_smis, m) {
                  c.height = get<int>(d, "height", c.height);
                  c.pixel_aspect_x = get<float>(d, "pixel_aspect_x", 1.0f);
                  c.pixel_aspect_y = get<float>(d, "pixel_aspect_y", 1.0f);
+                 c.fstop = get<float>(d, "fstop", c.fstop);
+                 c.focus_distance = get<float>(d, "focus_distance", c.focus_distance);
+                 c.aperture_blades = get<int>(d, "aperture_blades", c.aperture_blades);
+                 c.aperture_rotation = get<float>(d, "aperture_rotation", c.aperture_rotation);
+                 c.aperture_ratio = get<float>(d, "aperture_ratio", c.aperture_ratio);
                  if (d.contains("border")) {
                      auto b = d["border"].cast<std::vector<int>>();
                      if (b.size() != 4) throw py::value_error("border must be (x0, y0, x1, y1)");
