@@ -29,10 +29,12 @@ class RenderRun:
         return _smis.read_exr(self.image_path)
 
 
-def render(blend=None, setup="", engine="SMIS", frame=1, timeout=600, extra_args=()):
+def render(blend=None, setup="", engine="SMIS", frame=1, timeout=600, extra_args=(), frames=None):
     """Render `blend` (or Blender's factory scene) after running the Python `setup` code.
 
-    Returns a RenderRun with Blender's exit code, its output and the written EXR (RGBA, row 0 bottom)."""
+    Returns a RenderRun with Blender's exit code, its output and the written EXR (RGBA, row 0 bottom).
+    With frames=(start, end) it renders an animation as a farm does (`-s start -e end -a`) and returns
+    one RenderRun per frame."""
     out_dir = tempfile.mkdtemp(prefix="smis_test_")
     script = os.path.join(out_dir, "setup.py")
     with open(script, "w") as f:
@@ -43,10 +45,12 @@ def render(blend=None, setup="", engine="SMIS", frame=1, timeout=600, extra_args
     cmd = ["blender", "-b", "--factory-startup", "--addons", "smis_render"]
     if blend:
         cmd.append(blend)
-    cmd += ["--python", script, "-E", engine, "-o", os.path.join(out_dir, "out_####"), *extra_args,
-            "-f", str(frame)]
+    cmd += ["--python", script, "-E", engine, "-o", os.path.join(out_dir, "out_####"), *extra_args]
+    cmd += ["-f", str(frame)] if frames is None else ["-s", str(frames[0]), "-e", str(frames[1]), "-a"]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
-    return RenderRun(proc, os.path.join(out_dir, f"out_{frame:04d}.exr"))
+    if frames is None:
+        return RenderRun(proc, os.path.join(out_dir, f"out_{frame:04d}.exr"))
+    return [RenderRun(proc, os.path.join(out_dir, f"out_{f:04d}.exr")) for f in range(frames[0], frames[1] + 1)]
 
 
 def scene_path(name):

@@ -109,3 +109,42 @@ for i in range(50):
     assert run.returncode == 0, run.output[-2000:]
     done = [l for l in run.output.splitlines() if "Done" in l and "instances" in l][-1]
     assert " 1 meshes" in done and " 50 instances" in done, done
+
+
+def test_merged_regions_equal_the_full_render():
+    """scripts/merge_regions.py: four quadrant renders (two cropped, two full-frame with black
+    outside), multilayer with a Depth pass, merge into the full render pixel for pixel."""
+    import os
+    import subprocess
+    from conftest import ROOT, _smis
+
+    blend = scene_path("cornell.blend")
+    base = SETTINGS.format(seed=9, threads=2) + """
+scene.render.image_settings.file_format = 'OPEN_EXR_MULTILAYER'
+scene.view_layers[0].use_pass_z = True
+"""
+    full = render(blend, base)
+    assert full.returncode == 0, full.output[-2000:]
+    expected = _smis.read_exr_channels(full.image_path)
+    h, w = expected["ViewLayer.Combined.R"].shape
+    quadrants = [(0.0, 0.5, 0.0, 0.5, True), (0.5, 1.0, 0.0, 0.5, False),
+                 (0.0, 0.5, 0.5, 1.0, False), (0.5, 1.0, 0.5, 1.0, True)]
+    args = []
+    for x0, x1, y0, y1, crop in quadrants:
+        run = render(blend, base + f"""
+scene.render.use_border = True
+scene.render.use_crop_to_border = {crop}
+scene.render.border_min_x, scene.render.border_max_x = {x0}, {x1}
+scene.render.border_min_y, scene.render.border_max_y = {y0}, {y1}
+""")
+        assert run.returncode == 0, run.output[-2000:]
+        args.append(f"{run.image_path}@{x0},{x1},{y0},{y1}")
+    out = os.path.join(os.path.dirname(full.image_path), "merged.exr")
+    proc = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "scripts", "merge_regions.py"),
+                           "--resolution", str(w), str(h), "-o", out, *args], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "warning" not in proc.stderr, proc.stderr
+    merged = _smis.read_exr_channels(out)
+    assert sorted(merged) == sorted(expected)
+    for name in expected:
+        assert np.array_equal(merged[name], expected[name]), name

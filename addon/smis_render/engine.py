@@ -11,7 +11,7 @@ import traceback
 import bpy
 import numpy as np
 
-from . import native, properties, sync
+from . import native, passes, properties, sync
 from .sync.reports import Reporter
 
 POLL_SECONDS = 0.2            # test_break / progress / stats cadence
@@ -63,6 +63,9 @@ class SMISRenderEngine(bpy.types.RenderEngine):
             traceback.print_exc()
             self._export_error = "Scene export failed: %s: %s" % (type(exc).__name__, exc)
 
+    def update_render_passes(self, scene=None, renderlayer=None):
+        passes.register_passes(self, scene, renderlayer)
+
     # -- render ----------------------------------------------------------------------
 
     def render(self, depsgraph):
@@ -88,8 +91,11 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         x0, y0, x1, y1 = export.camera["border"]
         w, h = x1 - x0, y1 - y0
 
+        aux = passes.enabled_passes(scene, depsgraph.view_layer)
+        settings = properties.session_settings(scene)
+        settings["aux_passes"] = bool(aux)  # off: the engine traces no extra rays for them
         try:
-            session = smis.RenderSession(export.scene, properties.session_settings(scene))
+            session = smis.RenderSession(export.scene, settings)
         except ValueError as exc:
             self.report({'ERROR'}, "SMIS: invalid render settings: %s" % exc)
             return
@@ -105,14 +111,15 @@ class SMISRenderEngine(bpy.types.RenderEngine):
             if len(combined.rect) != w * h:
                 raise RuntimeError("render result is %d pixels, the camera border window "
                                    "%dx%d" % (len(combined.rect), w, h))
-            self._run_session(session, result, combined)
+            self._run_session(session, result, combined, aux)
         finally:
             # Ending the result is mandatory: an exception between begin_result and
             # end_result crashes Blender.
             self.end_result(result)
         self._final_reports(export, session)
 
-    def _run_session(self, session, result, combined):
+    def _run_session(self, session, result, combined, aux=()):
+        skipped = list(session.skipped())
         session.start()
         try:
             last_update = time.monotonic()
@@ -121,13 +128,15 @@ class SMISRenderEngine(bpy.types.RenderEngine):
                 if not cancelled and self.break_requested():
                     session.cancel()
                     cancelled = True
-                self._show_progress(session.progress())
+                self._show_progress(session.progress(), skipped)
                 if time.monotonic() - last_update >= RESULT_UPDATE_SECONDS:
                     self._write_pixels(session, combined)
+                    passes.write_passes(session, result.layers[0], aux)
                     self.update_result(result)
                     last_update = time.monotonic()
-            self._show_progress(session.progress())
+            self._show_progress(session.progress(), skipped)
             self._write_pixels(session, combined)
+            passes.write_passes(session, result.layers[0], aux)
             error = session.error() if hasattr(session, "error") else ""
             if error:
                 self.report({'ERROR'}, "SMIS render failed: %s" % error)
@@ -137,10 +146,9 @@ class SMISRenderEngine(bpy.types.RenderEngine):
             session.wait(30.0)
             raise
 
-    def _show_progress(self, p):
+    def _show_progress(self, p, skipped=()):
         self.update_progress(float(p["fraction"]))
-        self.update_stats("", "Sample %d/%d \u00b7 %.1f M paths/s"
-                          % (p["samples_done"], p["samples_total"], p["paths_per_second"] / 1e6))
+        self.update_stats("", stats_line(p, skipped))
 
     @staticmethod
     def _write_pixels(session, combined):
@@ -175,6 +183,7 @@ class SMISRenderEngine(bpy.types.RenderEngine):
             self._reporter.info("SMIS integrator: " + ", ".join(
                 "%s %.4g" % (k.replace("_", " "), v) for k, v in sorted(integrator.items())))
 
+        skipped = list(session.skipped())
         parts = ["Cancelled" if p.get("cancelled") or self.break_requested() else "Done",
                  "%d/%d samples" % (p["samples_done"], p["samples_total"]),
                  "%.1f s" % p["elapsed"],
@@ -188,7 +197,19 @@ class SMISRenderEngine(bpy.types.RenderEngine):
             parts.append("dropped tris %d" % dropped_tris)
         if export.counts.dropped_lights:
             parts.append("dropped lights %d" % export.counts.dropped_lights)
+        if skipped:
+            parts.append("skipped: " + ", ".join(skipped))
         self.update_stats("", " \u00b7 ".join(parts))
+
+
+def stats_line(progress, skipped=()):
+    """`Sample 12/64 · 1.7 M paths/s · skipped: filtering`: the skipped list is what the
+    engine's scene analysis and integrator switched off (RenderSession.skipped())."""
+    parts = ["Sample %d/%d" % (progress["samples_done"], progress["samples_total"]),
+             "%.1f M paths/s" % (progress["paths_per_second"] / 1e6)]
+    if skipped:
+        parts.append("skipped: " + ", ".join(skipped))
+    return " \u00b7 ".join(parts)
 
 
 def register():

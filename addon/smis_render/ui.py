@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import native
+from . import native, passes
 
 ENGINE = 'SMIS'
 
@@ -152,6 +152,28 @@ class SMIS_LIGHT_PT_light(SMISButtonsPanel, bpy.types.Panel):
                 sub.prop(light, "size_y", text="Y")
 
 
+class SMIS_VIEWLAYER_PT_passes(SMISButtonsPanel, bpy.types.Panel):
+    """The passes SMIS writes, as Cycles' Passes > Data panel: Depth and Normal are
+    Blender's own toggles, Albedo and the integrator's diagnostic pass are ours."""
+    bl_label = "Passes"
+    bl_context = "view_layer"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        view_layer = context.view_layer
+
+        col = layout.column(heading="Include", align=True)
+        col.prop(view_layer, "use_pass_combined")
+        col.prop(view_layer, "use_pass_z")
+        col.prop(view_layer, "use_pass_normal")
+        col.prop(view_layer.smis, "use_pass_albedo")
+        sub = col.column(align=True)
+        sub.active = passes.DIAGNOSTIC.get(context.scene.smis.integrator) is not None
+        sub.prop(view_layer.smis, "use_pass_diagnostic")
+
+
 def _draw_surface(layout, id_data, fallback_prop):
     """The node tree feeding the Surface input of the Cycles/All output, as Cycles'
     Surface panels show it: the same output node the exporter reads."""
@@ -216,6 +238,7 @@ classes = (
     SMIS_RENDER_PT_light_paths,
     SMIS_RENDER_PT_path_space_filtering,
     SMIS_RENDER_PT_performance,
+    SMIS_VIEWLAYER_PT_passes,
     SMIS_LIGHT_PT_light,
     SMIS_MATERIAL_PT_surface,
     SMIS_WORLD_PT_surface,

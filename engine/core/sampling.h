@@ -23,6 +23,25 @@ inline Point2 sample_uniform_disk_concentric(Point2 u) {
 }
 inline float uniform_disk_pdf() { return kInvPi; }  // on the unit disk, area measure
 
+// Uniform point on the regular polygon with `corners` >= 3 corners on the unit circle, one corner
+// at angle `rotation` + pi/corners (Cycles' bokeh polygon): a corner wedge chosen by u.x, then a
+// uniform point in that triangle. pdf 1/area.
+inline Point2 sample_regular_polygon(int corners, float rotation, Point2 u) {
+    float scaled = u.x * corners;
+    int k = std::min(corners - 1, static_cast<int>(scaled));
+    float v = scaled - k;  // reused: uniform in [0, 1) again
+    // Uniform in the triangle (centre, corner k, corner k+1): r = sqrt for area, then along the edge.
+    float r = std::sqrt(v), t = u.y;
+    float half = kPi / corners;
+    Point2 p{r * std::cos(half), r * (2.0f * t - 1.0f) * std::sin(half)};
+    float a = rotation + 2.0f * half * k;
+    float c = std::cos(a), s = std::sin(a);
+    return {c * p.x - s * p.y, s * p.x + c * p.y};
+}
+inline float regular_polygon_area(int corners) {
+    return 0.5f * corners * std::sin(2.0f * kPi / corners);
+}
+
 // Cosine-weighted hemisphere around +z; pdf in solid angle.
 inline Vec3 sample_cosine_hemisphere(Point2 u) {
     Point2 d = sample_uniform_disk_concentric(u);

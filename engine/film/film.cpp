@@ -11,4 +11,36 @@ void Film::resolve(float* rgba) const {
     }
 }
 
+int aux_pass_channels(AuxPass pass) {
+    switch (pass) {
+        case AuxPass::Depth: return 1;
+        case AuxPass::Normal: return 3;
+        case AuxPass::Albedo: return 3;
+        case AuxPass::Diagnostic: return 1;
+    }
+    return 0;
+}
+
+void Film::enable_aux() {
+    size_t n = size_t(width_) * height_;
+    aux_sum_.assign(kAuxChannels * n, 0.0);
+    aux_count_ = std::vector<std::atomic<uint32_t>>(n);
+}
+
+std::vector<float> Film::resolve_aux(AuxPass pass) const {
+    if (!has_aux()) return {};
+    const int first = static_cast<int>(pass), channels = aux_pass_channels(pass);
+    std::vector<float> out(channels * aux_count_.size(), 0.0f);
+    for (size_t i = 0; i < aux_count_.size(); ++i) {
+        uint32_t n = aux_count_[i].load(std::memory_order_acquire);
+        if (!n) {
+            if (pass == AuxPass::Depth) out[i] = kBackgroundDepth;
+            continue;
+        }
+        for (int c = 0; c < channels; ++c)
+            out[channels * i + c] = static_cast<float>(aux_sum_[kAuxChannels * i + first + c] / n);
+    }
+    return out;
+}
+
 }  // namespace smis

@@ -9,6 +9,23 @@
 
 namespace smis {
 
+// Cycles' depth for rays that hit nothing.
+constexpr float kBackgroundDepth = 1e10f;
+
+// What the auxiliary passes record at a sample's first camera hit: planar camera depth (Cycles'
+// Z), world shading normal facing the camera, albedo, and the integrator's diagnostic value.
+struct AuxSample {
+    float depth = kBackgroundDepth;
+    Vec3 normal{0.0f, 0.0f, 0.0f};
+    Color albedo{0.0f};
+    float diagnostic = 0.0f;
+};
+
+// The auxiliary passes' channels inside one pixel's record.
+enum class AuxPass : int { Depth = 0, Normal = 1, Albedo = 4, Diagnostic = 7 };
+constexpr int kAuxChannels = 8;
+int aux_pass_channels(AuxPass pass);
+
 class Film {
 public:
     Film(int width, int height) : width_(width), height_(height), sum_(3 * size_t(width) * height, 0.0),
@@ -21,6 +38,20 @@ public:
         sum_[3 * i] += c.x, sum_[3 * i + 1] += c.y, sum_[3 * i + 2] += c.z;
         count_[i].store(count_[i].load(std::memory_order_relaxed) + 1, std::memory_order_release);
     }
+    // Auxiliary passes cost nothing (no memory, no rays) unless enabled before rendering.
+    void enable_aux();
+    bool has_aux() const { return !aux_count_.empty(); }
+    void add_aux(int x, int y, const AuxSample& a) {
+        size_t i = size_t(y) * width_ + x;
+        double* s = &aux_sum_[kAuxChannels * i];
+        const float v[kAuxChannels] = {a.depth,    a.normal.x, a.normal.y, a.normal.z,
+                                       a.albedo.x, a.albedo.y, a.albedo.z, a.diagnostic};
+        for (int c = 0; c < kAuxChannels; ++c) s[c] += v[c];
+        aux_count_[i].store(aux_count_[i].load(std::memory_order_relaxed) + 1, std::memory_order_release);
+    }
+    // One auxiliary pass averaged over its samples: width x height x aux_pass_channels(pass) floats,
+    // rows bottom to top; empty when the passes are off.
+    std::vector<float> resolve_aux(AuxPass pass) const;
     // RGBA float32, rows bottom to top (Blender's order), alpha 1; pixels without samples are black.
     void resolve(float* rgba) const;
     std::vector<float> resolve() const {
@@ -33,6 +64,8 @@ private:
     int width_, height_;
     std::vector<double> sum_;
     std::vector<std::atomic<uint32_t>> count_;
+    std::vector<double> aux_sum_;
+    std::vector<std::atomic<uint32_t>> aux_count_;
 };
 
 // Non-finite radiance never reaches the film: the sample is dropped and counted.

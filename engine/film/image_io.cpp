@@ -58,6 +58,47 @@ std::vector<float> read_exr(const std::string& path, int* width, int* height, co
     return rgba;
 }
 
+std::map<std::string, std::vector<float>> read_exr_channels(const std::string& path, int* width, int* height) {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i dw = file.header().dataWindow();
+    const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+    std::map<std::string, std::vector<float>> out;
+    Imf::FrameBuffer fb;
+    const size_t xs = sizeof(float);
+    const ptrdiff_t ys = -static_cast<ptrdiff_t>(xs * w);
+    for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) {
+        std::vector<float>& px = out[it.name()];
+        px.assign(size_t(w) * h, 0.0f);
+        // Bottom row first: start at the last row and step backwards, offset by the data window.
+        char* base = reinterpret_cast<char*>(px.data() + size_t(w) * (h - 1)) - dw.min.x * ptrdiff_t(xs) - dw.min.y * ys;
+        fb.insert(it.name(), Imf::Slice(Imf::FLOAT, base, xs, ys));
+    }
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    *width = w;
+    *height = h;
+    return out;
+}
+
+void write_exr_channels(const std::string& path, const std::map<std::string, std::vector<float>>& channels, int width,
+                        int height) {
+    Imf::Header header(width, height);
+    for (const auto& [name, px] : channels) {
+        if (px.size() != size_t(width) * height) throw std::invalid_argument("channel " + name + " has the wrong size");
+        header.channels().insert(name.c_str(), Imf::Channel(Imf::FLOAT));
+    }
+    Imf::OutputFile file(path.c_str(), header);
+    Imf::FrameBuffer fb;
+    const size_t xs = sizeof(float);
+    const ptrdiff_t ys = -static_cast<ptrdiff_t>(xs * width);
+    for (const auto& [name, px] : channels) {
+        const char* top = reinterpret_cast<const char*>(px.data() + size_t(width) * (height - 1));
+        fb.insert(name.c_str(), Imf::Slice(Imf::FLOAT, const_cast<char*>(top), xs, ys));
+    }
+    file.setFrameBuffer(fb);
+    file.writePixels(height);
+}
+
 void write_png(const std::string& path, const float* rgba, int width, int height, const DisplaySettings& ds) {
     std::vector<float> img(rgba, rgba + size_t(4) * width * height);
     try {

@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/rng.h"
 #include "core/sampling.h"
@@ -26,6 +27,7 @@ struct RenderSettings {
     int threads = 0;              // 0 = all cores
     std::string integrator = "PATH";
     std::string filter = "BLACKMAN_HARRIS";
+    bool aux_passes = false;      // Depth/Normal/Albedo/diagnostic passes (one extra camera ray per sample)
     float filter_width = 1.5f;
     // Path-space filtering (integrators PSF_*).
     float psf_radius_px = 6.0f;        // gather radius in screen pixels, projected to world at the vertex
@@ -74,6 +76,8 @@ public:
     virtual uint32_t max_pass_samples() const { return 16; }
     // Integrator-specific measurements (stage timings, reuse statistics) for stats and benchmarks.
     virtual std::map<std::string, double> stats() const { return {}; }
+    // Work this integrator leaves out for these settings, for the stats line ("skipped: ...").
+    virtual void add_skipped(const RenderSettings& settings, std::vector<std::string>* skipped) const {}
 };
 
 class PixelIntegrator : public Integrator {

@@ -6,6 +6,11 @@ namespace smis {
 // Unidirectional path tracer: next-event estimation and BSDF sampling combined by MIS (balance or
 // power heuristic, lecture notes "MIS for direct lighting"), Russian roulette, Cycles' bounce limit.
 class PathIntegrator : public PixelIntegrator {
+public:
+    void add_skipped(const RenderSettings&, std::vector<std::string>* skipped) const override {
+        skipped->push_back("filtering");
+    }
+
 protected:
     Color Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
              LocalCounters& counters) const override;

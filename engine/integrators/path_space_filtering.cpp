@@ -17,6 +17,7 @@
 
 #include <chrono>
 
+#include "integrators/aux_passes.h"
 #include "integrators/hash_grid.h"
 #include "integrators/path_tracing.h"
 #include "integrators/tiles.h"
@@ -282,6 +283,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         const size_t k = size_t(y) * w + x;
         const PathRecord& q = records[k];
         Color L = q.fixed;
+        float reused = 0.0f;  // other paths' suffixes combined here: the diagnostic pass
         if (q.has_vertex && weighting_ == PsfWeighting::Path) {
             if (q.has_suffix) {
                 // The path tracer's own estimate: f cos / p_omega times the suffix radiance.
@@ -391,8 +393,15 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             if (weighting_ == PsfWeighting::Keller) {
                 accepted += n_accepted;
                 if (n_accepted > 0) sum = sum / float(n_accepted);
+                reused = n_accepted > 0 ? float(n_accepted - 1) : 0.0f;
+            } else {
+                reused = float(nb.size() - 1);
             }
             L += q.beta * sum;
+        }
+        if (ctx.film.has_aux()) {
+            Rng camera_rng;
+            add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), reused);
         }
         ctx.film.add(x, y, guard_sample(L, local));
     });

@@ -20,6 +20,9 @@ public:
     void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) override;
     std::map<std::string, double> stats() const override;
     uint32_t max_pass_samples() const override { return 1; }
+    void add_skipped(const RenderSettings&, std::vector<std::string>* skipped) const override {
+        if (weighting_ == PsfWeighting::Path) skipped->push_back("filtering");  // no grid, no gather
+    }
 
 private:
     void iteration(RenderContext& ctx, uint32_t s);

@@ -1,3 +1,4 @@
+#include "integrators/aux_passes.h"
 #include "integrators/integrator.h"
 #include "integrators/tiles.h"
 
@@ -8,6 +9,7 @@ void PixelIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) 
         for (uint32_t s = s0; s < s1; ++s) {
             Rng rng;
             Ray ray = camera_ray(ctx, x, y, s, &rng);
+            add_aux_sample(ctx, x, y, s, ray);
             Color L = Li(ctx.scene, ctx.settings, ray, rng, local);
             ++local.paths;
             ctx.film.add(x, y, guard_sample(L, local));

@@ -39,7 +39,9 @@ inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s, Rng* r
     int fx = x + cam.window_x0(), fy = y + cam.window_y0();
     *rng = pixel_sample_rng(fx, fy, s, ctx.settings.seed);
     Point2 off = ctx.filter.sample({rng->next_float(), rng->next_float()});
-    return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y);
+    if (!cam.has_aperture()) return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y);
+    Point2 u_lens{rng->next_float(), rng->next_float()};
+    return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y, u_lens);
 }
 
 // Non-finite radiance never reaches the film: the sample counts as black and is reported.

@@ -7,6 +7,8 @@
 
 #include <tbb/global_control.h>
 
+#include <map>
+
 #include "film/image_io.h"
 #include "render/session.h"
 #include "scene/scene.h"
@@ -63,10 +65,20 @@ Lobe parse_lobe(const py::dict& d) {
     return l;
 }
 
-py::array_t<float> to_image(std::vector<float>&& rgba, int w, int h) {
-    auto* heap = new std::vector<float>(std::move(rgba));
+py::array_t<float> to_image(std::vector<float>&& pixels, int w, int h, int channels = 4) {
+    auto* heap = new std::vector<float>(std::move(pixels));
     py::capsule owner(heap, [](void* p) { delete static_cast<std::vector<float>*>(p); });
-    return py::array_t<float>({h, w, 4}, heap->data(), owner);
+    return py::array_t<float>({h, w, channels}, heap->data(), owner);
+}
+
+AuxPass parse_aux_pass(const std::string& name) {
+    static const std::map<std::string, AuxPass> passes = {{"Depth", AuxPass::Depth},
+                                                          {"Normal", AuxPass::Normal},
+                                                          {"Albedo", AuxPass::Albedo},
+                                                          {"Diagnostic", AuxPass::Diagnostic}};
+    auto it = passes.find(name);
+    if (it == passes.end()) throw py::value_error("unknown pass '" + name + "'");
+    return it->second;
 }
 
 const float* image_data(const py::array_t<float, py::array::c_style | py::array::forcecast>& a, int* w, int* h) {
@@ -90,6 +102,7 @@ RenderSettings parse_settings(const py::dict& d) {
     s.integrator = get<std::string>(d, "integrator", s.integrator);
     s.filter = get<std::string>(d, "filter", s.filter);
     s.filter_width = get<float>(d, "filter_width", s.filter_width);
+    s.aux_passes = get<bool>(d, "aux_passes", s.aux_passes);
     s.psf_radius_px = get<float>(d, "psf_radius_px", s.psf_radius_px);
     s.psf_radius_alpha = get<float>(d, "psf_radius_alpha", s.psf_radius_alpha);
     s.psf_max_neighbors = get<int>(d, "psf_max_neighbors", s.psf_max_neighbors);
@@ -194,6 +207,11 @@ PYBIND11_MODULE(_smis, m) {
                  c.height = get<int>(d, "height", c.height);
                  c.pixel_aspect_x = get<float>(d, "pixel_aspect_x", 1.0f);
                  c.pixel_aspect_y = get<float>(d, "pixel_aspect_y", 1.0f);
+                 c.fstop = get<float>(d, "fstop", c.fstop);
+                 c.focus_distance = get<float>(d, "focus_distance", c.focus_distance);
+                 c.aperture_blades = get<int>(d, "aperture_blades", c.aperture_blades);
+                 c.aperture_rotation = get<float>(d, "aperture_rotation", c.aperture_rotation);
+                 c.aperture_ratio = get<float>(d, "aperture_ratio", c.aperture_ratio);
                  if (d.contains("border")) {
                      auto b = d["border"].cast<std::vector<int>>();
                      if (b.size() != 4) throw py::value_error("border must be (x0, y0, x1, y1)");
@@ -265,7 +283,18 @@ PYBIND11_MODULE(_smis, m) {
                  return d;
              })
         .def("pixels", [](const RenderSession& r) { return to_image(r.pixels(), r.width(), r.height()); })
-        .def("integrator_stats", &RenderSession::integrator_stats);
+        .def("integrator_stats", &RenderSession::integrator_stats)
+        .def("skipped", &RenderSession::skipped)
+        .def(
+            "pass_pixels",
+            [](const RenderSession& r, const std::string& name) -> py::object {
+                AuxPass pass = parse_aux_pass(name);
+                std::vector<float> px = r.aux_pixels(pass);
+                if (px.empty()) return py::none();
+                return to_image(std::move(px), r.width(), r.height(), aux_pass_channels(pass));
+            },
+            "An auxiliary pass (Depth, Normal, Albedo, Diagnostic) as an (h, w, channels) array, bottom row "
+            "first; None unless the session was created with aux_passes");
 
     // Blender computes split normals with parallel floating-point sums whose order varies from run
     // to run (measured: a few hundred normals differ in the last bit between two exports of the
@@ -297,6 +326,33 @@ PYBIND11_MODULE(_smis, m) {
             return to_image(std::move(rgba), w, h);
         },
         py::arg("path"), py::arg("layer") = "");
+    m.def(
+        "read_exr_channels",
+        [](const std::string& path) {
+            int w = 0, h = 0;
+            std::map<std::string, std::vector<float>> channels = read_exr_channels(path, &w, &h);
+            py::dict out;
+            for (auto& [name, px] : channels) out[py::str(name)] = to_image(std::move(px), w, h, 1)[py::make_tuple(py::ellipsis(), 0)];
+            return out;
+        },
+        "Every channel of an EXR (multilayer names such as 'ViewLayer.Depth.Z' kept) as (h, w) float arrays, "
+        "bottom row first");
+    m.def(
+        "write_exr_channels",
+        [](const std::string& path, const py::dict& channels) {
+            std::map<std::string, std::vector<float>> data;
+            int w = -1, h = -1;
+            for (auto item : channels) {
+                auto a = item.second.cast<py::array_t<float, py::array::c_style | py::array::forcecast>>();
+                if (a.ndim() != 2) throw py::value_error("channels must be (h, w) arrays");
+                if (w >= 0 && (a.shape(0) != h || a.shape(1) != w)) throw py::value_error("channel sizes differ");
+                h = static_cast<int>(a.shape(0)), w = static_cast<int>(a.shape(1));
+                data[item.first.cast<std::string>()] = std::vector<float>(a.data(), a.data() + a.size());
+            }
+            if (data.empty()) throw py::value_error("no channels");
+            write_exr_channels(path, data, w, h);
+        },
+        "Writes (h, w) float arrays (bottom row first) as the named channels of one EXR");
     m.def(
         "write_png",
         [](const std::string& path, py::array_t<float, py::array::c_style | py::array::forcecast> img,

@@ -14,6 +14,13 @@ RenderSession::RenderSession(std::shared_ptr<const Scene> scene, RenderSettings 
       integrator_(make_integrator(settings_)) {
     if (settings_.samples == 0) settings_.samples = 1;
     if (settings_.max_bounces < 0) settings_.max_bounces = 0;
+    if (settings_.aux_passes) film_.enable_aux();
+}
+
+std::vector<std::string> RenderSession::skipped() const {
+    std::vector<std::string> out = scene_->skipped();
+    integrator_->add_skipped(settings_, &out);
+    return out;
 }
 
 RenderSession::~RenderSession() {

@@ -34,6 +34,10 @@ public:
     int width() const { return film_.width(); }
     int height() const { return film_.height(); }
     std::map<std::string, double> integrator_stats() const { return integrator_->stats(); }
+    // Everything the scene analysis and the integrator switched off for this render.
+    std::vector<std::string> skipped() const;
+    // An auxiliary pass, averaged (empty unless settings.aux_passes).
+    std::vector<float> aux_pixels(AuxPass pass) const { return film_.resolve_aux(pass); }
     // The error that ended the render, if one did (re-thrown by wait()/run() callers).
     std::string error() const;
 

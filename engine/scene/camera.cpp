@@ -53,6 +53,19 @@ Camera::Camera(const CameraDesc& desc) : desc_(desc) {
     shift_x_ = desc.shift_x * 2.0f * fitted_half;
     shift_y_ = desc.shift_y * 2.0f * fitted_half;
 
+    if (desc.fstop != 0.0f) {
+        // Cycles' thin lens: aperture radius = focal length / (2 f-stop), the focal length in metres
+        // (lens is in mm); an orthographic camera takes 1 / (2 f-stop) world units.
+        if (!(desc.fstop > 0.0f) || !std::isfinite(desc.fstop)) throw std::invalid_argument("camera f-stop invalid");
+        if (!(desc.focus_distance > 0.0f) || !std::isfinite(desc.focus_distance))
+            throw std::invalid_argument("camera focus distance invalid");
+        if (!(desc.aperture_ratio > 0.0f) || !std::isfinite(desc.aperture_ratio) ||
+            !std::isfinite(desc.aperture_rotation))
+            throw std::invalid_argument("camera aperture ratio/rotation invalid");
+        aperture_radius_ = desc.orthographic ? 0.5f / desc.fstop : desc.lens * 1e-3f / (2.0f * desc.fstop);
+        if (!std::isfinite(aperture_radius_)) aperture_radius_ = 0.0f;
+    }
+
     const int* b = desc.border;
     bool has_border = b[2] > b[0] && b[3] > b[1];
     window_[0] = has_border ? std::max(0, b[0]) : 0;
@@ -62,24 +75,34 @@ Camera::Camera(const CameraDesc& desc) : desc_(desc) {
     if (window_[2] <= window_[0] || window_[3] <= window_[1]) throw std::invalid_argument("empty render border");
 }
 
-Ray Camera::generate_ray(float fx, float fy) const {
+Point2 Camera::sample_aperture(Point2 u) const {
+    Point2 p = desc_.aperture_blades >= 3 ? sample_regular_polygon(desc_.aperture_blades, desc_.aperture_rotation, u)
+                                          : sample_uniform_disk_concentric(u);
+    return {p.x * aperture_radius_ / desc_.aperture_ratio, p.y * aperture_radius_};
+}
+
+Ray Camera::generate_ray(float fx, float fy, Point2 u_lens) const {
     float sx = -half_w_ + 2.0f * half_w_ * (fx / desc_.width) + shift_x_;
     float sy = -half_h_ + 2.0f * half_h_ * (fy / desc_.height) + shift_y_;
-    Ray ray;
-    if (desc_.orthographic) {
-        ray.o = origin_ + right_ * sx + up_ * sy;
-        ray.d = forward_;
-        ray.tmin = desc_.clip_start;
-        ray.tmax = desc_.clip_end;
-    } else {
-        Vec3 d = right_ * sx + up_ * sy + forward_;
-        float inv_len = 1.0f / length(d);
-        ray.o = origin_;
-        ray.d = d * inv_len;
-        // Blender clips planes perpendicular to the view axis, so the ray distances grow off-axis.
-        ray.tmin = desc_.clip_start / inv_len;
-        ray.tmax = desc_.clip_end / inv_len;
+    // Camera space: x right, y up, z along the view axis. A pinhole ray starts at `o` in direction d;
+    // a thin lens moves the start to a point on the aperture and aims it at the point the pinhole ray
+    // reaches on the plane of focus (Cycles' camera_sample_perspective/orthographic), so everything
+    // at the focus distance stays sharp.
+    Vec3 o = desc_.orthographic ? Vec3(sx, sy, 0.0f) : Vec3(0.0f);
+    Vec3 d = desc_.orthographic ? Vec3(0.0f, 0.0f, 1.0f) : Vec3(sx, sy, 1.0f);
+    if (has_aperture()) {
+        Vec3 focus = o + d * (desc_.focus_distance / d.z);
+        Point2 lens = sample_aperture(u_lens);
+        o += Vec3(lens.x, lens.y, 0.0f);
+        d = focus - o;
     }
+    d = normalize(d);
+    Ray ray;
+    ray.o = origin_ + right_ * o.x + up_ * o.y;
+    ray.d = right_ * d.x + up_ * d.y + forward_ * d.z;
+    // Blender clips planes perpendicular to the view axis, so ray distances grow with the obliqueness.
+    ray.tmin = desc_.clip_start / d.z;
+    ray.tmax = desc_.clip_end / d.z;
     return ray;
 }
 

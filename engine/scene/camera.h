@@ -23,20 +23,31 @@ struct CameraDesc {
     int width = 64, height = 64;  // full frame after resolution percentage
     float pixel_aspect_x = 1.0f, pixel_aspect_y = 1.0f;
     int border[4] = {0, 0, 0, 0};  // [x0, y0, x1, y1) window, y from the bottom; all zero = full frame
+    // Depth of field (Blender's camera.dof, Cycles' thin lens); fstop 0 = pinhole.
+    float fstop = 0.0f;
+    float focus_distance = 10.0f;   // along the view axis (planar), from the distance or focus object
+    int aperture_blades = 0;        // < 3: round aperture
+    float aperture_rotation = 0.0f; // radians
+    float aperture_ratio = 1.0f;    // anamorphic: the aperture's x extent is divided by it
 };
 
 class Camera {
 public:
     Camera() = default;
     explicit Camera(const CameraDesc& desc);
-    // (fx, fy): continuous coordinates on the full frame in pixels, y from the bottom row.
-    Ray generate_ray(float fx, float fy) const;
+    // (fx, fy): continuous coordinates on the full frame in pixels, y from the bottom row; u_lens
+    // picks the point on the aperture (ignored by a pinhole camera).
+    Ray generate_ray(float fx, float fy, Point2 u_lens = {0.5f, 0.5f}) const;
+    bool has_aperture() const { return aperture_radius_ > 0.0f; }
+    float aperture_radius() const { return aperture_radius_; }  // world units
     int width() const { return desc_.width; }
     int height() const { return desc_.height; }
     int window_x0() const { return window_[0]; }
     int window_y0() const { return window_[1]; }
     int window_width() const { return window_[2] - window_[0]; }
     int window_height() const { return window_[3] - window_[1]; }
+    // Distance of p along the view axis: Cycles' Z pass (planar camera-space depth).
+    float view_depth(const Vec3& p) const { return dot(p - origin_, forward_); }
     // World-space size of one pixel at distance `dist` along the view axis (used by path-space filtering).
     float pixel_footprint(float dist) const;
 
@@ -46,6 +57,9 @@ private:
     Vec3 origin_, right_, up_, forward_;
     float half_w_ = 1.0f, half_h_ = 1.0f;  // image-plane half extents (at distance 1, or world units)
     float shift_x_ = 0.0f, shift_y_ = 0.0f;
+    float aperture_radius_ = 0.0f;
+    // Point on the aperture in the camera's (right, up) plane, world units.
+    Point2 sample_aperture(Point2 u) const;
 };
 
 }  // namespace smis

@@ -261,6 +261,8 @@ void Scene::commit() {
     stats_.instances = instances_.size();
     stats_.lights = lights_.size();
     stats_.materials = materials_.size();
+    // sample_direct() returns at once on an empty light table: no shadow rays at all.
+    if (lights_.empty()) skipped_.push_back("NEE (no lights)");
     committed_ = true;
 }
 

@@ -71,6 +71,9 @@ public:
     float light_pmf(uint32_t i) const { return light_selection_.pmf(i); }
     const std::vector<uint32_t>& infinite_lights() const { return infinite_lights_; }
     const SceneStats& stats() const { return stats_; }
+    // What the scene analysis found unused after commit(), for the stats line ("skipped: ...").
+    // Features add their entries here (e.g. "NEE (no lights)").
+    const std::vector<std::string>& skipped() const { return skipped_; }
 
 private:
     struct Mesh {
@@ -108,6 +111,7 @@ private:
     Color world_{0.0f};
     float radius_ = 1.0f;
     SceneStats stats_;
+    std::vector<std::string> skipped_;
 };
 
 }  // namespace smis

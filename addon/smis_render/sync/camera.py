@@ -46,6 +46,35 @@ def camera_object(engine, scene):
     return obj if obj is not None else scene.camera
 
 
+def focus_distance(obj, dof, depsgraph):
+    """Cycles' blender_camera_focal_distance: the focus object's (or bone's) distance along the
+    camera's view axis, else the Distance setting."""
+    target = dof.focus_object
+    if target is None:
+        return float(dof.focus_distance)
+    target = target.evaluated_get(depsgraph)
+    matrix = target.matrix_world
+    bone = getattr(dof, "focus_subtarget", "")
+    if bone and target.pose is not None and bone in target.pose.bones:
+        matrix = matrix @ target.pose.bones[bone].matrix
+    view_axis = obj.matrix_world.col[2].xyz.normalized()
+    return abs(view_axis.dot(obj.matrix_world.col[3].xyz - matrix.col[3].xyz))
+
+
+def depth_of_field(obj, depsgraph):
+    """The camera's thin-lens settings for the engine; none when depth of field is off."""
+    dof = obj.data.dof
+    if not dof.use_dof:
+        return {}
+    return {
+        "fstop": max(float(dof.aperture_fstop), 1e-5),  # Cycles clamps the same way
+        "focus_distance": max(focus_distance(obj, dof, depsgraph), 1e-5),
+        "aperture_blades": int(dof.aperture_blades),
+        "aperture_rotation": float(dof.aperture_rotation),
+        "aperture_ratio": float(dof.aperture_ratio),
+    }
+
+
 def export_camera(engine, depsgraph, warn):
     """Camera dict for `_smis.Scene.set_camera`. Raises CameraError."""
     scene = depsgraph.scene
@@ -59,12 +88,10 @@ def export_camera(engine, depsgraph, warn):
     cam = obj.data
     if cam.type not in {'PERSP', 'ORTHO'}:
         raise CameraError("Camera '%s': %s cameras are not supported" % (obj.name, cam.type))
-    if cam.dof.use_dof:
-        warn("Camera '%s': depth of field is not supported, ignored" % obj.name)
-
     render = scene.render
     width, height = resolution(render)
     return {
+        **depth_of_field(obj, depsgraph),
         "type": cam.type,
         "matrix": [list(row) for row in obj.matrix_world],
         "sensor_fit": cam.sensor_fit,

@@ -1,0 +1,43 @@
+#include "integrators/aux_passes.h"
+
+#include "integrators/path_tracing.h"
+
+namespace smis {
+
+AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng) {
+    AuxSample a;
+    SurfaceHit hit;
+    Ray ray = camera_ray;
+    if (!scene.intersect(ray, &hit)) return a;
+    a.depth = scene.camera().view_depth(hit.p);
+    ShadingPoint sp = make_shading_point(scene, hit, ray.d);
+    a.normal = sp.ns;
+    Color throughput(1.0f);
+    for (int bounce = 0;; ++bounce) {
+        if (!sp.bsdf.is_delta() || bounce == kAuxMaxDeltaBounces) {
+            a.albedo = throughput * sp.bsdf.albedo_weight();
+            break;
+        }
+        float u_lobe = rng.next_float();
+        BsdfSample bs = sp.bsdf.sample(sp.wo, {rng.next_float(), rng.next_float()}, u_lobe);
+        if (!bs.valid()) break;
+        throughput *= bs.value / bs.pdf;
+        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
+        if (!scene.intersect(ray, &hit)) break;
+        sp = make_shading_point(scene, hit, ray.d);
+    }
+    if (!is_finite(a.albedo)) a.albedo = Color(0.0f);
+    return a;
+}
+
+void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const Ray& camera_ray, float diagnostic) {
+    if (!ctx.film.has_aux()) return;
+    const Camera& cam = ctx.scene.camera();
+    // A stream apart from the pixel sample's, so enabling passes leaves the image unchanged.
+    Rng rng = pixel_sample_rng(x + cam.window_x0(), y + cam.window_y0(), s, ctx.settings.seed ^ 0xa0c5a11eu);
+    AuxSample a = first_hit_aux(ctx.scene, camera_ray, rng);
+    a.diagnostic = diagnostic;
+    ctx.film.add_aux(x, y, a);
+}
+
+}  // namespace smis

@@ -1,0 +1,18 @@
+// The auxiliary passes (Depth, Normal, Albedo) recorded at a camera sample's first hit. Only runs
+// when a pass is enabled (Film::has_aux), so renders without passes trace no extra ray.
+#pragma once
+#include "integrators/integrator.h"
+
+namespace smis {
+
+// Depth and normal of the first hit along the camera ray, as Cycles' Z and Normal passes. Albedo
+// as Cycles' denoising albedo: the first hit that is not a perfect mirror or smooth glass gives its
+// closure weights, times the throughput of the Dirac bounces that led there (at most
+// kAuxMaxDeltaBounces, chosen with `rng`, a stream of its own so the image does not change).
+constexpr int kAuxMaxDeltaBounces = 8;
+AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng);
+
+// Records sample `s` of window pixel (x, y) in the auxiliary passes when they are on.
+void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const Ray& camera_ray, float diagnostic = 0.0f);
+
+}  // namespace smis
