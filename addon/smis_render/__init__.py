@@ -13,17 +13,18 @@ bl_info = {
 # Reloading the add-on (F3 "Reload Scripts") must pick up edited submodules too.
 if "bpy" in locals():
     import importlib
-    for _name in ("native", "properties", "sync", "engine", "ui"):
+    for _name in ("native", "properties", "spectral_properties", "sync", "engine", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
 import bpy  # noqa: E402,F401
 
-from . import engine, native, properties, sync, ui  # noqa: E402,F401
+from . import engine, native, properties, spectral_properties, sync, ui  # noqa: E402,F401
 
 
 def register():
     properties.register()
+    spectral_properties.register()
     engine.register()
     ui.register()
     # The engine registers without its native module so that panels and renders can
@@ -36,4 +37,5 @@ def register():
 def unregister():
     ui.unregister()
     engine.unregister()
+    spectral_properties.unregister()
     properties.unregister()

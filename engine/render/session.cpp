@@ -11,7 +11,7 @@ RenderSession::RenderSession(std::shared_ptr<const Scene> scene, RenderSettings 
       settings_(std::move(settings)),
       film_(scene_->camera().window_width(), scene_->camera().window_height()),
       filter_(settings_.filter, settings_.filter_width),
-      integrator_(make_integrator(settings_)) {
+      integrator_(make_integrator(settings_, *scene_)) {
     if (settings_.samples == 0) settings_.samples = 1;
     if (settings_.max_bounces < 0) settings_.max_bounces = 0;
 }
