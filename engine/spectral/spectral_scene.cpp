@@ -61,8 +61,7 @@ WavelengthPdf SpectralScene::importance(float uniform_fraction) const {
         for (size_t e = 0; e < emitters_.size(); ++e)
             if (emitter_weight[e] > 0.0) mixture += emitter_weight[e] * emitters_[e](lambda);
         if (emitters_.empty()) mixture = 1.0;
-        Vec3 cmf = cie_xyz(lambda);
-        bins[b] = mixture * double(cmf.x + cmf.y + cmf.z);
+        bins[b] = mixture * double(length(rgb_response(lambda)));
         total += bins[b];
     }
     double uniform = total > 0.0 ? uniform_fraction * total / (1.0 - uniform_fraction) / WavelengthPdf::kBins : 1.0;
