@@ -541,6 +541,14 @@ def spectral_room(sc, wall_color=(0.5, 0.5, 0.5)):
     return grey
 
 
+def spectral_lights(sc, spectrum, lights, size, target):
+    """Square area lights (name, location, power W) aimed at `target`, emitting `spectrum`."""
+    for name, loc, power in lights:
+        light = add_light(sc, name, 'AREA', loc, shape='SQUARE', size=size, energy=power)
+        aim(light, target)
+        light.data.smis.spectrum = spectrum
+
+
 def build_spectral_gold(path):
     _spectral_properties()
     sc = new_scene(128, 128, samples=64)
@@ -551,10 +559,8 @@ def build_spectral_gold(path):
     torus_object(sc, "GoldTorus", gold, (-0.55, 0.1, 0.45), 0.35, 0.13, rotation_deg=(70.0, 0.0, 20.0))
     sphere_object(sc, "GoldSphere", gold, (0.55, 0.2, 0.4), 0.4)
     unit_cube_object(sc, "GoldCube", gold, (0.05, -0.55, 0.18), 30.0, (0.36, 0.36, 0.36))
-    for name, loc, power in (("F10Key", (-1.2, -1.2, 2.2), 120.0), ("F10Fill", (1.5, -0.5, 1.6), 60.0)):
-        light = add_light(sc, name, 'AREA', loc, shape='SQUARE', size=0.8, energy=power)
-        aim(light, (0.0, 0.0, 0.4))
-        light.data.smis.spectrum = 'F10'
+    spectral_lights(sc, 'F10', (("F10Key", (-1.2, -1.2, 2.2), 120.0), ("F10Fill", (1.5, -0.5, 1.6), 60.0)),
+                    size=0.8, target=(0.0, 0.0, 0.4))
     save(path)
 
 
@@ -579,10 +585,8 @@ def build_spectral_glass(path):
     prism.smis.dispersion = 'ABBE'
     prism.smis.abbe = 30.0
     unit_cube_object(sc, "AbbeCube", prism, (-0.2, -0.8, 0.15), 35.0, (0.3, 0.3, 0.3))
-    for name, loc, power in (("D65Key", (-1.0, -1.5, 2.4), 150.0), ("D65Fill", (1.6, -1.0, 1.5), 60.0)):
-        light = add_light(sc, name, 'AREA', loc, shape='SQUARE', size=0.6, energy=power)
-        aim(light, (0.0, 0.0, 0.3))
-        light.data.smis.spectrum = 'D65'
+    spectral_lights(sc, 'D65', (("D65Key", (-1.0, -1.5, 2.4), 150.0), ("D65Fill", (1.6, -1.0, 1.5), 60.0)),
+                    size=0.6, target=(0.0, 0.0, 0.3))
     save(path)
 
 

@@ -37,31 +37,25 @@ DISPERSION = ([('NONE', "None", "The IOR of the Glass / Principled node at every
                   "refractiveindex.info); the node's IOR is ignored" % g) for g in GLASSES])
 
 
+def _spectrum(name, description):
+    return EnumProperty(name=name, description=description, items=SPECTRA, default='RGB')
+
+
+def _temperature(description):
+    return FloatProperty(name="Temperature", description=description, default=6500.0, min=100.0,
+                         soft_min=800.0, soft_max=12000.0, max=1e6)
+
+
 class SMISLightSettings(bpy.types.PropertyGroup):
-    spectrum: EnumProperty(
-        name="Spectrum",
-        description="Emission spectrum in spectral rendering, at the luminance the RGB light "
-                    "would have",
-        items=SPECTRA, default='RGB',
-    )
-    temperature: FloatProperty(
-        name="Temperature",
-        description="Blackbody temperature (Blender 3.4 lights have none of their own)",
-        default=6500.0, min=100.0, soft_min=800.0, soft_max=12000.0, max=1e6,
-    )
+    spectrum: _spectrum("Spectrum", "Emission spectrum in spectral rendering, at the luminance "
+                                    "the RGB light would have")
+    temperature: _temperature("Blackbody temperature (Blender 3.4 lights have none of their own)")
 
 
 class SMISMaterialSettings(bpy.types.PropertyGroup):
-    emission_spectrum: EnumProperty(
-        name="Emission Spectrum",
-        description="Spectrum of the material's emission in spectral rendering, at the "
-                    "luminance of its RGB emission",
-        items=SPECTRA, default='RGB',
-    )
-    emission_temperature: FloatProperty(
-        name="Temperature", description="Blackbody temperature of the emission",
-        default=6500.0, min=100.0, soft_min=800.0, soft_max=12000.0, max=1e6,
-    )
+    emission_spectrum: _spectrum("Emission Spectrum", "Spectrum of the material's emission in "
+                                 "spectral rendering, at the luminance of its RGB emission")
+    emission_temperature: _temperature("Blackbody temperature of the emission")
     metal: EnumProperty(
         name="Metal",
         description="Measured conductor for the Glossy BSDF and the metallic part of the "
