@@ -24,6 +24,18 @@ OUTDIR defaults to the folder holding this script (scenes/). Writes:
                          small glossy wall-socket and switch plates, a metal ball;
                          2 ceiling area lights (invisible to the camera). 256x256.
 
+  spectral_gold.blend    Spectral rendering (after West et al. 2020, Fig. 8): a glossy
+                         (GGX 0.25) torus knot-like torus, a sphere and a cube of measured
+                         gold (material.smis.metal = Au, Glossy colour white) on a grey
+                         floor before a grey wall, lit only by two F10 area lights
+                         (light.smis.spectrum = F10, spiky SPD). 128x128.
+  spectral_glass.blend   Spectral rendering (after Fig. 9): sharp glass objects of
+                         slightly dispersive glasses (N-BK7, F2 and N-SF11 Sellmeier, an
+                         Abbe-number sphere) before coloured stripes on a white floor and
+                         wall, lit by two D65 area lights. 128x128.
+                         The smis properties are written by registering the add-on's
+                         spectral_properties module (no native module needed).
+
 Only some scenes:  blender -b --factory-startup --python scenes/build_scenes.py -- [OUTDIR] psf_glossy psf_room
 (arguments that name a scene select it; any other argument is OUTDIR).
 
@@ -506,6 +518,78 @@ def build_psf_room(path):
 
 
 
+def _spectral_properties():
+    """Register light.smis / material.smis from the add-on source (it needs only bpy), so the
+    spectral scenes can set them without enabling the add-on."""
+    if hasattr(bpy.types.Material, "smis"):
+        return
+    import importlib.util
+    path = os.path.join(os.path.dirname(HERE), "addon", "smis_render", "spectral_properties.py")
+    spec = importlib.util.spec_from_file_location("smis_spectral_properties", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    module.register()
+
+
+def spectral_room(sc, wall_color=(0.5, 0.5, 0.5)):
+    """Floor and back wall, camera looking slightly down at the origin."""
+    grey = diffuse("Grey", wall_color)
+    box_object(sc, "Floor", (-3, -3, -0.1), (3, 3, 0), grey)
+    box_object(sc, "Wall", (-3, 1.2, 0), (3, 1.3, 3), grey)
+    cam = add_camera(sc, (0.0, -3.2, 1.3), (0.0, 0.0, 0.0), lens=40.0)
+    aim(cam, (0.0, 0.0, 0.45))
+    return grey
+
+
+def spectral_lights(sc, spectrum, lights, size, target):
+    """Square area lights (name, location, power W) aimed at `target`, emitting `spectrum`."""
+    for name, loc, power in lights:
+        light = add_light(sc, name, 'AREA', loc, shape='SQUARE', size=size, energy=power)
+        aim(light, target)
+        light.data.smis.spectrum = spectrum
+
+
+def build_spectral_gold(path):
+    _spectral_properties()
+    sc = new_scene(128, 128, samples=64)
+    set_world(sc)
+    spectral_room(sc)
+    gold = glossy_ggx("MeasuredGold", (1.0, 1.0, 1.0), 0.25)
+    gold.smis.metal = 'Au'
+    torus_object(sc, "GoldTorus", gold, (-0.55, 0.1, 0.45), 0.35, 0.13, rotation_deg=(70.0, 0.0, 20.0))
+    sphere_object(sc, "GoldSphere", gold, (0.55, 0.2, 0.4), 0.4)
+    unit_cube_object(sc, "GoldCube", gold, (0.05, -0.55, 0.18), 30.0, (0.36, 0.36, 0.36))
+    spectral_lights(sc, 'F10', (("F10Key", (-1.2, -1.2, 2.2), 120.0), ("F10Fill", (1.5, -0.5, 1.6), 60.0)),
+                    size=0.8, target=(0.0, 0.0, 0.4))
+    save(path)
+
+
+def build_spectral_glass(path):
+    _spectral_properties()
+    sc = new_scene(128, 128, samples=64)
+    set_world(sc)
+    spectral_room(sc, wall_color=(0.8, 0.8, 0.8))
+    # Coloured stripes on the wall and floor behind the glass: dispersion shows as coloured fringes.
+    for i, color in enumerate(((0.8, 0.1, 0.1), (0.1, 0.7, 0.1), (0.1, 0.2, 0.8), (0.05, 0.05, 0.05))):
+        x = -1.2 + 0.6 * i
+        box_object(sc, "Stripe%d" % i, (x, 1.15, 0.0), (x + 0.3, 1.2, 2.0), diffuse("Stripe%d" % i, color))
+        box_object(sc, "FloorStripe%d" % i, (x, -1.0, 0.0), (x + 0.3, 1.15, 0.005),
+                   diffuse("FloorStripe%d" % i, color))
+    glasses = (("N-BK7", (-0.75, -0.2, 0.35), 0.35), ("F2", (0.05, 0.1, 0.4), 0.4),
+               ("N-SF11", (0.8, -0.3, 0.3), 0.3))
+    for glass, loc, radius in glasses:
+        mat = glass_ggx("Glass_" + glass, 1.5, 0.0)
+        mat.smis.dispersion = glass
+        sphere_object(sc, "Sphere_" + glass, mat, loc, radius)
+    prism = glass_ggx("Glass_Abbe", 1.6, 0.0)
+    prism.smis.dispersion = 'ABBE'
+    prism.smis.abbe = 30.0
+    unit_cube_object(sc, "AbbeCube", prism, (-0.2, -0.8, 0.15), 35.0, (0.3, 0.3, 0.3))
+    spectral_lights(sc, 'D65', (("D65Key", (-1.0, -1.5, 2.4), 150.0), ("D65Fill", (1.6, -1.0, 1.5), 60.0)),
+                    size=0.6, target=(0.0, 0.0, 0.3))
+    save(path)
+
+
 def save(path):
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
     print("build_scenes: wrote", path)
@@ -517,6 +601,8 @@ SCENE_NAMES = {
     "demo": build_demo,
     "psf_glossy": build_psf_glossy,
     "psf_room": build_psf_room,
+    "spectral_gold": build_spectral_gold,
+    "spectral_glass": build_spectral_glass,
 }
 
 

@@ -36,7 +36,8 @@ install_addon() {
 }
 
 build_scenes() {
-    if [ ! -f "$ROOT/scenes/cornell.blend" ] || [ "$ROOT/scenes/build_scenes.py" -nt "$ROOT/scenes/cornell.blend" ]; then
+    if [ ! -f "$ROOT/scenes/cornell.blend" ] || [ ! -f "$ROOT/scenes/spectral_glass.blend" ] ||
+       [ "$ROOT/scenes/build_scenes.py" -nt "$ROOT/scenes/cornell.blend" ]; then
         echo "== building scenes"
         blender -b --factory-startup --python "$ROOT/scenes/build_scenes.py" -- "$ROOT/scenes" >/dev/null
     fi

@@ -13,17 +13,18 @@ bl_info = {
 # Reloading the add-on (F3 "Reload Scripts") must pick up edited submodules too.
 if "bpy" in locals():
     import importlib
-    for _name in ("native", "properties", "passes", "sync", "engine", "ui"):
+    for _name in ("native", "properties", "spectral_properties", "passes", "sync", "engine", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
 import bpy  # noqa: E402,F401
 
-from . import engine, native, passes, properties, sync, ui  # noqa: E402,F401
+from . import engine, native, passes, properties, spectral_properties, sync, ui  # noqa: E402,F401
 
 
 def register():
     properties.register()
+    spectral_properties.register()
     passes.register()
     engine.register()
     ui.register()
@@ -38,4 +39,5 @@ def unregister():
     ui.unregister()
     engine.unregister()
     passes.unregister()
+    spectral_properties.unregister()
     properties.unregister()

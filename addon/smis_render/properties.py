@@ -100,6 +100,31 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
         default=0.1, min=0.0, soft_max=1.0,
     )
 
+    spectral: EnumProperty(
+        name="Spectral",
+        description="Spectral rendering and its wavelength sampling (West et al. 2020, §5)",
+        items=[
+            ('AUTO', "Auto", "RGB when nothing in the scene has a spectrum (light or emission "
+                             "spectra, measured metals, dispersion), otherwise SMIS"),
+            ('RGB', "RGB", "No spectral sampling: fastest, ignores spectra"),
+            ('UNIFORM', "Uniform", "One wavelength per path, uniformly sampled"),
+            ('SPECTRAL_IS', "Spectral IS", "One wavelength per path, importance sampled from the "
+                                           "observer response times the lights' spectra"),
+            ('HERO', "Hero Wavelength", "Wilkie et al. 2014: one importance-sampled hero, the "
+                                        "others equally spaced, balance heuristic (eq. 19)"),
+            ('SMIS', "SMIS", "Every wavelength importance sampled (stratified), balance heuristic "
+                             "(eq. 21)"),
+            ('SMIS_INDEPENDENT', "SMIS (independent)", "SMIS with independent wavelengths"),
+            ('BRUTE_FORCE', "Brute Force (512)", "512 wavelengths per path: reference only"),
+        ],
+        default='AUTO',
+    )
+    wavelengths: IntProperty(
+        name="Wavelengths",
+        description="Wavelengths evaluated per path by Hero and SMIS",
+        default=4, min=1, max=64,
+    )
+
     filter_type: EnumProperty(
         name="Pixel Filter",
         description="Pixel reconstruction filter, importance-sampled as in Cycles (no extra cost)",
@@ -140,6 +165,8 @@ def session_settings(scene):
         "psf_keller_normal_cos": float(s.psf_keller_normal_cos),
         "psf_keller_plane": float(s.psf_keller_plane),
         "filter_width": float(s.filter_width),
+        "spectral": s.spectral,
+        "wavelengths": s.wavelengths,
     }
 
 

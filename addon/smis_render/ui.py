@@ -46,6 +46,11 @@ class SMIS_RENDER_PT_sampling(SMISButtonsPanel, bpy.types.Panel):
         col = layout.column(align=True)
         col.prop(settings, "filter_type")
         col.prop(settings, "filter_width")
+        col = layout.column(align=True)
+        col.prop(settings, "spectral")
+        sub = col.column()
+        sub.active = settings.spectral in {'AUTO', 'HERO', 'SMIS', 'SMIS_INDEPENDENT'}
+        sub.prop(settings, "wavelengths")
 
 
 class SMIS_RENDER_PT_light_paths(SMISButtonsPanel, bpy.types.Panel):
@@ -150,6 +155,10 @@ class SMIS_LIGHT_PT_light(SMISButtonsPanel, bpy.types.Panel):
             else:
                 sub.prop(light, "size", text="Size X")
                 sub.prop(light, "size_y", text="Y")
+        col.separator()
+        col.prop(light.smis, "spectrum")
+        if light.smis.spectrum == 'BLACKBODY':
+            col.prop(light.smis, "temperature")
 
 
 class SMIS_VIEWLAYER_PT_passes(SMISButtonsPanel, bpy.types.Panel):
@@ -208,6 +217,31 @@ class SMIS_MATERIAL_PT_surface(SMISButtonsPanel, bpy.types.Panel):
         _draw_surface(self.layout, context.material, "diffuse_color")
 
 
+class SMIS_MATERIAL_PT_spectral(SMISButtonsPanel, bpy.types.Panel):
+    """material.smis: what spectral rendering adds to the node material."""
+    bl_label = "Spectral"
+    bl_context = "material"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    @classmethod
+    def poll(cls, context):
+        mat = context.material
+        return mat is not None and not mat.grease_pencil and super().poll(context)
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        s = context.material.smis
+        col = layout.column()
+        col.prop(s, "emission_spectrum")
+        if s.emission_spectrum == 'BLACKBODY':
+            col.prop(s, "emission_temperature")
+        col.prop(s, "metal")
+        col.prop(s, "dispersion")
+        if s.dispersion == 'ABBE':
+            col.prop(s, "abbe")
+
+
 class SMIS_WORLD_PT_surface(SMISButtonsPanel, bpy.types.Panel):
     bl_label = "Surface"
     bl_context = "world"
@@ -241,6 +275,7 @@ classes = (
     SMIS_VIEWLAYER_PT_passes,
     SMIS_LIGHT_PT_light,
     SMIS_MATERIAL_PT_surface,
+    SMIS_MATERIAL_PT_spectral,
     SMIS_WORLD_PT_surface,
 )
 

@@ -35,6 +35,11 @@ struct RenderSettings {
     int psf_max_neighbors = 16;        // techniques gathered per pixel (random subset beyond this)
     float psf_keller_normal_cos = 0.9f;    // Keller et al. 2014 acceptance: normals within ~26 degrees
     float psf_keller_plane = 0.1f;     // ... and within 0.1 radius of the query's tangent plane
+    // Spectral rendering (paper §5): AUTO, RGB, UNIFORM, SPECTRAL_IS, HERO, SMIS, SMIS_INDEPENDENT,
+    // BRUTE_FORCE (spectral/wavelength_sampling.h). AUTO = RGB for scenes without spectral content,
+    // else SMIS. Applies to the PATH integrator.
+    std::string spectral = "AUTO";
+    int wavelengths = 4;               // n for HERO / SMIS / SMIS_INDEPENDENT
 };
 
 // Counters reported to the user (stats line) and checked by the stress tests.
@@ -90,7 +95,11 @@ protected:
                      LocalCounters& counters) const = 0;
 };
 
-// Creates the integrator named by settings.integrator; throws std::invalid_argument for unknown names.
-std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings);
+// Creates the integrator named by settings.integrator (the spectral path tracer for PATH when
+// settings.spectral resolves to a spectral mode for this scene); throws std::invalid_argument for
+// unknown names.
+std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, const Scene& scene);
+// The spectral mode settings.spectral selects for this scene ("RGB" when it resolves to RGB rendering).
+std::string resolve_spectral_mode(const RenderSettings& settings, const Scene& scene);
 
 }  // namespace smis

@@ -34,44 +34,19 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
     float light_pdf = pmf * ls.pdf;
     float w = ls.delta ? 1.0f : mis_weight(settings.mis, light_pdf, sp.bsdf.pdf(sp.wo, ls.wi));
     ds.wi = ls.wi;
+    ds.light = li;
     ds.weighted = ls.L * (w / light_pdf);
     ds.valid = true;
     return ds;
 }
 
-Color emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
-                     const SurfaceHit& hit, const PathState& state) {
-    auto weight = [&](float light_pmf, float light_pdf) {
-        return state.prev_delta ? 1.0f : mis_weight(settings.mis, state.prev_pdf, light_pmf * light_pdf);
-    };
-    Color L(0.0f);
-    Ray to_hit = ray;
-    to_hit.tmax = found ? hit.t : kInf;
-    // Area, point and spot lights are not in the BVH (as in Cycles): test them separately.
-    scene.for_each_light_hit(to_hit, [&](uint32_t i, const LightHit& h) {
-        if (state.depth == 0 && !scene.light(i).visible_to_camera) return;
-        L += h.L * weight(scene.light_pmf(i), h.pdf);
-    });
-    if (!found) {
-        LightHit h;
-        for (uint32_t i : scene.infinite_lights())
-            if ((state.depth > 0 || scene.light(i).visible_to_camera) && scene.light(i).intersect(to_hit, &h))
-                L += h.L * weight(scene.light_pmf(i), h.pdf);
-    } else if (hit.light >= 0) {
-        auto& tri = static_cast<const TriangleLight&>(scene.light(hit.light));
-        L += scene.material(hit.material).emission * weight(scene.light_pmf(hit.light), tri.pdf_at(state.prev_p, hit.p));
-    }
-    return L;
-}
-
-bool russian_roulette(int depth, Color& beta, float eta_scale, Rng& rng) {
+float russian_roulette_survival(int depth, float max_beta, float eta_scale, Rng& rng) {
     float u = rng.next_float();
-    if (depth < 2) return true;
+    if (depth < 2) return 1.0f;
     // On the throughput without the refraction scaling, which cancels when the path leaves the medium.
-    float q = std::min(0.95f, std::max(0.0f, 1.0f - max_component(beta) * eta_scale));
-    if (u < q) return false;
-    beta = beta / (1.0f - q);
-    return true;
+    float q = std::min(0.95f, std::max(0.0f, 1.0f - max_beta * eta_scale));
+    if (u < q) return 0.0f;
+    return 1.0f - q;
 }
 
 Color trace_path(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,

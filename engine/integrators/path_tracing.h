@@ -32,6 +32,7 @@ struct PathState {
 struct DirectSample {
     Vec3 wi;
     Color weighted{0.0f};  // Le * w_light / pdf_light: multiply by bsdf.eval(wo, wi) for the contribution
+    uint32_t light = 0;    // which light (spectral rendering looks up its spectrum)
     bool valid = false;
 };
 DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
@@ -39,16 +40,53 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
 
 // Emission reaching the ray's origin from lights that are not geometry (area, point, spot) in front
 // of the first hit, from that hit if it emits, or from lights at infinity when nothing is hit;
-// MIS-weighted against next-event estimation from the previous vertex.
-Color emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
-                     const SurfaceHit& hit, const PathState& state);
+// MIS-weighted against next-event estimation from the previous vertex. Calls add(light index,
+// weighted radiance) once per light found (spectral rendering needs to know which light).
+template <class Add>
+void for_each_emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
+                             const SurfaceHit& hit, const PathState& state, Add&& add) {
+    auto weight = [&](float light_pmf, float light_pdf) {
+        return state.prev_delta ? 1.0f : mis_weight(settings.mis, state.prev_pdf, light_pmf * light_pdf);
+    };
+    Ray to_hit = ray;
+    to_hit.tmax = found ? hit.t : kInf;
+    // Area, point and spot lights are not in the BVH (as in Cycles): test them separately.
+    scene.for_each_light_hit(to_hit, [&](uint32_t i, const LightHit& h) {
+        if (state.depth == 0 && !scene.light(i).visible_to_camera) return;
+        add(i, h.L * weight(scene.light_pmf(i), h.pdf));
+    });
+    if (!found) {
+        LightHit h;
+        for (uint32_t i : scene.infinite_lights())
+            if ((state.depth > 0 || scene.light(i).visible_to_camera) && scene.light(i).intersect(to_hit, &h))
+                add(i, h.L * weight(scene.light_pmf(i), h.pdf));
+    } else if (hit.light >= 0) {
+        auto& tri = static_cast<const TriangleLight&>(scene.light(hit.light));
+        add(uint32_t(hit.light),
+            scene.material(hit.material).emission * weight(scene.light_pmf(hit.light), tri.pdf_at(state.prev_p, hit.p)));
+    }
+}
+inline Color emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
+                            const SurfaceHit& hit, const PathState& state) {
+    Color L(0.0f);
+    for_each_emission_along(scene, settings, ray, found, hit, state, [&](uint32_t, const Color& c) { L += c; });
+    return L;
+}
 
 // Radiance arriving at ray.o along -ray.d: the path tracer from `state` on (NEE + BSDF sampling with
 // MIS, Russian roulette, Cycles' bounce limit).
 Color trace_path(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,
                  LocalCounters& counters);
 
-// Russian roulette after a few bounces; returns false to stop, else rescales beta.
-bool russian_roulette(int depth, Color& beta, float eta_scale, Rng& rng);
+// Russian roulette after a few bounces on the largest throughput component max_beta: returns the
+// probability with which the path survives (divide the throughput by it), or 0 to stop the path.
+float russian_roulette_survival(int depth, float max_beta, float eta_scale, Rng& rng);
+// The same for an RGB throughput: returns false to stop, else rescales beta.
+inline bool russian_roulette(int depth, Color& beta, float eta_scale, Rng& rng) {
+    float survival = russian_roulette_survival(depth, max_component(beta), eta_scale, rng);
+    if (survival == 0.0f) return false;
+    beta = beta / survival;
+    return true;
+}
 
 }  // namespace smis

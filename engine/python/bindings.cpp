@@ -108,6 +108,8 @@ RenderSettings parse_settings(const py::dict& d) {
     s.psf_max_neighbors = get<int>(d, "psf_max_neighbors", s.psf_max_neighbors);
     s.psf_keller_normal_cos = get<float>(d, "psf_keller_normal_cos", s.psf_keller_normal_cos);
     s.psf_keller_plane = get<float>(d, "psf_keller_plane", s.psf_keller_plane);
+    s.spectral = get<std::string>(d, "spectral", s.spectral);
+    s.wavelengths = get<int>(d, "wavelengths", s.wavelengths);
     return s;
 }
 
@@ -135,7 +137,13 @@ PYBIND11_MODULE(_smis, m) {
                  if (d.contains("closures"))
                      for (auto c : d["closures"]) mat.lobes.push_back(parse_lobe(c.cast<py::dict>()));
                  mat.emission = get_color(d, "emission", Color(0.0f));
-                 return s.add_material(std::move(mat));
+                 MaterialSpectral& sp = mat.spectral;
+                 sp.emission_spectrum = get<std::string>(d, "emission_spectrum", sp.emission_spectrum);
+                 sp.emission_temperature = get<float>(d, "emission_temperature", sp.emission_temperature);
+                 sp.metal = get<std::string>(d, "metal", sp.metal);
+                 sp.dispersion = get<std::string>(d, "dispersion", sp.dispersion);
+                 sp.abbe = get<float>(d, "abbe", sp.abbe);
+                 return value_errors([&] { return s.add_material(std::move(mat)); });
              })
         .def(
             "add_mesh",
@@ -183,6 +191,8 @@ PYBIND11_MODULE(_smis, m) {
                  l.spot_blend = get<float>(d, "spot_blend", l.spot_blend);
                  l.angle = get<float>(d, "angle", 0.0f);
                  l.visible_to_camera = get<bool>(d, "visible_camera", true);
+                 l.spectrum = get<std::string>(d, "spectrum", l.spectrum);
+                 l.temperature = get<float>(d, "temperature", l.temperature);
                  return value_errors([&] { return s.add_light(l); });
              })
         .def("set_world",
@@ -220,6 +230,7 @@ PYBIND11_MODULE(_smis, m) {
                  value_errors([&] { s.set_camera(c); });
              })
         .def("has_camera", &Scene::has_camera)
+        .def("has_spectral_content", &Scene::has_spectral_content)
         .def("commit",
              [](Scene& s) {
                  py::gil_scoped_release release;
@@ -295,6 +306,13 @@ PYBIND11_MODULE(_smis, m) {
             },
             "An auxiliary pass (Depth, Normal, Albedo, Diagnostic) as an (h, w, channels) array, bottom row "
             "first; None unless the session was created with aux_passes");
+
+    m.def(
+        "resolve_spectral_mode",
+        [](const Scene& scene, const py::dict& settings) {
+            return value_errors([&] { return resolve_spectral_mode(parse_settings(settings), scene); });
+        },
+        "The spectral mode scene.smis.spectral selects for a committed scene (AUTO resolved).");
 
     // Blender computes split normals with parallel floating-point sums whose order varies from run
     // to run (measured: a few hundred normals differ in the last bit between two exports of the

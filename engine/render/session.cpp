@@ -11,7 +11,7 @@ RenderSession::RenderSession(std::shared_ptr<const Scene> scene, RenderSettings 
       settings_(std::move(settings)),
       film_(scene_->camera().window_width(), scene_->camera().window_height()),
       filter_(settings_.filter, settings_.filter_width),
-      integrator_(make_integrator(settings_)) {
+      integrator_(make_integrator(settings_, *scene_)) {
     if (settings_.samples == 0) settings_.samples = 1;
     if (settings_.max_bounces < 0) settings_.max_bounces = 0;
     if (settings_.aux_passes) film_.enable_aux();
@@ -19,6 +19,9 @@ RenderSession::RenderSession(std::shared_ptr<const Scene> scene, RenderSettings 
 
 std::vector<std::string> RenderSession::skipped() const {
     std::vector<std::string> out = scene_->skipped();
+    // Spectral rendering is a mode of the path tracer; AUTO resolves to RGB without spectral content.
+    if (resolve_spectral_mode(settings_, *scene_) == "RGB") out.push_back("spectral");
+    else if (settings_.integrator != "PATH") out.push_back("spectral (only PATH renders spectrally: RGB here)");
     integrator_->add_skipped(settings_, &out);
     return out;
 }

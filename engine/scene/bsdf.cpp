@@ -41,6 +41,8 @@ struct EvalPdf {
 
 inline float sanitize_alpha(float alpha) { return std::fmax(alpha, kMinAlpha); }  // also maps NaN
 
+}  // namespace
+
 bool lobe_is_delta(const Lobe& lobe) {
     switch (lobe.kind) {
         case LobeKind::Diffuse: return false;
@@ -51,16 +53,14 @@ bool lobe_is_delta(const Lobe& lobe) {
     return false;
 }
 
+namespace {
+
 // Fresnel term of the Microfacet lobe for the angle cos_d between the light direction and the
 // microfacet normal.
 Color microfacet_fresnel(const Lobe& lobe, float cos_d) {
     switch (lobe.fresnel) {
         case FresnelMode::None: return Color(1.0f);
-        case FresnelMode::Schlick: {
-            float m = clampf(1.0f - std::fabs(cos_d), 0.0f, 1.0f);
-            float m5 = (m * m) * (m * m) * m;
-            return lobe.f0 + (Color(1.0f) - lobe.f0) * m5;
-        }
+        case FresnelMode::Schlick: return lobe.f0 + (Color(1.0f) - lobe.f0) * schlick_weight(cos_d);
         case FresnelMode::Dielectric: return Color(fresnel_dielectric(std::fabs(cos_d), lobe.eta));
     }
     return Color(1.0f);
@@ -86,7 +86,7 @@ EvalPdf finite_or_zero(const EvalPdf& r) {
 }
 
 // GGX reflection: f cos_i = F D G1(wo) G1(wi) / (4 cos_o), pdf = D_wo(wm) / (4 wo.wm) = G1(wo) D / (4 cos_o).
-EvalPdf microfacet_eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+LobeTerms microfacet_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
     if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return {};
     Vec3 h = wo + wi;
     float len2 = length_sq(h);
@@ -98,15 +98,24 @@ EvalPdf microfacet_eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
     // pdf of the visible-normal sample after the reflection Jacobian 1/(4 wo.wm): the wo.wm of
     // D_wo cancels the Jacobian's, so nothing here divides by a possibly tiny wo.wm.
     float common = d * g1o / (4.0f * wo.z);
+    LobeTerms t;
+    t.pdf = common;
+    t.geom = common * g1i;
+    t.cos_d = dot(wi, wm);
+    return t;
+}
+
+EvalPdf microfacet_eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+    LobeTerms t = microfacet_terms(lobe, wo, wi);
     EvalPdf r;
-    r.pdf = common;
-    r.value = lobe.weight * microfacet_fresnel(lobe, dot(wi, wm)) * (common * g1i);
+    r.pdf = t.pdf;
+    r.value = lobe.weight * microfacet_fresnel(lobe, t.cos_d) * t.geom;
     return finite_or_zero(r);
 }
 
 // Walter et al. 2007 rough dielectric, with the discrete reflect/refract choice made with
 // probability F(wo.wm) or 1 - F(wo.wm), so the Fresnel factors cancel in value / pdf.
-EvalPdf dielectric_eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+LobeTerms dielectric_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
     if (!(wo.z != 0.0f) || !(wi.z != 0.0f)) return {};  // also rejects NaN
     // Mirror the configuration so that wo is in the upper hemisphere; +z stays "wo's side".
     float side = wo.z > 0.0f ? 1.0f : -1.0f;
@@ -132,11 +141,11 @@ EvalPdf dielectric_eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
     float d = ggx_D(wm, alpha);
     float g1o = ggx_G1(o, alpha), g1i = ggx_G1(i, alpha);
     float F = fresnel_dielectric(cos_om, etap);
-    EvalPdf r;
+    LobeTerms r;
     if (reflect) {
         float common = d * g1o / (4.0f * o.z);
         r.pdf = F * common;
-        r.value = lobe.weight * (F * common * g1i);
+        r.geom = F * common * g1i;
     } else {
         // Jacobian of the refraction mapping (Walter eq. 17, divided through by eta_t^2):
         // |dwm/dwi| = |i.wm| / (i.wm + o.wm / etap)^2, and (i.wm + o.wm/etap)^2 = |h|^2 / etap^2
@@ -147,8 +156,16 @@ EvalPdf dielectric_eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
         float visible = g1o * d * cos_om / o.z;
         r.pdf = (1.0f - F) * visible * dwm_dwi;
         // f cos_i = (1-F) D G |i.wm| |o.wm| / (denom cos_o); radiance is scaled by (eta_i/eta_t)^2.
-        r.value = lobe.weight * ((1.0f - F) * visible * dwm_dwi * g1i / (etap * etap));
+        r.geom = (1.0f - F) * visible * dwm_dwi * g1i / (etap * etap);
     }
+    return r;
+}
+
+EvalPdf dielectric_eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+    LobeTerms t = dielectric_terms(lobe, wo, wi);
+    EvalPdf r;
+    r.pdf = t.pdf;
+    r.value = lobe.weight * t.geom;
     return finite_or_zero(r);
 }
 
@@ -351,6 +368,26 @@ float fresnel_dielectric(float cos_i, float eta) {
 
 Color lobe_eval(const Lobe& lobe, const Vec3& wo, const Vec3& wi) { return lobe_eval_pdf(lobe, wo, wi).value; }
 
+LobeTerms lobe_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+    if (lobe_is_delta(lobe)) return {};
+    LobeTerms t;
+    switch (lobe.kind) {
+        case LobeKind::Diffuse:
+            if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return {};
+            t.pdf = cosine_hemisphere_pdf(wi.z);
+            t.geom = wi.z * kInvPi;
+            break;
+        case LobeKind::Microfacet: t = microfacet_terms(lobe, wo, wi); break;
+        case LobeKind::Dielectric: t = dielectric_terms(lobe, wo, wi); break;
+    }
+    if (!std::isfinite(t.geom) || !std::isfinite(t.pdf) || !(t.pdf >= 0.0f)) return {};
+    return t;
+}
+
+Color lobe_fresnel(const Lobe& lobe, float cos_d) {
+    return lobe.kind == LobeKind::Microfacet ? microfacet_fresnel(lobe, cos_d) : Color(1.0f);
+}
+
 float lobe_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) { return lobe_eval_pdf(lobe, wo, wi).pdf; }
 
 BsdfSample lobe_sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event) {
@@ -415,6 +452,13 @@ Color Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
     Color sum(0.0f);
     for (int i = 0; i < count_; ++i) sum += lobe_eval(lobes_[i], wo_l, wi_l);
     return is_finite(sum) ? sum : Color(0.0f);
+}
+
+bool Bsdf::eval_terms(const Vec3& wo, const Vec3& wi, LobeTerms* terms) const {
+    Vec3 wo_l = frame_.to_local(wo), wi_l = frame_.to_local(wi);
+    if (count_ == 0 || !sides_consistent(ng_, wo, wi, wo_l, wi_l)) return false;
+    for (int i = 0; i < count_; ++i) terms[i] = lobe_terms(lobes_[i], wo_l, wi_l);
+    return true;
 }
 
 Bsdf::FixedWo Bsdf::fix_wo(const Vec3& wo) const {
@@ -498,6 +542,7 @@ BsdfSample Bsdf::sample(const Vec3& wo, Point2 u, float u_lobe) const {
     out.delta = ls.delta;
     out.transmission = ls.transmission;
     out.eta = ls.eta;
+    out.lobe = static_cast<int8_t>(chosen);
     if (ls.delta) {
         // Dirac: the other lobes have zero density at this exact direction.
         out.value = ls.value;

@@ -31,11 +31,18 @@ enum class FresnelMode : uint8_t {
 struct Lobe {
     LobeKind kind = LobeKind::Diffuse;
     FresnelMode fresnel = FresnelMode::None;
+    uint8_t index = 0;   // position in the material's lobe list (set by Scene::add_material; spectral data)
     Color weight{1.0f};  // closure weight (colour x mix factors)
     Color f0{1.0f};      // Schlick reflectance at normal incidence (FresnelMode::Schlick)
     float alpha = 0.0f;  // GGX alpha = roughness^2 (Blender's convention); below kDeltaAlpha -> delta
     float eta = 1.5f;    // IOR of the inside over the outside (Dielectric lobe / FresnelMode::Dielectric)
 };
+
+// Schlick's (1 - cos)^5, shared by the RGB and spectral Fresnel of FresnelMode::Schlick.
+inline float schlick_weight(float cos_d) {
+    float m = clampf(1.0f - std::fabs(cos_d), 0.0f, 1.0f);
+    return (m * m) * (m * m) * m;
+}
 
 // Roughness under which a microfacet lobe is treated as a perfect (delta) reflector/refractor,
 // as Cycles does; evaluating GGX with smaller alpha only produces fireflies.
@@ -48,6 +55,7 @@ struct BsdfSample {
     float eta = 1.0f;        // relative IOR crossed by wi (1 for reflection), for Russian roulette
     bool delta = false;
     bool transmission = false;
+    int8_t lobe = -1;        // the Bsdf's lobe that was sampled (Bsdf::sample only)
     bool valid() const { return pdf > 0.0f && std::isfinite(pdf) && is_finite(value); }
 };
 
@@ -55,6 +63,18 @@ struct BsdfSample {
 Color lobe_eval(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
 float lobe_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
 BsdfSample lobe_sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event);
+// eval() factored as weight * fresnel(cos_d) * geom, where only the Microfacet lobe has a Fresnel
+// factor (FresnelMode, at the angle cos_d between wi and the microfacet normal; the dielectric
+// lobe's Fresnel is inside geom). Spectral rendering evaluates weight and Fresnel per wavelength on
+// top of the wavelength-independent geom; pdf is the same as lobe_pdf(). Zero for Dirac lobes.
+struct LobeTerms {
+    float geom = 0.0f, cos_d = 1.0f, pdf = 0.0f;
+};
+LobeTerms lobe_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
+// The Fresnel factor of a Microfacet lobe for the RGB weight (1 for the other kinds).
+Color lobe_fresnel(const Lobe& lobe, float cos_d);
+bool lobe_is_delta(const Lobe& lobe);
+
 // Rough scalar estimate of the lobe's albedo, only used to choose which lobe to sample.
 float lobe_sample_weight(const Lobe& lobe, const Vec3& wo);
 
@@ -79,6 +99,9 @@ public:
 
     // World-space interface; wo, wi point away from the surface.
     Color eval(const Vec3& wo, const Vec3& wi) const;
+    // eval() per lobe, factored (see LobeTerms) for spectral evaluation; false when wo, wi are on
+    // inconsistent sides (eval() would return 0). terms has lobe_count() entries.
+    bool eval_terms(const Vec3& wo, const Vec3& wi, LobeTerms* terms) const;
     float pdf(const Vec3& wo, const Vec3& wi) const;
     // The pdf for many wi with one wo (path-space filtering evaluates every technique's density for
     // every gathered sample): the wo-dependent work (local frame, lobe selection) is done once.

@@ -55,6 +55,10 @@ struct LightDesc {
     std::string shape = "SQUARE";
     float size = 1, size_y = 1, radius = 0, spot_size = 0.785398f, spot_blend = 0.15f, angle = 0;
     bool visible_to_camera = true;
+    // Spectral rendering only: the emitted spectrum (RGB = the colour upsampled, BLACKBODY at
+    // `temperature` K, or a CIE illuminant D65, A, F2, F10, F11), see spectral/spectra.h.
+    std::string spectrum = "RGB";
+    float temperature = 6500.0f;
 };
 
 // Throws std::invalid_argument with a clear message for lights that cannot emit (negative power,

@@ -8,10 +8,28 @@
 
 namespace smis {
 
+// What spectral rendering adds to a material (Blender: material.smis); ignored by RGB rendering,
+// which uses the RGB closures as they are.
+struct MaterialSpectral {
+    std::string emission_spectrum = "RGB";  // RGB, BLACKBODY, D65, A, F2, F10, F11 (spectral/spectra.h)
+    float emission_temperature = 6500.0f;   // K, for BLACKBODY
+    // NONE or a measured conductor (Au, Ag, Cu, Al): replaces the Fresnel of the Microfacet lobes
+    // without a dielectric Fresnel (Glossy, Principled metallic); their colour still multiplies it.
+    std::string metal = "NONE";
+    // NONE, ABBE (Cauchy law through the lobe's IOR as n_d and `abbe` as V_d) or a Sellmeier glass
+    // name from the table: makes the smooth Dielectric lobes (Glass, Principled transmission) dispersive.
+    std::string dispersion = "NONE";
+    float abbe = 40.0f;
+    bool has_spectral_content() const {
+        return emission_spectrum != "RGB" || metal != "NONE" || dispersion != "NONE";
+    }
+};
+
 struct Material {
     std::string name;
     std::vector<Lobe> lobes;
     Color emission{0.0f};  // radiance, emitted from both sides like Cycles' mesh emission
+    MaterialSpectral spectral;
     bool emissive() const { return max_component(emission) > 0.0f; }
 
     // The BSDF at a hit. `frame` faces the incoming direction (Cycles flips the normal of back-facing

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "spectral/spectra.h"
+
 namespace smis {
 namespace {
 
@@ -42,6 +44,29 @@ bool invertible_in_float(const Transform& t) {
     return true;
 }
 
+void check_emitter(const std::string& spectrum, float temperature, const std::string& what) {
+    spectral::EmitterKind kind;
+    if (!spectral::parse_emitter_kind(spectrum, &kind))
+        throw std::invalid_argument(what + ": unknown emission spectrum '" + spectrum + "'");
+    if (kind == spectral::EmitterKind::Blackbody && !(temperature >= 100.0f && temperature <= 1e6f))
+        throw std::invalid_argument(what + ": blackbody temperature must be within 100-1e6 K");
+}
+
+// Clear errors for spectral settings the engine does not know (the add-on's enums prevent them).
+void validate_spectral(const MaterialSpectral& s, const std::string& name) {
+    std::string what = "material '" + name + "'";
+    check_emitter(s.emission_spectrum, s.emission_temperature, what);
+    if (s.metal != "NONE" && !spectral::find_metal(s.metal))
+        throw std::invalid_argument(what + ": unknown metal '" + s.metal + "'");
+    spectral::Dispersion d;
+    if (s.dispersion == "ABBE") {
+        if (!(s.abbe >= 1.0f && s.abbe <= 1000.0f))
+            throw std::invalid_argument(what + ": Abbe number must be within 1-1000");
+    } else if (s.dispersion != "NONE" && !spectral::Dispersion::sellmeier(s.dispersion, &d)) {
+        throw std::invalid_argument(what + ": unknown glass '" + s.dispersion + "'");
+    }
+}
+
 }  // namespace
 
 Scene::Scene() {
@@ -75,6 +100,8 @@ uint32_t Scene::add_material(Material material) {
         l.alpha = std::isfinite(l.alpha) ? clampf(l.alpha, 0.0f, 1.0f) : 1.0f;
         l.eta = (std::isfinite(l.eta) && l.eta > 0.0f) ? l.eta : 1.5f;
     }
+    for (size_t i = 0; i < material.lobes.size(); ++i) material.lobes[i].index = static_cast<uint8_t>(i);
+    validate_spectral(material.spectral, material.name);
     if (!is_finite(material.emission)) material.emission = Color(0.0f);
     material.emission = vmax(material.emission, Color(0.0f));
     materials_.push_back(std::move(material));
@@ -137,7 +164,9 @@ void Scene::add_instance(uint32_t mesh, const Transform& to_world) {
 
 uint32_t Scene::add_light(const LightDesc& desc) {
     if (committed_) throw std::logic_error("scene already committed");
+    check_emitter(desc.spectrum, desc.temperature, "light");
     lights_.push_back(make_light(desc));
+    emitter_sources_.push_back({desc.spectrum, desc.temperature, desc.color});
     return static_cast<uint32_t>(lights_.size() - 1);
 }
 
@@ -173,7 +202,9 @@ void Scene::add_triangle_lights(Instance& inst) {
             Vec3 p = load3(&mesh.positions[3 * mesh.indices[3 * t + k]]);
             v[k] = inst.identity ? p : inst.to_world.point(p);
         }
-        lights_.push_back(std::make_unique<TriangleLight>(v[0], v[1], v[2], materials_[mesh.materials[t]].emission));
+        const Material& mat = materials_[mesh.materials[t]];
+        lights_.push_back(std::make_unique<TriangleLight>(v[0], v[1], v[2], mat.emission));
+        emitter_sources_.push_back({mat.spectral.emission_spectrum, mat.spectral.emission_temperature, mat.emission});
         stats_.emissive_triangles++;
     }
 }
@@ -248,7 +279,12 @@ void Scene::commit() {
     radius_ = instances_.empty() ? 1.0f : std::max(1e-3f, 0.5f * length(hi - lo));
     if (!std::isfinite(radius_)) radius_ = 1.0f;
 
-    if (max_component(world_) > 0.0f) lights_.push_back(std::make_unique<WorldLight>(world_));
+    if (max_component(world_) > 0.0f) {
+        lights_.push_back(std::make_unique<WorldLight>(world_));
+        emitter_sources_.push_back({"RGB", 6500.0f, world_});
+    }
+    for (const EmitterSource& e : emitter_sources_) spectral_content_ |= e.spectrum != "RGB";
+    for (const Material& m : materials_) spectral_content_ |= m.spectral.has_spectral_content();
     std::vector<float> power;
     for (uint32_t i = 0; i < lights_.size(); ++i) {
         const Light& l = *lights_[i];

@@ -29,6 +29,14 @@ struct SceneStats {
              emissive_triangles = 0, materials = 0;
 };
 
+// Where a light's emission spectrum comes from (spectral rendering): its spectrum name and
+// temperature, and the RGB colour it was given (light colour, emission colour or world colour).
+struct EmitterSource {
+    std::string spectrum = "RGB";
+    float temperature = 6500.0f;
+    Color color{1.0f};
+};
+
 class Scene {
 public:
     Scene();
@@ -74,6 +82,11 @@ public:
     // What the scene analysis found unused after commit(), for the stats line ("skipped: ...").
     // Features add their entries here (e.g. "NEE (no lights)").
     const std::vector<std::string>& skipped() const { return skipped_; }
+    // Spectral data: per light (same indices as lights()), and whether anything in the scene needs
+    // spectral rendering (an emitter with a spectrum, a measured metal, a dispersive glass).
+    const EmitterSource& emitter_source(uint32_t light) const { return emitter_sources_[light]; }
+    size_t material_count() const { return materials_.size(); }
+    bool has_spectral_content() const { return spectral_content_; }
 
 private:
     struct Mesh {
@@ -104,6 +117,8 @@ private:
     std::vector<uint32_t> geom_to_instance_;       // top-level geometry id -> instance
     std::vector<std::vector<int32_t>> emissive_local_;  // per mesh: triangle -> local emitter index
     std::vector<std::unique_ptr<Light>> lights_;
+    std::vector<EmitterSource> emitter_sources_;
+    bool spectral_content_ = false;
     std::vector<uint32_t> hittable_lights_, infinite_lights_;
     DiscreteDistribution light_selection_;
     Camera camera_;

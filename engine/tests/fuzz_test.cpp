@@ -30,6 +30,12 @@ using namespace smis;
 namespace {
 
 const char* const kIntegrators[] = {"PATH", "PSF_PATH", "PSF_KELLER", "PSF_SMIS", "PSF_SMIS_UNBIASED"};
+// Spectral settings; the last entry of each list is invalid on purpose.
+const char* const kSpectra[] = {"RGB", "BLACKBODY", "D65", "A", "F2", "F10", "F11", "F99"};
+const char* const kMetals[] = {"NONE", "Au", "Ag", "Cu", "Al", "Xx"};
+const char* const kDispersions[] = {"NONE", "ABBE", "N-BK7", "SF11", "Glass?"};
+const char* const kSpectralModes[] = {"AUTO", "RGB", "UNIFORM", "SPECTRAL_IS", "HERO", "SMIS", "SMIS_INDEPENDENT",
+                                      "BRUTE_FORCE"};
 
 double env_double(const char* name, double fallback) {
     const char* v = std::getenv(name);
@@ -133,7 +139,18 @@ void fuzz_one(Fuzz& f, Totals& totals, uint64_t seed, uint64_t iteration) {
             m.lobes.push_back(l);
         }
         if (f.chance(0.3f)) m.emission = f.color(20.0f, 0.2f);
-        mats.push_back(s.add_material(m));
+        if (f.chance(0.3f)) {  // spectral content, sometimes with names the engine must refuse
+            m.spectral.emission_spectrum = kSpectra[f.range(0, 7)];
+            m.spectral.emission_temperature = f.value(50.0f, 20000.0f);
+            m.spectral.metal = kMetals[f.range(0, 5)];
+            m.spectral.dispersion = kDispersions[f.range(0, 4)];
+            m.spectral.abbe = f.value(-5.0f, 200.0f);
+        }
+        try {
+            mats.push_back(s.add_material(m));
+        } catch (const std::invalid_argument&) {
+            ++totals.rejected;
+        }
     }
 
     // Meshes and instances.
@@ -208,6 +225,7 @@ void fuzz_one(Fuzz& f, Totals& totals, uint64_t seed, uint64_t iteration) {
         d.spot_blend = f.value(0.0f, 1.2f);
         d.angle = f.chance(0.3f) ? 0.0f : f.value(0.0f, 3.5f);
         d.visible_to_camera = f.chance(0.8f);
+        if (f.chance(0.3f)) d.spectrum = kSpectra[f.range(0, 7)], d.temperature = f.value(50.0f, 20000.0f);
         reject([&] { s.add_light(d); });
     }
     if (f.chance(0.5f)) s.set_world(f.color(2.0f, 0.15f));
@@ -249,6 +267,8 @@ void fuzz_one(Fuzz& f, Totals& totals, uint64_t seed, uint64_t iteration) {
     rs.integrator = kIntegrators[f.range(0, 4)];
     rs.mis = f.chance(0.5f) ? MisHeuristic::Power : MisHeuristic::Balance;
     rs.seed = f.u32();
+    rs.spectral = kSpectralModes[f.range(0, 7)];
+    rs.wavelengths = f.range(1, 8);
     rs.threads = 1;
     RenderSession session(scene, rs);
     session.run();

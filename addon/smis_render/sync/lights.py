@@ -7,6 +7,8 @@ engine converts them with Cycles' formulas.
 
 import math
 
+from ..spectral_properties import light_spectral
+
 
 def _matrix(m):
     return [list(row) for row in m]
@@ -16,6 +18,7 @@ def light_dict(light, matrix, visible_camera=True):
     """The engine dict for a Blender Light datablock placed by `matrix` (matrix_world)."""
     d = {"type": light.type, "matrix": _matrix(matrix), "color": tuple(light.color),
          "visible_camera": bool(visible_camera)}
+    d.update(light_spectral(light))
     if light.type == 'SUN':
         d["strength"] = float(light.energy)
         d["angle"] = float(light.angle)

@@ -9,6 +9,7 @@ with a warning, unsupported shader nodes become a neutral diffuse.
 """
 
 from . import nodes
+from ..spectral_properties import material_spectral
 
 NEUTRAL_GREY = (0.8, 0.8, 0.8)
 BLACK = (0.0, 0.0, 0.0)
@@ -208,8 +209,8 @@ def translate(material, warn):
     name = material.name_full
     if not material.use_nodes or material.node_tree is None:
         # What Cycles renders for a material without nodes.
-        return {"name": name, "closures": [closure("diffuse", _rgb(material.diffuse_color))],
-                "emission": BLACK}
+        return dict({"name": name, "closures": [closure("diffuse", _rgb(material.diffuse_color))],
+                     "emission": BLACK}, **material_spectral(material))
 
     tr = _Translation(material, warn)
     output = nodes.output_node(material.node_tree)
@@ -221,7 +222,8 @@ def translate(material, warn):
         if surface is not None:
             tr.shader(surface, (1.0, 1.0, 1.0))
         # An unlinked Surface renders black, as in Cycles.
-    return {"name": name, "closures": tr.closures, "emission": tr.emission}
+    return dict({"name": name, "closures": tr.closures, "emission": tr.emission},
+                **material_spectral(material))
 
 
 class MaterialCache:

@@ -1,0 +1,212 @@
+#include "integrators/spectral_path.h"
+
+#include "integrators/path_tracing.h"
+
+namespace smis {
+
+using namespace spectral;
+
+namespace {
+
+// The Fresnel factor of lobe `lobe` at one wavelength (1 for lobes without one, see LobeTerms).
+float spectral_fresnel(const Lobe& lobe, const SpectralLobe& s, float lambda, float cos_d) {
+    if (lobe.kind != LobeKind::Microfacet) return 1.0f;
+    if (s.metal) return fresnel_conductor(cos_d, metal_ior(*s.metal, lambda));
+    switch (lobe.fresnel) {
+        case FresnelMode::None: return 1.0f;
+        case FresnelMode::Schlick: {
+            float f0 = s.f0(lambda);
+            return f0 + (1.0f - f0) * schlick_weight(cos_d);
+        }
+        case FresnelMode::Dielectric: return fresnel_dielectric(std::fabs(cos_d), lobe.eta);
+    }
+    return 1.0f;
+}
+
+// The state of one path across its n wavelengths.
+struct SpectralPath {
+    WavelengthSet ws;
+    float beta[kMaxWavelengths];     // f(x, l_i) / p(x | l_c)
+    float r[kMaxWavelengths];        // p(x | l_i) / p(x | l_c)
+    Color response[kMaxWavelengths];  // rgb_response(l_i) / q_i
+    float inv_mix = 1.0f;            // 1 / sum_j a_j r_j
+    int n = 0, c = 0;
+
+    void start(const WavelengthSampler& sampler, Rng& rng) {
+        sampler.sample(rng, &ws);
+        n = ws.n;
+        c = ws.conditioning;
+        for (int i = 0; i < n; ++i) {
+            beta[i] = 1.0f;
+            r[i] = 1.0f;
+            response[i] = rgb_response(ws.lambda[i]) / ws.q[i];
+        }
+        update_mix();
+    }
+    void update_mix() {
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i) sum += double(ws.a[i]) * r[i];
+        inv_mix = sum > 0.0 ? float(1.0 / sum) : 0.0f;
+    }
+    float lambda_c() const { return ws.lambda[c]; }
+    float max_beta() const {
+        float m = 0.0f;
+        for (int i = 0; i < n; ++i) m = std::max(m, beta[i]);
+        return m;
+    }
+    // RGB of the emission `scale` * e(l_i) (times f_i when given) arriving along the path.
+    Color emission(const EmitterSpectrum& e, float scale, const float* f = nullptr) const {
+        Color sum(0.0f);
+        for (int i = 0; i < n; ++i) {
+            if (beta[i] == 0.0f) continue;
+            float v = beta[i] * e(ws.lambda[i]);
+            if (f) v *= f[i];
+            sum += response[i] * v;
+        }
+        return sum * (scale * inv_mix);
+    }
+};
+
+// f(wo, wi) |cos| at every wavelength of the path; false when the BSDF is zero for wi.
+bool eval_spectral(const ShadingPoint& sp, const SpectralMaterial& sm, const SpectralPath& p, const Vec3& wi,
+                   float* f) {
+    LobeTerms terms[Bsdf::kMaxLobes];
+    if (!sp.bsdf.eval_terms(sp.wo, wi, terms)) return false;
+    for (int i = 0; i < p.n; ++i) f[i] = 0.0f;
+    bool any = false;
+    for (int l = 0; l < sp.bsdf.lobe_count(); ++l) {
+        if (!(terms[l].geom > 0.0f)) continue;
+        any = true;
+        const Lobe& lobe = sp.bsdf.lobe(l);
+        const SpectralLobe& s = sm.lobes[lobe.index];
+        for (int i = 0; i < p.n; ++i) {
+            float lambda = p.ws.lambda[i];
+            f[i] += s.weight(lambda) * spectral_fresnel(lobe, s, lambda, terms[l].cos_d) * terms[l].geom;
+        }
+    }
+    return any;
+}
+
+// The hit's BSDF with the dispersive lobes' IOR at the conditioning wavelength, which drives sampling.
+Bsdf dispersed_bsdf(const ShadingPoint& sp, const SpectralMaterial& sm, float lambda) {
+    Bsdf b(sp.bsdf.frame(), sp.bsdf.ng());
+    for (int l = 0; l < sp.bsdf.lobe_count(); ++l) {
+        Lobe lobe = sp.bsdf.lobe(l);
+        const Dispersion& d = sm.lobes[lobe.index].dispersion;
+        if (d.active()) lobe.eta = sp.backfacing ? 1.0f / d.eta(lambda) : d.eta(lambda);
+        b.add(lobe);
+    }
+    return b;
+}
+
+// Throughput update for a Dirac event (mirror, smooth glass). Non-dispersive events scale every
+// wavelength by its own weight and Fresnel over the wavelength-independent selection probability.
+// A dispersive refraction exists for l_c only: the other wavelengths get zero contribution and zero
+// density (r_j = 0). A dispersive reflection is valid for all, but its probability F(l) depends on
+// the wavelength, so r_j picks up F_j / F_c. Returns false when no wavelength survives.
+bool delta_event(const ShadingPoint& sp, const SpectralMaterial& sm, const BsdfSample& bs, SpectralPath& p) {
+    const Lobe& lobe = sp.bsdf.lobe(bs.lobe);
+    const SpectralLobe& s = sm.lobes[lobe.index];
+    float prob = sp.bsdf.fix_wo(sp.wo).probs[bs.lobe];
+    if (!(prob > 0.0f)) return false;
+    float cos_o = sp.bsdf.frame().to_local(sp.wo).z;
+    if (lobe.kind == LobeKind::Microfacet) {
+        for (int i = 0; i < p.n; ++i) {
+            float lambda = p.ws.lambda[i];
+            p.beta[i] *= s.weight(lambda) * spectral_fresnel(lobe, s, lambda, cos_o) / prob;
+        }
+        return true;
+    }
+    float radiance_scale = bs.transmission ? 1.0f / (bs.eta * bs.eta) : 1.0f;
+    if (!s.dispersion.active()) {
+        for (int i = 0; i < p.n; ++i) p.beta[i] *= s.weight(p.ws.lambda[i]) * (radiance_scale / prob);
+        return true;
+    }
+    if (bs.transmission) {
+        for (int i = 0; i < p.n; ++i)
+            if (i != p.c) p.beta[i] = p.r[i] = 0.0f;
+        p.beta[p.c] *= s.weight(p.lambda_c()) * (radiance_scale / prob);
+    } else {
+        auto fresnel = [&](float lambda) {
+            float e = sp.backfacing ? 1.0f / s.dispersion.eta(lambda) : s.dispersion.eta(lambda);
+            return fresnel_dielectric(std::fabs(cos_o), cos_o > 0.0f ? e : 1.0f / e);
+        };
+        float fc = fresnel(p.lambda_c());
+        if (!(fc > 0.0f)) return false;
+        for (int i = 0; i < p.n; ++i) {
+            float fi = i == p.c ? fc : fresnel(p.ws.lambda[i]);
+            p.beta[i] *= s.weight(p.ws.lambda[i]) * fi / (prob * fc);
+            p.r[i] *= fi / fc;
+        }
+    }
+    p.update_mix();
+    return p.inv_mix > 0.0f;
+}
+
+}  // namespace
+
+SpectralPathIntegrator::SpectralPathIntegrator(const Scene& scene, SpectralMode mode, int wavelengths)
+    : spectral_(scene), sampler_(mode, wavelengths, spectral_.importance()) {}
+
+std::map<std::string, double> SpectralPathIntegrator::stats() const {
+    return {{"wavelengths_per_path", double(sampler_.count())}};
+}
+
+Color SpectralPathIntegrator::Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+                                 LocalCounters& counters) const {
+    SpectralPath p;
+    p.start(sampler_, rng);
+    float f[kMaxWavelengths];
+    Color L(0.0f);
+    PathState state;
+    state.prev_p = ray.o;
+    float eta_scale = 1.0f;
+    auto add_emission = [&](uint32_t light, const Color& weighted) {
+        float lum = luminance(weighted);
+        if (lum > 0.0f) L += p.emission(spectral_.emitter(light), lum);
+    };
+    for (;; ++state.depth) {
+        SurfaceHit hit;
+        bool found = scene.intersect(ray, &hit);
+        for_each_emission_along(scene, settings, ray, found, hit, state, add_emission);
+        if (!found || state.depth > settings.max_bounces) break;
+        ShadingPoint sp = make_shading_point(scene, hit, ray.d);
+        if (sp.bsdf.empty()) break;
+        const SpectralMaterial& sm = spectral_.material(hit.material);
+        if (sm.dispersive) sp.bsdf = dispersed_bsdf(sp, sm, p.lambda_c());
+
+        DirectSample ds = sample_direct(scene, settings, sp, rng, counters);
+        if (ds.valid && eval_spectral(sp, sm, p, ds.wi, f)) {
+            float lum = luminance(ds.weighted);
+            if (lum > 0.0f) L += p.emission(spectral_.emitter(ds.light), lum, f);
+        }
+
+        float u_lobe = rng.next_float();
+        Point2 u{rng.next_float(), rng.next_float()};
+        BsdfSample bs = sp.bsdf.sample(sp.wo, u, u_lobe);
+        if (!bs.valid()) {
+            ++counters.samples_rejected;
+            break;
+        }
+        if (bs.delta) {
+            if (!delta_event(sp, sm, bs, p)) break;
+        } else {
+            if (!eval_spectral(sp, sm, p, bs.wi, f)) break;
+            float inv_pdf = 1.0f / bs.pdf;
+            for (int i = 0; i < p.n; ++i) p.beta[i] *= f[i] * inv_pdf;
+        }
+        if (bs.transmission) eta_scale *= sqr(bs.eta);
+        state.prev_delta = bs.delta;
+        state.prev_pdf = bs.pdf;
+        state.prev_p = hit.p;
+        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
+        float survival = russian_roulette_survival(state.depth, p.max_beta(), eta_scale, rng);
+        if (survival == 0.0f) break;
+        bool alive = false;
+        for (int i = 0; i < p.n; ++i) alive |= (p.beta[i] /= survival) > 0.0f;
+        if (!alive) break;
+    }
+    return L;
+}
+
+}  // namespace smis

@@ -1,0 +1,27 @@
+#pragma once
+#include "integrators/integrator.h"
+#include "spectral/spectral_scene.h"
+#include "spectral/wavelength_sampling.h"
+
+namespace smis {
+
+// Spectral path tracer (paper §5): the path tracer of path_tracing.h conditioned on one wavelength
+// and evaluating every BSDF and light at all n wavelengths of its WavelengthSet, combined by the
+// strategy's weights (spectral/wavelength_sampling.h). Directions are sampled exactly as in RGB
+// rendering (the lobe choice uses the RGB weights), so p(x | lambda) only depends on lambda at
+// dispersive Dirac events, which the per-wavelength relative densities r_j track.
+class SpectralPathIntegrator : public PixelIntegrator {
+public:
+    SpectralPathIntegrator(const Scene& scene, spectral::SpectralMode mode, int wavelengths);
+    std::map<std::string, double> stats() const override;
+
+protected:
+    Color Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+             LocalCounters& counters) const override;
+
+private:
+    spectral::SpectralScene spectral_;
+    spectral::WavelengthSampler sampler_;
+};
+
+}  // namespace smis

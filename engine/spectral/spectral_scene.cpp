@@ -1,0 +1,72 @@
+#include "spectral/spectral_scene.h"
+
+#include <map>
+#include <tuple>
+
+namespace smis::spectral {
+
+namespace {
+
+SpectralMaterial make_material(const Material& m) {
+    SpectralMaterial out;
+    const tables::MetalTable* metal = m.spectral.metal == "NONE" ? nullptr : find_metal(m.spectral.metal);
+    for (const Lobe& lobe : m.lobes) {
+        SpectralLobe s;
+        s.weight = rgb_spectrum(lobe.weight);
+        if (lobe.fresnel == FresnelMode::Schlick) s.f0 = rgb_spectrum(lobe.f0);
+        if (lobe.kind == LobeKind::Microfacet && lobe.fresnel != FresnelMode::Dielectric) s.metal = metal;
+        // Only Dirac refraction disperses: a rough lobe's sampling density would depend on the
+        // wavelength, which the path's MIS over wavelengths does not model, so it keeps its IOR.
+        if (lobe.kind == LobeKind::Dielectric && lobe_is_delta(lobe)) {
+            if (m.spectral.dispersion == "ABBE") s.dispersion = Dispersion::abbe(lobe.eta, m.spectral.abbe);
+            else if (m.spectral.dispersion != "NONE") Dispersion::sellmeier(m.spectral.dispersion, &s.dispersion);
+            out.dispersive |= s.dispersion.active();
+        }
+        out.lobes.push_back(s);
+    }
+    return out;
+}
+
+}  // namespace
+
+SpectralScene::SpectralScene(const Scene& scene) : scene_(scene) {
+    // Lights sharing a spectrum (every triangle of an emissive mesh) share one EmitterSpectrum.
+    std::map<std::tuple<std::string, float, float, float, float>, uint32_t> unique;
+    for (uint32_t i = 0; i < scene.lights().size(); ++i) {
+        const EmitterSource& src = scene.emitter_source(i);
+        EmitterKind kind = EmitterKind::Rgb;
+        parse_emitter_kind(src.spectrum, &kind);  // validated by the scene
+        // Only an RGB spectrum depends on the colour, and only on its chromaticity.
+        Color c = kind == EmitterKind::Rgb ? src.color / std::max(1e-20f, max_component(src.color)) : Color(0.0f);
+        float t = kind == EmitterKind::Blackbody ? src.temperature : 0.0f;
+        auto key = std::make_tuple(src.spectrum, t, c.x, c.y, c.z);
+        auto it = unique.find(key);
+        if (it == unique.end()) {
+            it = unique.emplace(key, uint32_t(emitters_.size())).first;
+            emitters_.emplace_back(kind, c, t);
+        }
+        light_emitter_.push_back(it->second);
+    }
+    for (size_t m = 0; m < scene.material_count(); ++m) materials_.push_back(make_material(scene.material(m)));
+}
+
+WavelengthPdf SpectralScene::importance(float uniform_fraction) const {
+    std::vector<double> emitter_weight(emitters_.size(), 0.0);
+    for (uint32_t i = 0; i < light_emitter_.size(); ++i) emitter_weight[light_emitter_[i]] += scene_.light_pmf(i);
+    std::vector<double> bins(WavelengthPdf::kBins, 0.0);
+    double total = 0.0;
+    for (int b = 0; b < WavelengthPdf::kBins; ++b) {
+        float lambda = kLambdaMin + float(b) + 0.5f;
+        double mixture = 0.0;
+        for (size_t e = 0; e < emitters_.size(); ++e)
+            if (emitter_weight[e] > 0.0) mixture += emitter_weight[e] * emitters_[e](lambda);
+        if (emitters_.empty()) mixture = 1.0;
+        bins[b] = mixture * double(length(rgb_response(lambda)));
+        total += bins[b];
+    }
+    double uniform = total > 0.0 ? uniform_fraction * total / (1.0 - uniform_fraction) / WavelengthPdf::kBins : 1.0;
+    for (double& v : bins) v += uniform;
+    return WavelengthPdf(bins);
+}
+
+}  // namespace smis::spectral

@@ -1,0 +1,121 @@
+#include "spectral/wavelength_sampling.h"
+
+#include <algorithm>
+
+namespace smis::spectral {
+
+namespace {
+const std::pair<const char*, SpectralMode> kModeNames[] = {
+    {"RGB", SpectralMode::Rgb},   {"UNIFORM", SpectralMode::Uniform},
+    {"SPECTRAL_IS", SpectralMode::SpectralIs}, {"HERO", SpectralMode::Hero},
+    {"SMIS", SpectralMode::Smis}, {"SMIS_INDEPENDENT", SpectralMode::SmisIndependent},
+    {"BRUTE_FORCE", SpectralMode::BruteForce}};
+
+constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
+}  // namespace
+
+bool parse_spectral_mode(const std::string& name, SpectralMode* mode) {
+    for (auto& [n, m] : kModeNames)
+        if (name == n) return *mode = m, true;
+    return false;
+}
+
+const char* spectral_mode_name(SpectralMode mode) {
+    for (auto& [n, m] : kModeNames)
+        if (m == mode) return n;
+    return "?";
+}
+
+WavelengthPdf::WavelengthPdf() : WavelengthPdf(std::vector<double>(kBins, 1.0)) {}
+
+WavelengthPdf::WavelengthPdf(const std::vector<double>& w) {
+    density_.assign(kBins, 0.0f);
+    cdf_.assign(kBins + 1, 0.0);
+    for (int b = 0; b < kBins; ++b) {
+        double v = b < int(w.size()) && w[b] > 0.0 && std::isfinite(w[b]) ? w[b] : 0.0;
+        cdf_[b + 1] = cdf_[b] + v;
+    }
+    double total = cdf_.back();
+    if (!(total > 0.0)) {  // nothing to importance sample: uniform
+        for (int b = 0; b <= kBins; ++b) cdf_[b] = double(b);
+        total = kBins;
+    }
+    for (int b = 0; b <= kBins; ++b) cdf_[b] /= total;
+    for (int b = 0; b < kBins; ++b) density_[b] = float(cdf_[b + 1] - cdf_[b]);  // bins are 1 nm wide
+}
+
+float WavelengthPdf::sample(float u) const {
+    double t = std::min(double(u), double(kOneMinusEpsilon));
+    int b = int(std::upper_bound(cdf_.begin(), cdf_.end(), t) - cdf_.begin()) - 1;
+    b = std::max(0, std::min(b, kBins - 1));
+    while (density_[b] <= 0.0f && b > 0) --b;  // never land in an empty bin
+    double w = cdf_[b + 1] - cdf_[b];
+    float f = w > 0.0 ? float(std::min(1.0, std::max(0.0, (t - cdf_[b]) / w))) : 0.5f;
+    return std::min(kLambdaMin + float(b) + std::min(f, kOneMinusEpsilon), kLambdaMax);
+}
+
+float WavelengthPdf::pdf(float lambda) const {
+    float x = lambda - kLambdaMin;
+    if (!(x >= 0.0f) || x > kLambdaRange) return 0.0f;
+    return density_[std::min(int(x), kBins - 1)];
+}
+
+WavelengthSampler::WavelengthSampler(SpectralMode mode, int n, WavelengthPdf importance)
+    : mode_(mode), importance_(std::move(importance)) {
+    switch (mode) {
+        case SpectralMode::Uniform:
+        case SpectralMode::SpectralIs:
+        case SpectralMode::Rgb: n_ = 1; break;
+        case SpectralMode::BruteForce: n_ = kBruteForceWavelengths; break;
+        default: n_ = std::max(1, std::min(n, kMaxWavelengths));
+    }
+}
+
+void WavelengthSampler::sample(Rng& rng, WavelengthSet* s) const {
+    const int n = n_;
+    s->n = n;
+    s->conditioning = 0;
+    switch (mode_) {
+        case SpectralMode::Rgb:
+        case SpectralMode::Uniform:
+            s->lambda[0] = uniform_.sample(rng.next_float());
+            s->q[0] = uniform_.pdf(s->lambda[0]);
+            s->a[0] = 1.0f;
+            return;
+        case SpectralMode::SpectralIs:
+            s->lambda[0] = importance_.sample(rng.next_float());
+            s->q[0] = importance_.pdf(s->lambda[0]);
+            s->a[0] = 1.0f;
+            return;
+        case SpectralMode::Hero: {
+            // Eq. (19): the hero from p, the others equally spaced (wrapping around the range).
+            float hero = (importance_.sample(rng.next_float()) - kLambdaMin) / kLambdaRange;
+            for (int i = 0; i < n; ++i) {
+                float t = hero + float(i) / float(n);
+                t -= std::floor(t);
+                s->lambda[i] = std::min(kLambdaMin + t * kLambdaRange, kLambdaMax);
+                s->q[i] = 1.0f;
+                s->a[i] = importance_.pdf(s->lambda[i]);
+            }
+            return;
+        }
+        case SpectralMode::Smis:
+        case SpectralMode::BruteForce:
+        case SpectralMode::SmisIndependent: {
+            // Eq. (21): n wavelengths from p (stratified, or independent for SMIS_i), the path
+            // conditioned on one of them chosen uniformly.
+            bool stratified = mode_ != SpectralMode::SmisIndependent;
+            for (int i = 0; i < n; ++i) {
+                float u = rng.next_float();
+                if (stratified) u = std::min((float(i) + u) / float(n), kOneMinusEpsilon);
+                s->lambda[i] = importance_.sample(u);
+                s->q[i] = importance_.pdf(s->lambda[i]);
+                s->a[i] = 1.0f;
+            }
+            s->conditioning = std::min(int(rng.next_float() * float(n)), n - 1);
+            return;
+        }
+    }
+}
+
+}  // namespace smis::spectral
