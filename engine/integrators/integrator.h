@@ -33,6 +33,11 @@ struct RenderSettings {
     int psf_max_neighbors = 16;        // techniques gathered per pixel (random subset beyond this)
     float psf_keller_normal_cos = 0.9f;    // Keller et al. 2014 acceptance: normals within ~26 degrees
     float psf_keller_plane = 0.1f;     // ... and within 0.1 radius of the query's tangent plane
+    // Single scattering in media (West et al. 2020, §6): PATH (distance sampling + NEE) or photon
+    // planes PLANES_UNWEIGHTED / PLANES_CMIS / PLANES_SMIS_COS / PLANES_SMIS_EXACT.
+    std::string volume_estimator = "PATH";
+    uint32_t photon_planes = 40960;    // planes per iteration (one iteration = one camera sample)
+    int smis_planes = 2;               // n: orientations per SMIS realisation (eq. 27)
 };
 
 // Counters reported to the user (stats line) and checked by the stress tests.

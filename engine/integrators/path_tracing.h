@@ -26,7 +26,12 @@ struct PathState {
     bool prev_delta = true;  // camera rays and Dirac bounces: emission is not MIS-weighted
     float prev_pdf = 0.0f;   // solid-angle pdf of the BSDF sample that produced the ray
     Vec3 prev_p;             // where that ray started (for the triangle lights' pdf)
+    // Media (only read when Scene::has_media()): the medium the next ray starts in, and whether
+    // photon planes estimate the camera ray's single scattering from rectangular lights.
+    int32_t medium = -1;
+    bool planes_on_camera_ray = false;
 };
+struct RayMedia;
 
 // Next-event estimation at a shading point: one light chosen by power, one point on it.
 struct DirectSample {
@@ -34,14 +39,16 @@ struct DirectSample {
     Color weighted{0.0f};  // Le * w_light / pdf_light: multiply by bsdf.eval(wo, wi) for the contribution
     bool valid = false;
 };
+// With media (Scene::has_media()), `medium` is the medium the path arrived in and the shadow ray
+// carries transmittance; without, it is ignored and the shadow ray is a plain occlusion test.
 DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
-                           LocalCounters& counters);
+                           LocalCounters& counters, int32_t medium = -1);
 
 // Emission reaching the ray's origin from lights that are not geometry (area, point, spot) in front
 // of the first hit, from that hit if it emits, or from lights at infinity when nothing is hit;
-// MIS-weighted against next-event estimation from the previous vertex.
+// MIS-weighted against next-event estimation from the previous vertex; attenuated by `media` when given.
 Color emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
-                     const SurfaceHit& hit, const PathState& state);
+                     const SurfaceHit& hit, const PathState& state, const RayMedia* media = nullptr);
 
 // Radiance arriving at ray.o along -ray.d: the path tracer from `state` on (NEE + BSDF sampling with
 // MIS, Russian roulette, Cycles' bounce limit).

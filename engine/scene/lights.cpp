@@ -76,6 +76,11 @@ public:
         return true;
     }
     float power(float) const override { return luminance(radiance_) * area_ * kPi; }
+    bool rectangle(LightRectangle* out) const override {
+        if (ellipse_) return false;
+        if (out) *out = {center_ - u_ - v_, u_ * 2.0f, v_ * 2.0f, n_, radiance_};
+        return true;
+    }
 
 private:
     Vec3 center_, u_, v_, n_;

@@ -12,6 +12,7 @@
 #include "scene/camera.h"
 #include "scene/lights.h"
 #include "scene/material.h"
+#include "scene/medium.h"
 
 namespace smis {
 
@@ -48,6 +49,10 @@ public:
     void add_instance(uint32_t mesh, const Transform& to_world);
     uint32_t add_light(const LightDesc& desc);  // throws std::invalid_argument for unusable lights
     void set_world(const Color& radiance);
+    // Homogeneous media, referenced by Material::medium and by the world (-1: no world volume).
+    // Throws std::invalid_argument for non-finite or negative coefficients.
+    int32_t add_medium(const Medium& medium);
+    void set_world_medium(int32_t medium);
     void set_camera(const CameraDesc& desc);
     bool has_camera() const { return has_camera_; }
     void commit();  // builds the BVH and the light-selection table; throws if no camera was set
@@ -71,6 +76,18 @@ public:
     float light_pmf(uint32_t i) const { return light_selection_.pmf(i); }
     const std::vector<uint32_t>& infinite_lights() const { return infinite_lights_; }
     const SceneStats& stats() const { return stats_; }
+    // Media: false when no material has a volume or is a pass-through boundary and the world has no
+    // volume; integrators then take their surface-only code paths.
+    bool has_media() const { return has_media_; }
+    const Medium& medium(int32_t id) const { return media_[id]; }
+    int32_t world_medium() const { return world_medium_; }
+    int32_t camera_medium() const { return camera_medium_; }
+    // The medium containing point p (by walking a ray out of the scene; nested media are not
+    // supported: leaving any volume object returns to the world medium).
+    int32_t medium_at(const Vec3& p) const;
+    // Extent of the geometry (bounding-box diagonal), for lengths that must cover the scene.
+    float extent() const { return 2.0f * radius_; }
+    RTCDevice device() const { return device_; }
 
 private:
     struct Mesh {
@@ -106,6 +123,9 @@ private:
     Camera camera_;
     bool has_camera_ = false, committed_ = false;
     Color world_{0.0f};
+    std::vector<Medium> media_;
+    int32_t world_medium_ = -1, camera_medium_ = -1;
+    bool has_media_ = false;
     float radius_ = 1.0f;
     SceneStats stats_;
 };
