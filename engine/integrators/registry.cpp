@@ -6,10 +6,35 @@
 #include "integrators/integrator.h"
 #include "integrators/path.h"
 #include "integrators/path_space_filtering.h"
+#include "integrators/photon_planes.h"
 
 namespace smis {
 
+namespace {
+
+// settings.volume_estimator: PATH keeps the path tracer's own single scattering; the photon-plane
+// estimators replace the camera rays' scattering from rectangular lights (West et al. 2020, §6).
+std::unique_ptr<Integrator> make_volume_integrator(const RenderSettings& settings) {
+    static const std::map<std::string, PlaneWeighting> planes = {
+        {"PLANES_UNWEIGHTED", PlaneWeighting::Unweighted},
+        {"PLANES_CMIS", PlaneWeighting::Cmis},
+        {"PLANES_SMIS_COS", PlaneWeighting::SmisCos},
+        {"PLANES_SMIS_EXACT", PlaneWeighting::SmisExact},
+    };
+    auto it = planes.find(settings.volume_estimator);
+    if (it == planes.end())
+        throw std::invalid_argument("unknown volume estimator '" + settings.volume_estimator + "'");
+    if (settings.integrator != "PATH")
+        throw std::invalid_argument("photon planes (" + settings.volume_estimator + ") need the PATH integrator");
+    if (settings.smis_planes < 1 || settings.smis_planes > 64)
+        throw std::invalid_argument("smis_planes must be between 1 and 64");
+    return std::make_unique<PhotonPlanesIntegrator>(it->second);
+}
+
+}  // namespace
+
 std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings) {
+    if (settings.volume_estimator != "PATH") return make_volume_integrator(settings);
     static const std::map<std::string, std::function<std::unique_ptr<Integrator>()>> factories = {
         {"PATH", [] { return std::make_unique<PathIntegrator>(); }},
         // The path-space filtering family: PSF_PATH is the path tracer on the same two-stage paths.

@@ -76,6 +76,11 @@ bool intersect_through(const Scene& scene, const Ray& ray, int32_t medium, Surfa
 }
 
 Color shadow_transmittance(const Scene& scene, const Vec3& origin, const Vec3& dir, float tmax, int32_t medium) {
+    // Most shadow rays meet no surface at all: then they stay in one medium, and an any-hit query is
+    // much cheaper than walking closest hits.
+    if (!scene.occluded(origin, dir, tmax))
+        return medium >= 0 ? RayMedia::transmittance_from_tau(optical_depth(scene.medium(medium).sigma_t(), tmax))
+                           : Color(1.0f);
     Color tau(0.0f);
     SurfaceHit hit;
     int32_t end;

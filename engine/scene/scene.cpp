@@ -274,6 +274,7 @@ void Scene::commit() {
     if (!embree_error_.empty()) throw std::runtime_error(embree_error_);
     radius_ = instances_.empty() ? 1.0f : std::max(1e-3f, 0.5f * length(hi - lo));
     if (!std::isfinite(radius_)) radius_ = 1.0f;
+    center_ = instances_.empty() || !is_finite(lo + hi) ? Vec3(0.0f) : (lo + hi) * 0.5f;
 
     for (const Material& m : materials_) has_media_ = has_media_ || m.medium >= 0 || m.pass_through;
     has_media_ = has_media_ || world_medium_ >= 0;

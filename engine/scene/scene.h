@@ -85,8 +85,10 @@ public:
     // The medium containing point p (by walking a ray out of the scene; nested media are not
     // supported: leaving any volume object returns to the world medium).
     int32_t medium_at(const Vec3& p) const;
-    // Extent of the geometry (bounding-box diagonal), for lengths that must cover the scene.
-    float extent() const { return 2.0f * radius_; }
+    // The geometry's bounding sphere (centre of its box, half its diagonal), for lengths that must
+    // cover the scene.
+    Vec3 center() const { return center_; }
+    float radius() const { return radius_; }
     RTCDevice device() const { return device_; }
 
 private:
@@ -127,6 +129,7 @@ private:
     int32_t world_medium_ = -1, camera_medium_ = -1;
     bool has_media_ = false;
     float radius_ = 1.0f;
+    Vec3 center_{0.0f};
     SceneStats stats_;
 };
 
