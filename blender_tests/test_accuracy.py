@@ -12,7 +12,7 @@ from conftest import REFERENCES, _smis, block_mean, render, scene_path
 SPP = int(os.environ.get("SMIS_ACCURACY_SPP", "4096"))
 
 
-def compare(name):
+def compare(name, extra_setup=""):
     ref_path = os.path.join(REFERENCES, name + ".exr")
     ref = _smis.read_exr(ref_path)[..., :3]
     setup = f"""
@@ -21,7 +21,7 @@ scene.smis.seed = 1
 scene.smis.max_bounces = scene.cycles.max_bounces
 scene.smis.filter_type = 'BOX'
 scene.smis.filter_width = 1.0
-"""
+""" + extra_setup
     run = render(scene_path(name + ".blend"), setup, timeout=1800)
     assert run.returncode == 0, run.output[-3000:]
     ours = run.image[..., :3]
@@ -55,6 +55,15 @@ def test_cornell_box_with_metal_and_glass_matches_cycles():
 
 def test_diffuse_cornell_box_matches_cycles():
     r = compare("cornell_diffuse")
+    assert r["mean_relative_error"] < 0.01, r
+    assert abs(r["mean_signed_error"]) < 0.005, r
+    assert r["worst_region_error"] < 0.02, r
+
+
+def test_volume_single_scattering_matches_cycles():
+    """Homogeneous fog lit by six rectangular lights (scenes/build_scenes.py volume_planes): the
+    single-scattering path tracer against Cycles with volume bounces 0 (max_bounces 1)."""
+    r = compare("volume_planes", "scene.smis.volume_estimator = 'PATH'\n")
     assert r["mean_relative_error"] < 0.01, r
     assert abs(r["mean_signed_error"]) < 0.005, r
     assert r["worst_region_error"] < 0.02, r

@@ -590,6 +590,66 @@ def build_spectral_glass(path):
     save(path)
 
 
+# --------------------------------------------------------------------------
+# single scattering with photon planes (West et al. 2020, Sec. 6, Fig. 11)
+# --------------------------------------------------------------------------
+def volume_material(name, scatter_color, scatter_density, absorption_color, absorption_density,
+                    anisotropy=0.0):
+    """Volume-only material (no Surface: its mesh is an index-matched boundary): Volume Scatter
+    plus Volume Absorption through an Add Shader, so both of Cycles' conventions are exercised
+    (scatter: sigma_s = density * colour; absorption: sigma_a = density * (1 - colour))."""
+    m, nt, out = _node_material(name)
+    scatter = nt.nodes.new('ShaderNodeVolumeScatter')
+    scatter.inputs["Color"].default_value = (*scatter_color, 1.0)
+    scatter.inputs["Density"].default_value = scatter_density
+    scatter.inputs["Anisotropy"].default_value = anisotropy
+    absorb = nt.nodes.new('ShaderNodeVolumeAbsorption')
+    absorb.inputs["Color"].default_value = (*absorption_color, 1.0)
+    absorb.inputs["Density"].default_value = absorption_density
+    add = nt.nodes.new('ShaderNodeAddShader')
+    nt.links.new(scatter.outputs[0], add.inputs[0])
+    nt.links.new(absorb.outputs[0], add.inputs[1])
+    nt.links.new(add.outputs[0], out.inputs["Volume"])
+    return m
+
+
+# Six rectangular lights (name, centre, aim point, size x, size y, power W, colour), several of
+# them narrow so that photon planes through their short side are thin (the case SMIS_exact fixes).
+VOLUME_LIGHTS = (
+    ("KeyLight", (-1.2, -0.6, 2.6), (-0.6, 0.3, 0.0), 0.8, 0.5, 60.0, (1.0, 0.9, 0.75)),
+    ("StripLight", (1.3, 0.4, 2.7), (0.9, 0.6, 0.0), 1.6, 0.08, 50.0, (0.75, 0.85, 1.0)),
+    ("SideLight", (-2.0, 1.3, 1.2), (0.0, 0.9, 0.5), 0.12, 0.9, 40.0, (1.0, 0.7, 0.6)),
+    ("BackLight", (0.3, 1.8, 2.2), (0.2, 0.0, 0.0), 0.6, 0.6, 35.0, (0.8, 1.0, 0.8)),
+    ("LowLight", (1.8, -1.0, 0.6), (0.0, 0.5, 0.3), 0.5, 0.05, 25.0, (1.0, 0.95, 0.9)),
+    ("TopLight", (0.0, 0.2, 3.0), (0.1, 0.1, 0.0), 1.0, 0.3, 45.0, (0.9, 0.9, 1.0)),
+)
+
+
+def build_volume_planes(path):
+    """Homogeneous isotropic medium (a closed box with a volume-only material) holding a floor,
+    a back wall, two pillars and a cube, lit by six rectangular area lights inside the medium;
+    the camera looks in from outside. Rendered with max_bounces 1 and volume bounces 0 (single
+    scattering; the scene's custom property smis_volume_bounces tells make_cycles_unbiased)."""
+    sc = new_scene(96, 96, samples=1024)
+    sc["smis_volume_bounces"] = 0
+    make_cycles_unbiased(sc, max_bounces=1)
+    set_world(sc)
+    fog = volume_material("Fog", (0.9, 0.85, 0.8), 0.35, (0.8, 0.9, 1.0), 0.15)
+    box_object(sc, "FogBox", (-2.6, -2.6, -0.3), (2.6, 2.6, 3.4), fog)
+    white = diffuse("White", WHITE)
+    red = diffuse("Red", RED)
+    box_object(sc, "Floor", (-2.4, -2.4, -0.1), (2.4, 2.4, 0.0), white)
+    box_object(sc, "BackWall", (-2.4, 2.3, 0.0), (2.4, 2.4, 3.0), white)
+    box_object(sc, "PillarL", (-1.0, 0.6, 0.0), (-0.7, 0.9, 2.2), white)
+    box_object(sc, "PillarR", (0.8, 1.0, 0.0), (1.1, 1.3, 1.8), red)
+    unit_cube_object(sc, "Cube", white, (0.1, -0.3, 0.35), 25.0, (0.7, 0.7, 0.7))
+    for name, loc, target, sx, sy, power, color in VOLUME_LIGHTS:
+        aim(add_light(sc, name, 'AREA', loc, shape='RECTANGLE', size=sx, size_y=sy, energy=power,
+                      color=color), target)
+    add_camera(sc, (0.0, -5.4, 1.45), (85.0, 0.0, 0.0), lens=32.0)
+    save(path)
+
+
 def save(path):
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
     print("build_scenes: wrote", path)
@@ -603,6 +663,7 @@ SCENE_NAMES = {
     "psf_room": build_psf_room,
     "spectral_gold": build_spectral_gold,
     "spectral_glass": build_spectral_glass,
+    "volume_planes": build_volume_planes,
 }
 
 

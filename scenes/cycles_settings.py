@@ -14,7 +14,9 @@ def make_cycles_unbiased(scene, max_bounces=None):
     c.diffuse_bounces = n
     c.glossy_bounces = n
     c.transmission_bounces = n
-    c.volume_bounces = n
+    # Scenes for single scattering (photon planes) store smis_volume_bounces = 0: Cycles' volume
+    # bounces 0 is our single-scattering reference.
+    c.volume_bounces = scene.get("smis_volume_bounces", n)
     c.transparent_max_bounces = n
     c.blur_glossy = 0.0
     c.light_sampling_threshold = 0.0

@@ -124,6 +124,40 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
         description="Wavelengths evaluated per path by Hero and SMIS",
         default=4, min=1, max=64,
     )
+    volume_estimator: EnumProperty(
+        name="Volume Estimator",
+        description="How single scattering in participating media is estimated (volume bounces "
+                    "= 0). The photon-plane estimators (West et al. 2020, Sec. 6) handle the "
+                    "camera rays' scattering of light from rectangular area lights in homogeneous "
+                    "media; everything else comes from the path tracer",
+        items=[
+            ('PATH', "Path Tracing",
+             "Distance sampling and next event estimation on every ray (the reference)"),
+            ('PLANES_UNWEIGHTED', "Photon Planes",
+             "Each plane from one orientation (eq. 22): has the 1/|cos| singularity where camera "
+             "rays run parallel to a plane"),
+            ('PLANES_CMIS', "Photon Planes, CMIS (Deng et al.)",
+             "Deng et al. 2019's closed-form weighting over all plane orientations (eq. 26)"),
+            ('PLANES_SMIS_COS', "Photon Planes, SMIS (cosine)",
+             "Stochastic MIS over n stratified orientations with cosine-only densities"),
+            ('PLANES_SMIS_EXACT', "Photon Planes, SMIS (exact)",
+             "Stochastic MIS over n stratified orientations with the exact densities, including "
+             "the plane width (eq. 25, 27): down-weights thin bright planes"),
+        ],
+        default='PATH',
+    )
+    photon_planes: IntProperty(
+        name="Photon Planes",
+        description="Photon planes traced per iteration (one iteration per camera sample); a fresh "
+                    "set each iteration, the iterations are averaged",
+        default=40960, min=1, soft_max=1000000,
+    )
+    smis_planes: IntProperty(
+        name="SMIS Orientations",
+        description="n, the number of stratified plane orientations per SMIS realisation (eq. 27); "
+                    "with 2 the partner plane is perpendicular and only weighted",
+        default=2, min=1, max=64,
+    )
 
     filter_type: EnumProperty(
         name="Pixel Filter",
@@ -167,6 +201,9 @@ def session_settings(scene):
         "filter_width": float(s.filter_width),
         "spectral": s.spectral,
         "wavelengths": s.wavelengths,
+        "volume_estimator": s.volume_estimator,
+        "photon_planes": s.photon_planes,
+        "smis_planes": s.smis_planes,
     }
 
 

@@ -91,6 +91,24 @@ class SMIS_RENDER_PT_path_space_filtering(SMISButtonsPanel, bpy.types.Panel):
             col.prop(settings, "psf_keller_plane")
 
 
+class SMIS_RENDER_PT_volumes(SMISButtonsPanel, bpy.types.Panel):
+    """Single scattering in participating media: the estimator and the photon-plane settings."""
+    bl_label = "Volumes"
+    bl_parent_id = "SMIS_RENDER_PT_light_paths"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.smis
+        col = layout.column()
+        col.prop(settings, "volume_estimator")
+        if settings.volume_estimator.startswith("PLANES_"):
+            col.prop(settings, "photon_planes")
+        if settings.volume_estimator.startswith("PLANES_SMIS"):
+            col.prop(settings, "smis_planes")
+
+
 class SMIS_RENDER_PT_performance(SMISButtonsPanel, bpy.types.Panel):
     bl_label = "Performance"
     bl_options = {'DEFAULT_CLOSED'}
@@ -271,6 +289,7 @@ classes = (
     SMIS_RENDER_PT_sampling,
     SMIS_RENDER_PT_light_paths,
     SMIS_RENDER_PT_path_space_filtering,
+    SMIS_RENDER_PT_volumes,
     SMIS_RENDER_PT_performance,
     SMIS_VIEWLAYER_PT_passes,
     SMIS_LIGHT_PT_light,

@@ -40,6 +40,11 @@ struct RenderSettings {
     // else SMIS. Applies to the PATH integrator.
     std::string spectral = "AUTO";
     int wavelengths = 4;               // n for HERO / SMIS / SMIS_INDEPENDENT
+    // Single scattering in media (West et al. 2020, §6): PATH (distance sampling + NEE) or photon
+    // planes PLANES_UNWEIGHTED / PLANES_CMIS / PLANES_SMIS_COS / PLANES_SMIS_EXACT.
+    std::string volume_estimator = "PATH";
+    uint32_t photon_planes = 40960;    // planes per iteration (one iteration = one camera sample)
+    int smis_planes = 2;               // n: orientations per SMIS realisation (eq. 27)
 };
 
 // Counters reported to the user (stats line) and checked by the stress tests.

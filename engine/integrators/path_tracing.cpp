@@ -1,5 +1,7 @@
 #include "integrators/path_tracing.h"
 
+#include "integrators/volume.h"
+
 namespace smis {
 
 ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const Vec3& ray_dir) {
@@ -14,7 +16,7 @@ ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const
 }
 
 DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
-                           LocalCounters& counters) {
+                           LocalCounters& counters, int32_t medium) {
     DirectSample ds;
     const DiscreteDistribution& selection = scene.light_selection();
     // Draw the random numbers even when unused, so later decisions of the path keep their streams.
@@ -30,12 +32,19 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
         return ds;
     }
     float tmax = std::isinf(ls.dist) ? kInf : ls.dist * (1.0f - 1e-4f);
-    if (scene.occluded(spawn_origin(sp, ls.wi), ls.wi, tmax)) return ds;
+    Color tr(1.0f);
+    if (!scene.has_media()) {
+        if (scene.occluded(spawn_origin(sp, ls.wi), ls.wi, tmax)) return ds;
+    } else {
+        tr = shadow_transmittance(scene, spawn_origin(sp, ls.wi), ls.wi, tmax,
+                                  medium_towards(scene, sp, ls.wi, medium));
+        if (is_black(tr)) return ds;
+    }
     float light_pdf = pmf * ls.pdf;
     float w = ls.delta ? 1.0f : mis_weight(settings.mis, light_pdf, sp.bsdf.pdf(sp.wo, ls.wi));
     ds.wi = ls.wi;
     ds.light = li;
-    ds.weighted = ls.L * (w / light_pdf);
+    ds.weighted = ls.L * tr * (w / light_pdf);
     ds.valid = true;
     return ds;
 }
@@ -49,20 +58,40 @@ float russian_roulette_survival(int depth, float max_beta, float eta_scale, Rng&
     return 1.0f - q;
 }
 
-Color trace_path(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,
-                 LocalCounters& counters) {
+namespace {
+
+// The path tracer; kMedia adds transmittance, medium tracking and single scattering, and is only
+// instantiated for scenes with media, so the surface-only loop is unchanged for the others.
+template <bool kMedia>
+Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,
+                      LocalCounters& counters) {
     Color L(0.0f), beta(1.0f);
     float eta_scale = 1.0f;
     for (;; ++state.depth) {
         SurfaceHit hit;
-        bool found = scene.intersect(ray, &hit);
-        L += beta * emission_along(scene, settings, ray, found, hit, state);
+        bool found;
+        if constexpr (kMedia) {
+            RayMedia media;
+            found = intersect_through(scene, ray, state.medium, &hit, &media);
+            L += beta * emission_along(scene, settings, ray, found, hit, state, &media);
+            // Single scattering at this bounce (Cycles' volume bounces = 0: no path continues from
+            // a scattering vertex, so only its next-event estimate counts).
+            if (state.depth <= settings.max_bounces)
+                L += beta * single_scattering(scene, ray, media, rng, counters,
+                                              state.depth == 0 && state.planes_on_camera_ray);
+            beta *= media.transmittance_to_end();
+            state.medium = media.end_medium;
+            if (is_black(beta)) break;
+        } else {
+            found = scene.intersect(ray, &hit);
+            L += beta * emission_along(scene, settings, ray, found, hit, state);
+        }
         // The ray leaving the last allowed bounce only collects emission (Cycles' max_bounces).
         if (!found || state.depth > settings.max_bounces) break;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
         if (sp.bsdf.empty()) break;
 
-        DirectSample ds = sample_direct(scene, settings, sp, rng, counters);
+        DirectSample ds = sample_direct(scene, settings, sp, rng, counters, state.medium);
         if (ds.valid) L += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
 
         float u_lobe = rng.next_float();
@@ -74,6 +103,7 @@ Color trace_path(const Scene& scene, const RenderSettings& settings, Ray ray, Pa
         }
         beta *= bs.value / bs.pdf;
         if (bs.transmission) eta_scale *= sqr(bs.eta);
+        if constexpr (kMedia) state.medium = medium_towards(scene, sp, bs.wi, state.medium);
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;
         state.prev_p = hit.p;
@@ -81,6 +111,14 @@ Color trace_path(const Scene& scene, const RenderSettings& settings, Ray ray, Pa
         if (!russian_roulette(state.depth, beta, eta_scale, rng) || is_black(beta)) break;
     }
     return L;
+}
+
+}  // namespace
+
+Color trace_path(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,
+                 LocalCounters& counters) {
+    return scene.has_media() ? trace_path_impl<true>(scene, settings, ray, state, rng, counters)
+                             : trace_path_impl<false>(scene, settings, ray, state, rng, counters);
 }
 
 }  // namespace smis

@@ -26,7 +26,15 @@ struct PathState {
     bool prev_delta = true;  // camera rays and Dirac bounces: emission is not MIS-weighted
     float prev_pdf = 0.0f;   // solid-angle pdf of the BSDF sample that produced the ray
     Vec3 prev_p;             // where that ray started (for the triangle lights' pdf)
+    // Media (only read when Scene::has_media()): the medium the next ray starts in, and whether
+    // photon planes estimate the camera ray's single scattering from rectangular lights.
+    int32_t medium = -1;
+    bool planes_on_camera_ray = false;
 };
+struct RayMedia;
+// Transmittance along a ray's media up to t / to its end (defined with RayMedia in volume.cpp).
+Color media_transmittance(const RayMedia& media, const Scene& scene, float t);
+Color media_transmittance_to_end(const RayMedia& media);
 
 // Next-event estimation at a shading point: one light chosen by power, one point on it.
 struct DirectSample {
@@ -35,16 +43,20 @@ struct DirectSample {
     uint32_t light = 0;    // which light (spectral rendering looks up its spectrum)
     bool valid = false;
 };
+// With media (Scene::has_media()), `medium` is the medium the path arrived in and the shadow ray
+// carries transmittance; without, it is ignored and the shadow ray is a plain occlusion test.
 DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
-                           LocalCounters& counters);
+                           LocalCounters& counters, int32_t medium = -1);
 
 // Emission reaching the ray's origin from lights that are not geometry (area, point, spot) in front
 // of the first hit, from that hit if it emits, or from lights at infinity when nothing is hit;
-// MIS-weighted against next-event estimation from the previous vertex. Calls add(light index,
-// weighted radiance) once per light found (spectral rendering needs to know which light).
+// MIS-weighted against next-event estimation from the previous vertex, attenuated by `media` when
+// given. Calls add(light index, weighted radiance) once per light found (spectral rendering needs
+// to know which light).
 template <class Add>
 void for_each_emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
-                             const SurfaceHit& hit, const PathState& state, Add&& add) {
+                             const SurfaceHit& hit, const PathState& state, Add&& add,
+                             const RayMedia* media = nullptr) {
     auto weight = [&](float light_pmf, float light_pdf) {
         return state.prev_delta ? 1.0f : mis_weight(settings.mis, state.prev_pdf, light_pmf * light_pdf);
     };
@@ -53,23 +65,27 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
     // Area, point and spot lights are not in the BVH (as in Cycles): test them separately.
     scene.for_each_light_hit(to_hit, [&](uint32_t i, const LightHit& h) {
         if (state.depth == 0 && !scene.light(i).visible_to_camera) return;
-        add(i, h.L * weight(scene.light_pmf(i), h.pdf));
+        Color Le = h.L * weight(scene.light_pmf(i), h.pdf);
+        add(i, media ? Le * media_transmittance(*media, scene, h.t) : Le);
     });
+    // Emission at the end of the ray is attenuated by the whole ray's media.
+    auto far = [&](const Color& Le) { return media ? Le * media_transmittance_to_end(*media) : Le; };
     if (!found) {
         LightHit h;
         for (uint32_t i : scene.infinite_lights())
             if ((state.depth > 0 || scene.light(i).visible_to_camera) && scene.light(i).intersect(to_hit, &h))
-                add(i, h.L * weight(scene.light_pmf(i), h.pdf));
+                add(i, far(h.L * weight(scene.light_pmf(i), h.pdf)));
     } else if (hit.light >= 0) {
         auto& tri = static_cast<const TriangleLight&>(scene.light(hit.light));
-        add(uint32_t(hit.light),
-            scene.material(hit.material).emission * weight(scene.light_pmf(hit.light), tri.pdf_at(state.prev_p, hit.p)));
+        add(uint32_t(hit.light), far(scene.material(hit.material).emission *
+                                     weight(scene.light_pmf(hit.light), tri.pdf_at(state.prev_p, hit.p))));
     }
 }
 inline Color emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
-                            const SurfaceHit& hit, const PathState& state) {
+                            const SurfaceHit& hit, const PathState& state, const RayMedia* media = nullptr) {
     Color L(0.0f);
-    for_each_emission_along(scene, settings, ray, found, hit, state, [&](uint32_t, const Color& c) { L += c; });
+    for_each_emission_along(
+        scene, settings, ray, found, hit, state, [&](uint32_t, const Color& c) { L += c; }, media);
     return L;
 }
 

@@ -6,20 +6,50 @@
 #include "integrators/integrator.h"
 #include "integrators/path.h"
 #include "integrators/path_space_filtering.h"
+#include "integrators/photon_planes.h"
 #include "integrators/spectral_path.h"
 
 namespace smis {
 
 std::string resolve_spectral_mode(const RenderSettings& settings, const Scene& scene) {
-    if (settings.spectral == "AUTO") return scene.has_spectral_content() ? "SMIS" : "RGB";
+    // The spectral path tracer has no medium tracking: scenes with media render in RGB under AUTO
+    // (the stats line says so) and refuse an explicit spectral mode rather than lose the media.
+    if (settings.spectral == "AUTO") return scene.has_spectral_content() && !scene.has_media() ? "SMIS" : "RGB";
     spectral::SpectralMode mode;
     if (!spectral::parse_spectral_mode(settings.spectral, &mode))
         throw std::invalid_argument("unknown spectral mode '" + settings.spectral + "'");
+    if (settings.spectral != "RGB" && scene.has_media())
+        throw std::invalid_argument("spectral rendering (" + settings.spectral +
+                                    ") does not support participating media yet: set Spectral to AUTO or RGB");
     return settings.spectral;
 }
 
+namespace {
+
+// settings.volume_estimator: PATH keeps the path tracer's own single scattering; the photon-plane
+// estimators replace the camera rays' scattering from rectangular lights (West et al. 2020, §6).
+std::unique_ptr<Integrator> make_volume_integrator(const RenderSettings& settings) {
+    static const std::map<std::string, PlaneWeighting> planes = {
+        {"PLANES_UNWEIGHTED", PlaneWeighting::Unweighted},
+        {"PLANES_CMIS", PlaneWeighting::Cmis},
+        {"PLANES_SMIS_COS", PlaneWeighting::SmisCos},
+        {"PLANES_SMIS_EXACT", PlaneWeighting::SmisExact},
+    };
+    auto it = planes.find(settings.volume_estimator);
+    if (it == planes.end())
+        throw std::invalid_argument("unknown volume estimator '" + settings.volume_estimator + "'");
+    if (settings.integrator != "PATH")
+        throw std::invalid_argument("photon planes (" + settings.volume_estimator + ") need the PATH integrator");
+    if (settings.smis_planes < 1 || settings.smis_planes > 64)
+        throw std::invalid_argument("smis_planes must be between 1 and 64");
+    return std::make_unique<PhotonPlanesIntegrator>(it->second);
+}
+
+}  // namespace
+
 std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, const Scene& scene) {
     std::string spectral = resolve_spectral_mode(settings, scene);
+    if (settings.volume_estimator != "PATH") return make_volume_integrator(settings);
     if (settings.integrator == "PATH" && spectral != "RGB") {
         spectral::SpectralMode mode;
         spectral::parse_spectral_mode(spectral, &mode);
@@ -36,6 +66,8 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, cons
     };
     auto it = factories.find(settings.integrator);
     if (it == factories.end()) throw std::invalid_argument("unknown integrator '" + settings.integrator + "'");
+    if (settings.integrator != "PATH" && scene.has_media())
+        throw std::invalid_argument(settings.integrator + " does not support participating media: use PATH");
     return it->second();
 }
 

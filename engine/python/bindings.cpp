@@ -65,6 +65,15 @@ Lobe parse_lobe(const py::dict& d) {
     return l;
 }
 
+// A homogeneous medium from {"sigma_a": rgb, "sigma_s": rgb, "anisotropy": g}, added to the scene.
+int32_t add_medium(Scene& s, const py::dict& d) {
+    Medium m;
+    m.sigma_a = get_color(d, "sigma_a", Color(0.0f));
+    m.sigma_s = get_color(d, "sigma_s", Color(0.0f));
+    m.phase = HenyeyGreenstein(get<float>(d, "anisotropy", 0.0f));
+    return s.add_medium(m);
+}
+
 py::array_t<float> to_image(std::vector<float>&& pixels, int w, int h, int channels = 4) {
     auto* heap = new std::vector<float>(std::move(pixels));
     py::capsule owner(heap, [](void* p) { delete static_cast<std::vector<float>*>(p); });
@@ -110,6 +119,9 @@ RenderSettings parse_settings(const py::dict& d) {
     s.psf_keller_plane = get<float>(d, "psf_keller_plane", s.psf_keller_plane);
     s.spectral = get<std::string>(d, "spectral", s.spectral);
     s.wavelengths = get<int>(d, "wavelengths", s.wavelengths);
+    s.volume_estimator = get<std::string>(d, "volume_estimator", s.volume_estimator);
+    s.photon_planes = get<uint32_t>(d, "photon_planes", s.photon_planes);
+    s.smis_planes = get<int>(d, "smis_planes", s.smis_planes);
     return s;
 }
 
@@ -143,6 +155,9 @@ PYBIND11_MODULE(_smis, m) {
                  sp.metal = get<std::string>(d, "metal", sp.metal);
                  sp.dispersion = get<std::string>(d, "dispersion", sp.dispersion);
                  sp.abbe = get<float>(d, "abbe", sp.abbe);
+                 mat.pass_through = get<bool>(d, "pass_through", false);
+                 if (d.contains("volume") && !d["volume"].is_none())
+                     mat.medium = value_errors([&] { return add_medium(s, d["volume"].cast<py::dict>()); });
                  return value_errors([&] { return s.add_material(std::move(mat)); });
              })
         .def(
@@ -198,6 +213,8 @@ PYBIND11_MODULE(_smis, m) {
         .def("set_world",
              [](Scene& s, const py::dict& d) {
                  s.set_world(get_color(d, "color", Color(0.0f)) * get<float>(d, "strength", 1.0f));
+                 if (d.contains("volume") && !d["volume"].is_none())
+                     value_errors([&] { s.set_world_medium(add_medium(s, d["volume"].cast<py::dict>())); });
              })
         .def("set_camera",
              [](Scene& s, const py::dict& d) {
@@ -252,6 +269,7 @@ PYBIND11_MODULE(_smis, m) {
             d["lights"] = st.lights;
             d["emissive_triangles"] = st.emissive_triangles;
             d["materials"] = st.materials;
+            d["has_media"] = s.has_media();
             return d;
         });
 

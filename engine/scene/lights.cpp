@@ -76,6 +76,12 @@ public:
         return true;
     }
     float power(float) const override { return luminance(radiance_) * area_ * kPi; }
+    bool rectangle(LightRectangle* out) const override {
+        // Photon planes need an orthogonal frame on the light (a sheared light falls back to NEE).
+        if (ellipse_ || std::fabs(dot(u_, v_)) > 1e-4f * length(u_) * length(v_)) return false;
+        if (out) *out = {center_ - u_ - v_, u_ * 2.0f, v_ * 2.0f, n_, radiance_};
+        return true;
+    }
 
 private:
     Vec3 center_, u_, v_, n_;

@@ -21,6 +21,14 @@ struct LightSample {
     bool valid() const { return pdf > 0.0f && std::isfinite(pdf) && is_finite(L) && !is_black(L); }
 };
 
+// A rectangular area light as photon planes see it: corner + u + v spans the rectangle (u, v its
+// full edges), emitting one-sided along `normal` with constant radiance.
+struct LightRectangle {
+    Vec3 corner, u, v, normal;
+    Color radiance{0.0f};
+    float area() const { return length(cross(u, v)); }
+};
+
 // A light struck by a ray (BSDF-sampled or camera).
 struct LightHit {
     float t = kInf;
@@ -39,6 +47,9 @@ public:
     virtual bool intersect(const Ray& ray, LightHit* hit) const { return false; }
     virtual bool at_infinity() const { return false; }
     virtual bool is_delta() const { return false; }
+    // Rectangular area lights (Blender's SQUARE/RECTANGLE shapes) describe themselves for photon
+    // planes; every other light returns false.
+    virtual bool rectangle(LightRectangle* out) const { return false; }
     // Emitted power (luminance-weighted), used for light selection proportional to power. Lights at
     // infinity deliver power in proportion to the scene's cross-section, hence the radius.
     virtual float power(float scene_radius) const = 0;

@@ -30,6 +30,11 @@ struct Material {
     std::vector<Lobe> lobes;
     Color emission{0.0f};  // radiance, emitted from both sides like Cycles' mesh emission
     MaterialSpectral spectral;
+    // Volume: the medium inside the closed mesh (Scene::medium id), -1 for none. A material with
+    // no surface shader (only a Volume output) is an index-matched boundary rays pass straight
+    // through, as in Cycles.
+    int32_t medium = -1;
+    bool pass_through = false;
     bool emissive() const { return max_component(emission) > 0.0f; }
 
     // The BSDF at a hit. `frame` faces the incoming direction (Cycles flips the normal of back-facing

@@ -174,6 +174,33 @@ void Scene::set_world(const Color& radiance) {
     world_ = is_finite(radiance) ? vmax(radiance, Color(0.0f)) : Color(0.0f);
 }
 
+int32_t Scene::add_medium(const Medium& medium) {
+    if (committed_) throw std::logic_error("scene already committed");
+    auto usable = [](const Color& c) { return is_finite(c) && min_component(c) >= 0.0f; };
+    if (!usable(medium.sigma_a) || !usable(medium.sigma_s) || !std::isfinite(medium.phase.g()))
+        throw std::invalid_argument("medium coefficients must be finite and non-negative");
+    media_.push_back(medium);
+    return static_cast<int32_t>(media_.size() - 1);
+}
+
+void Scene::set_world_medium(int32_t medium) {
+    if (medium >= static_cast<int32_t>(media_.size())) throw std::invalid_argument("unknown world medium");
+    world_medium_ = medium < 0 ? -1 : medium;
+}
+
+int32_t Scene::medium_at(const Vec3& p) const {
+    // The first boundary of a volume object met by a ray out of p tells whether p is inside it.
+    Ray ray{p, normalize(Vec3(0.2113f, 0.3877f, 0.8971f)), 0.0f, kInf};
+    for (int i = 0; i < 256; ++i) {
+        SurfaceHit hit;
+        if (!intersect(ray, &hit)) break;
+        const Material& m = materials_[hit.material];
+        if (m.medium >= 0 || m.pass_through) return dot(ray.d, hit.ng) > 0.0f ? m.medium : world_medium_;
+        ray.o = offset_ray_origin(hit.p, dot(ray.d, hit.ng) > 0.0f ? hit.ng : -hit.ng);
+    }
+    return world_medium_;
+}
+
 void Scene::set_camera(const CameraDesc& desc) {
     camera_ = Camera(desc);
     has_camera_ = true;
@@ -278,6 +305,11 @@ void Scene::commit() {
     if (!embree_error_.empty()) throw std::runtime_error(embree_error_);
     radius_ = instances_.empty() ? 1.0f : std::max(1e-3f, 0.5f * length(hi - lo));
     if (!std::isfinite(radius_)) radius_ = 1.0f;
+    center_ = instances_.empty() || !is_finite(lo + hi) ? Vec3(0.0f) : (lo + hi) * 0.5f;
+
+    for (const Material& m : materials_) has_media_ = has_media_ || m.medium >= 0 || m.pass_through;
+    has_media_ = has_media_ || world_medium_ >= 0;
+    if (has_media_) camera_medium_ = medium_at(camera_.generate_ray(0.5f * camera_.width(), 0.5f * camera_.height()).o);
 
     if (max_component(world_) > 0.0f) {
         lights_.push_back(std::make_unique<WorldLight>(world_));

@@ -12,6 +12,7 @@
 #include "scene/camera.h"
 #include "scene/lights.h"
 #include "scene/material.h"
+#include "scene/medium.h"
 
 namespace smis {
 
@@ -56,6 +57,10 @@ public:
     void add_instance(uint32_t mesh, const Transform& to_world);
     uint32_t add_light(const LightDesc& desc);  // throws std::invalid_argument for unusable lights
     void set_world(const Color& radiance);
+    // Homogeneous media, referenced by Material::medium and by the world (-1: no world volume).
+    // Throws std::invalid_argument for non-finite or negative coefficients.
+    int32_t add_medium(const Medium& medium);
+    void set_world_medium(int32_t medium);
     void set_camera(const CameraDesc& desc);
     bool has_camera() const { return has_camera_; }
     void commit();  // builds the BVH and the light-selection table; throws if no camera was set
@@ -87,6 +92,20 @@ public:
     const EmitterSource& emitter_source(uint32_t light) const { return emitter_sources_[light]; }
     size_t material_count() const { return materials_.size(); }
     bool has_spectral_content() const { return spectral_content_; }
+    // Media: false when no material has a volume or is a pass-through boundary and the world has no
+    // volume; integrators then take their surface-only code paths.
+    bool has_media() const { return has_media_; }
+    const Medium& medium(int32_t id) const { return media_[id]; }
+    int32_t world_medium() const { return world_medium_; }
+    int32_t camera_medium() const { return camera_medium_; }
+    // The medium containing point p (by walking a ray out of the scene; nested media are not
+    // supported: leaving any volume object returns to the world medium).
+    int32_t medium_at(const Vec3& p) const;
+    // The geometry's bounding sphere (centre of its box, half its diagonal), for lengths that must
+    // cover the scene.
+    Vec3 center() const { return center_; }
+    float radius() const { return radius_; }
+    RTCDevice device() const { return device_; }
 
 private:
     struct Mesh {
@@ -124,7 +143,11 @@ private:
     Camera camera_;
     bool has_camera_ = false, committed_ = false;
     Color world_{0.0f};
+    std::vector<Medium> media_;
+    int32_t world_medium_ = -1, camera_medium_ = -1;
+    bool has_media_ = false;
     float radius_ = 1.0f;
+    Vec3 center_{0.0f};
     SceneStats stats_;
     std::vector<std::string> skipped_;
 };

@@ -10,6 +10,7 @@ with a warning, unsupported shader nodes become a neutral diffuse.
 
 from . import nodes
 from ..spectral_properties import material_spectral
+from .volumes import translate_volume
 
 NEUTRAL_GREY = (0.8, 0.8, 0.8)
 BLACK = (0.0, 0.0, 0.0)
@@ -214,16 +215,21 @@ def translate(material, warn):
 
     tr = _Translation(material, warn)
     output = nodes.output_node(material.node_tree)
+    volume = None
+    pass_through = False
     if output is None:
         warn("Material '%s' has no Material Output node for Cycles/All; it renders black"
              % material.name)
     else:
         surface = nodes.linked_output(output.inputs["Surface"])
+        volume = translate_volume(output, "Material '%s'" % material.name, warn)
         if surface is not None:
             tr.shader(surface, (1.0, 1.0, 1.0))
-        # An unlinked Surface renders black, as in Cycles.
-    return dict({"name": name, "closures": tr.closures, "emission": tr.emission},
-                **material_spectral(material))
+        # An unlinked Surface renders black, as in Cycles, unless the material has a volume: then
+        # the mesh is only the boundary of the medium and rays pass straight through it.
+        pass_through = surface is None and volume is not None
+    return dict({"name": name, "closures": tr.closures, "emission": tr.emission, "volume": volume,
+                 "pass_through": pass_through}, **material_spectral(material))
 
 
 class MaterialCache:

@@ -1,13 +1,21 @@
 """The scene's World -> a constant background radiance."""
 
 from . import nodes
+from .volumes import translate_volume
 
 # Emission behaves exactly like Background when plugged into the World Output.
 _BACKGROUND_NODES = {'ShaderNodeBackground', 'ShaderNodeEmission'}
 
 
 def export_world(world, warn):
-    """{"color", "strength"} for `_smis.Scene.set_world`. No world -> black."""
+    """{"color", "strength", "volume"} for `_smis.Scene.set_world`. No world -> black."""
+    desc = _export_background(world, warn)
+    if world is not None and world.use_nodes and world.node_tree is not None:
+        desc["volume"] = translate_volume(nodes.output_node(world.node_tree), "World '%s'" % world.name, warn)
+    return desc
+
+
+def _export_background(world, warn):
     if world is None:
         return {"color": (0.0, 0.0, 0.0), "strength": 0.0}
     fallback = {"color": tuple(world.color), "strength": 1.0}

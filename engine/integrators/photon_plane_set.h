@@ -1,0 +1,79 @@
+// Photon planes (Deng et al. 2019; West et al. 2020, §6.1, Fig. 10): one iteration's set of planes
+// swept from rectangular area lights, and the query that returns every plane a camera ray crosses.
+// A plane is a chord s of the light at angle alpha through a uniformly sampled light point, swept
+// along a cosine-sampled direction w_l for a free-flight length. The planes live in an Embree scene
+// of user primitives whose intersection callback records each crossing and never reports a hit, so
+// one traversal visits exactly the planes whose bounds the ray passes (not pixels x planes).
+#pragma once
+#include <embree3/rtcore.h>
+
+#include <vector>
+
+#include "core/rng.h"
+#include "scene/scene.h"
+
+namespace smis {
+
+// A rectangular light as the planes use it: an orthonormal frame in its plane and the medium
+// the planes start in. 2D light coordinates are metres along (u_hat, v_hat) from the corner.
+struct PlaneLight {
+    uint32_t light;        // index into Scene::lights()
+    Vec3 corner, u_hat, v_hat, normal;
+    float width, height;   // |u|, |v|
+    Color radiance;
+    float area;
+    float flight_rate;     // free-flight rate: min channel of sigma_t in the light's medium
+    float max_length;      // planes never need to reach further than the scene's bounds
+};
+
+// The chord through 2D point (x, y) of a width x height rectangle in direction (c, s): the part of
+// the line inside the rectangle is p + t (c, s) for t in [t_lo, t_hi].
+struct Chord {
+    float t_lo = 0.0f, t_hi = 0.0f;
+    float length() const { return t_hi - t_lo; }
+};
+Chord chord_through(float x, float y, float width, float height, float c, float s);
+
+struct PhotonPlane {
+    Vec3 origin;           // chord start p1 (3D)
+    Vec3 edge0, edge1;     // chord vector (length |s|) and w_l * sweep length
+    Vec3 s_hat, w_l;       // unit chord direction and sweep direction
+    float x1, y1;          // chord start in 2D light coordinates
+    float alpha;           // orientation in [0, pi): s_hat = cos(alpha) u_hat + sin(alpha) v_hat
+    float chord_length, sweep_length;
+    uint32_t light;        // index into the PlaneLight table
+};
+
+struct PlaneHit {
+    uint32_t plane;
+    float t;       // along the camera ray
+    float a, b;    // position on the plane: y = origin + a edge0 (the light point), x - y = b edge1
+};
+
+class PhotonPlaneSet {
+public:
+    PhotonPlaneSet(RTCDevice device, std::vector<PhotonPlane> planes);
+    ~PhotonPlaneSet();
+    PhotonPlaneSet(const PhotonPlaneSet&) = delete;
+    PhotonPlaneSet& operator=(const PhotonPlaneSet&) = delete;
+
+    // Every plane crossed by the ray within (tmin, tmax), sorted by plane index (a fixed order, so
+    // sums over them do not depend on the BVH). `hits` is cleared first. Crossings nearly parallel
+    // to the plane (no finite Jacobian in float) are skipped and counted in *parallel.
+    void gather(const Ray& ray, std::vector<PlaneHit>* hits, uint64_t* parallel) const;
+    const PhotonPlane& plane(uint32_t i) const { return planes_[i]; }
+    size_t size() const { return planes_.size(); }
+
+private:
+    static void bounds(const RTCBoundsFunctionArguments* args);
+    static void intersect(const RTCIntersectFunctionNArguments* args);
+    static void occluded(const RTCOccludedFunctionNArguments* args);
+
+    std::vector<PhotonPlane> planes_;
+    RTCScene scene_ = nullptr;
+};
+
+// One plane from light `l` (chosen with probability `pmf` by the caller); six random numbers.
+PhotonPlane sample_photon_plane(const PlaneLight& l, uint32_t light_index, Rng& rng);
+
+}  // namespace smis

@@ -1,0 +1,203 @@
+// One iteration: a fresh set of photon planes (footnote 2 of the paper: one plane set serves every
+// pixel), then one camera sample per pixel that runs the path tracer with the camera ray's single
+// scattering from rectangular lights left out, and adds what the camera ray gathers from the planes
+// it crosses inside scattering media, up to its first opaque surface.
+//
+// Estimator for one crossing (path y on the light, x on the camera ray), per plane of N drawn:
+//   f / p = T_cam(x) sigma_s rho(x) Le pi A / (pmf_light N) * T(x, y) e^{rate |x - y|} * W,
+// where Le pi / (cos / pi) is the emission over the cosine sampling of w_l, A / |s| the inverse density
+// of the chord offset (p(v | alpha) = |s| / A, eq. 25), the free flight of the sweep survives to |x - y|
+// with probability e^{-rate |x - y|} (rate: the smallest channel of sigma_t, so the true coloured
+// transmittance T(x, y) of the shadow ray divided by it is at most 1 inside the light's medium) and
+//   W = 1 / (|s| J)                         unweighted (eq. 22),       J = |(s_hat x w_l) . w_e|
+//   W = 1 / (|s| (2/pi) sqrt(a^2 + b^2))    CMIS (eq. 26, p(alpha) = 1/pi already inside), a, b the
+//                                           J of the light's u and v edges
+//   W = n / (|s| sum_j J_j)                 SMIS, cosine-only densities (eq. 27)
+//   W = n / (sum_j |s_j| J_j)               SMIS, exact densities (eq. 25, 27)
+// with the SMIS orientations alpha_j = alpha + j pi / n: a random rotation of the stratified set that
+// contains the realised alpha, each chord s_j through the path's actual light point y. Only the
+// realised plane was sampled (one of the n techniques), hence the factor n.
+#include "integrators/photon_planes.h"
+
+#include <chrono>
+
+#include "integrators/photon_plane_set.h"
+#include "integrators/tiles.h"
+#include "integrators/volume.h"
+
+namespace smis {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+struct PlaneLights {
+    std::vector<PlaneLight> lights;
+    DiscreteDistribution selection;  // proportional to power
+};
+
+PlaneLights collect_plane_lights(const Scene& scene) {
+    PlaneLights out;
+    std::vector<float> power;
+    for (uint32_t i = 0; i < scene.lights().size(); ++i) {
+        LightRectangle r;
+        if (!scene.light(i).rectangle(&r)) continue;
+        PlaneLight pl;
+        pl.light = i;
+        pl.corner = r.corner;
+        pl.width = length(r.u);
+        pl.height = length(r.v);
+        pl.u_hat = r.u / pl.width;
+        pl.v_hat = r.v / pl.height;
+        pl.normal = r.normal;
+        pl.radiance = r.radiance;
+        pl.area = pl.width * pl.height;
+        Vec3 center = r.corner + (r.u + r.v) * 0.5f;
+        int32_t m = scene.has_media() ? scene.medium_at(center) : kNoMedium;
+        pl.flight_rate = m >= 0 ? min_component(scene.medium(m).sigma_t()) : 0.0f;
+        pl.max_length = length(center - scene.center()) + scene.radius();
+        out.lights.push_back(pl);
+        power.push_back(luminance(pl.radiance) * pl.area);
+    }
+    out.selection = DiscreteDistribution(power);
+    return out;
+}
+
+// W of the header comment for one crossing of plane p by direction d.
+float plane_weight(PlaneWeighting weighting, int n, const PlaneLight& l, const PhotonPlane& p, const PlaneHit& h,
+                   const Vec3& d) {
+    // J(alpha') = |cos(alpha') a + sin(alpha') b| for every orientation of a chord swept along w_l.
+    float a = dot(cross(l.u_hat, p.w_l), d), b = dot(cross(l.v_hat, p.w_l), d);
+    switch (weighting) {
+        case PlaneWeighting::Unweighted:
+            return 1.0f / (p.chord_length * std::fabs(dot(cross(p.s_hat, p.w_l), d)));
+        case PlaneWeighting::Cmis:
+            return 1.0f / (p.chord_length * (2.0f / kPi) * std::sqrt(a * a + b * b));
+        case PlaneWeighting::SmisCos:
+        case PlaneWeighting::SmisExact: {
+            const bool exact = weighting == PlaneWeighting::SmisExact;
+            float c0 = std::cos(p.alpha), s0 = std::sin(p.alpha);
+            // The path's light point y in 2D light coordinates (on the realised chord).
+            float yx = p.x1 + h.a * p.chord_length * c0, yy = p.y1 + h.a * p.chord_length * s0;
+            float sum = 0.0f;
+            for (int j = 0; j < n; ++j) {
+                float cj = c0, sj = s0;
+                if (j > 0) {
+                    float aj = p.alpha + float(j) * kPi / float(n);
+                    cj = std::cos(aj);
+                    sj = std::sin(aj);
+                }
+                float Jj = std::fabs(cj * a + sj * b);
+                float len = !exact ? 1.0f
+                            : j == 0 ? p.chord_length
+                                     : chord_through(yx, yy, l.width, l.height, cj, sj).length();
+                sum += Jj * len;
+            }
+            return float(n) / (exact ? sum : p.chord_length * sum);
+        }
+    }
+    return 0.0f;
+}
+
+}  // namespace
+
+void PhotonPlanesIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) {
+    for (uint32_t s = s0; s < s1 && !ctx.should_stop(); ++s) iteration(ctx, s);
+}
+
+void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
+    const Scene& scene = ctx.scene;
+    const RenderSettings& settings = ctx.settings;
+    const int w = ctx.film.width(), h = ctx.film.height();
+    const int n = std::max(1, settings.smis_planes);
+
+    // The plane set of this iteration, from its own stream (independent of the pixels' streams).
+    auto t0 = Clock::now();
+    const PlaneLights lights = collect_plane_lights(scene);
+    const bool use_planes = scene.has_media() && !lights.lights.empty() && settings.photon_planes > 0;
+    std::vector<PhotonPlane> planes;
+    std::vector<Color> plane_scale;  // Le pi A / (pmf N) per light
+    if (use_planes) {
+        Rng rng(mix64(0x706c616e6573ull ^ settings.seed), s);
+        planes.reserve(settings.photon_planes);
+        for (uint32_t i = 0; i < settings.photon_planes; ++i) {
+            uint32_t li = static_cast<uint32_t>(lights.selection.sample(rng.next_float()));
+            PhotonPlane p = sample_photon_plane(lights.lights[li], li, rng);
+            if (p.chord_length > 0.0f && p.sweep_length > 0.0f) planes.push_back(p);
+        }
+        for (uint32_t li = 0; li < lights.lights.size(); ++li) {
+            const PlaneLight& l = lights.lights[li];
+            float pmf = lights.selection.pmf(li);
+            plane_scale.push_back(pmf > 0.0f ? l.radiance * (kPi * l.area / (pmf * float(settings.photon_planes)))
+                                             : Color(0.0f));
+        }
+    }
+    PhotonPlaneSet set(scene.device(), std::move(planes));
+    build_seconds_ += seconds_since(t0);
+
+    t0 = Clock::now();
+    std::vector<Color> image(size_t(w) * h);
+    for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
+        Rng rng;
+        Ray ray = camera_ray(ctx, x, y, s, &rng);
+        PathState camera;
+        camera.prev_p = ray.o;
+        camera.medium = scene.camera_medium();
+        camera.planes_on_camera_ray = use_planes;
+        Color L = trace_path(scene, settings, ray, camera, rng, local);
+        if (use_planes) {
+            thread_local std::vector<PlaneHit> hits;
+            uint64_t parallel = 0, nonfinite = 0, gathered = 0;
+            SurfaceHit first;
+            RayMedia media;
+            intersect_through(scene, ray, camera.medium, &first, &media);
+            for (int i = 0; i < media.count; ++i) {
+                const RayMedia::Segment& seg = media.seg[i];
+                const Medium& med = scene.medium(seg.medium);
+                if (!med.scatters()) continue;
+                set.gather(Ray{ray.o, ray.d, seg.t0, seg.t1}, &hits, &parallel);
+                gathered += hits.size();
+                for (const PlaneHit& hit : hits) {
+                    const PhotonPlane& p = set.plane(hit.plane);
+                    const PlaneLight& l = lights.lights[p.light];
+                    Vec3 xs = ray.o + ray.d * hit.t;
+                    float dist = hit.b * p.sweep_length;
+                    Color tr = shadow_transmittance(scene, xs, -p.w_l, dist * (1.0f - 1e-4f), seg.medium);
+                    if (is_black(tr)) continue;
+                    float weight = plane_weight(weighting_, n, l, p, hit, ray.d) *
+                                   med.phase.eval(-ray.d, -p.w_l) * std::exp(l.flight_rate * dist);
+                    Color c = media.transmittance(scene, hit.t) * med.sigma_s * tr * plane_scale[p.light] * weight;
+                    if (!is_finite(c)) {
+                        ++nonfinite;
+                        continue;
+                    }
+                    L += c;
+                }
+            }
+            plane_hits_ += gathered;
+            parallel_rejected_ += parallel;
+            nonfinite_rejected_ += nonfinite;
+            local.samples_rejected += parallel + nonfinite;
+        }
+        ++local.paths;
+        image[size_t(y) * w + x] = guard_sample(L, local);
+    });
+    if (ctx.should_stop()) return;  // a partial iteration never reaches the film
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) ctx.film.add(x, y, image[size_t(y) * w + x]);
+    render_seconds_ += seconds_since(t0);
+    ++iterations_;
+    planes_ += set.size();
+}
+
+std::map<std::string, double> PhotonPlanesIntegrator::stats() const {
+    return {{"iterations", double(iterations_)},
+            {"planes", double(planes_)},
+            {"plane_hits", double(plane_hits_.load())},
+            {"parallel_rejected", double(parallel_rejected_.load())},
+            {"nonfinite_rejected", double(nonfinite_rejected_.load())},
+            {"build_seconds", build_seconds_},
+            {"render_seconds", render_seconds_}};
+}
+
+}  // namespace smis

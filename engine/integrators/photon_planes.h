@@ -1,0 +1,35 @@
+// Single scattering from rectangular area lights by photon planes (Deng et al. 2019), with the
+// weightings compared in West et al. 2020, §6 (eq. 22-27, Fig. 11). Everything else in the image
+// (surfaces, other lights' scattering, scattering along secondary rays) comes from the path tracer,
+// so the image converges to the same result as PATH.
+#pragma once
+#include <atomic>
+
+#include "integrators/integrator.h"
+
+namespace smis {
+
+enum class PlaneWeighting {
+    Unweighted,  // eq. 22: one orientation, 1/|(s x w_l) . w_e| singularity
+    Cmis,        // eq. 26: Deng et al.'s closed-form weighting over all orientations
+    SmisCos,     // eq. 27 with cosine-only densities (SMIS_w~)
+    SmisExact,   // eq. 27 with the exact densities of eq. 25, chord length included (SMIS_w.)
+};
+
+class PhotonPlanesIntegrator : public Integrator {
+public:
+    explicit PhotonPlanesIntegrator(PlaneWeighting weighting) : weighting_(weighting) {}
+    void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) override;
+    uint32_t max_pass_samples() const override { return 1; }
+    std::map<std::string, double> stats() const override;
+
+private:
+    void iteration(RenderContext& ctx, uint32_t s);
+    PlaneWeighting weighting_;
+    // Measurements, summed over iterations.
+    double build_seconds_ = 0, render_seconds_ = 0;
+    uint64_t iterations_ = 0, planes_ = 0;
+    std::atomic<uint64_t> plane_hits_{0}, parallel_rejected_{0}, nonfinite_rejected_{0};
+};
+
+}  // namespace smis

@@ -1,0 +1,131 @@
+#include "integrators/volume.h"
+
+namespace smis {
+
+Color media_transmittance(const RayMedia& media, const Scene& scene, float t) { return media.transmittance(scene, t); }
+Color media_transmittance_to_end(const RayMedia& media) { return media.transmittance_to_end(); }
+namespace {
+
+// Boundaries a ray may cross before it is treated as lost (a closed mesh costs two).
+constexpr int kMaxCrossings = 64;
+
+// sigma_t * len per channel, with 0 * inf = 0 for clear channels of infinite segments.
+Color optical_depth(const Color& sigma_t, float len) {
+    Color tau;
+    for (int c = 0; c < 3; ++c) tau[c] = sigma_t[c] > 0.0f ? sigma_t[c] * len : 0.0f;
+    return tau;
+}
+
+// The medium on the far side of a pass-through boundary crossed by direction d.
+int32_t medium_beyond(const Scene& scene, const SurfaceHit& h, const Vec3& d) {
+    return dot(d, h.ng) < 0.0f ? scene.material(h.material).medium : scene.world_medium();
+}
+
+// Walks the ray through pass-through boundaries; segment(t0, t1, medium) for each stretch between
+// boundaries (t from ray.o). Returns the first opaque hit (t from ray.o) or false.
+template <class F>
+bool walk(const Scene& scene, const Ray& ray, int32_t medium, SurfaceHit* hit, int32_t* end_medium, F&& segment) {
+    Ray r = ray;
+    float base = 0.0f;
+    for (int i = 0; i < kMaxCrossings; ++i) {
+        SurfaceHit h;
+        bool found = scene.intersect(r, &h);
+        float t_end = found ? base + h.t : ray.tmax;
+        segment(base + r.tmin, t_end, medium);
+        if (!found || !scene.material(h.material).pass_through) {
+            *end_medium = medium;
+            if (found) {
+                *hit = h;
+                hit->t = t_end;
+            }
+            return found;
+        }
+        medium = medium_beyond(scene, h, r.d);
+        r.o = offset_ray_origin(h.p, dot(r.d, h.ng) > 0.0f ? h.ng : -h.ng);
+        base += h.t;
+        r.tmin = 0.0f;
+        r.tmax = ray.tmax - base;
+    }
+    *end_medium = medium;
+    return false;
+}
+
+}  // namespace
+
+void RayMedia::add(const Scene& scene, float t0, float t1, int32_t medium) {
+    if (medium < 0 || !(t1 > t0)) return;
+    tau_end += optical_depth(scene.medium(medium).sigma_t(), t1 - t0);
+    if (count < kMaxSegments) seg[count++] = {t0, t1, medium};
+}
+
+Color RayMedia::transmittance(const Scene& scene, float t) const {
+    Color tau(0.0f);
+    for (int i = 0; i < count && seg[i].t0 < t; ++i)
+        tau += optical_depth(scene.medium(seg[i].medium).sigma_t(), std::min(t, seg[i].t1) - seg[i].t0);
+    return transmittance_from_tau(tau);
+}
+
+int32_t medium_across(const Scene& scene, const ShadingPoint& sp, int32_t current) {
+    const Material& m = scene.material(sp.hit.material);
+    if (m.medium < 0 && !m.pass_through) return current;
+    return sp.backfacing ? scene.world_medium() : m.medium;
+}
+
+bool intersect_through(const Scene& scene, const Ray& ray, int32_t medium, SurfaceHit* hit, RayMedia* media) {
+    media->count = 0;
+    media->tau_end = Color(0.0f);
+    return walk(scene, ray, medium, hit, &media->end_medium,
+                [&](float t0, float t1, int32_t m) { media->add(scene, t0, t1, m); });
+}
+
+Color shadow_transmittance(const Scene& scene, const Vec3& origin, const Vec3& dir, float tmax, int32_t medium) {
+    // Most shadow rays meet no surface at all: then they stay in one medium, and an any-hit query is
+    // much cheaper than walking closest hits.
+    if (!scene.occluded(origin, dir, tmax))
+        return medium >= 0 ? RayMedia::transmittance_from_tau(optical_depth(scene.medium(medium).sigma_t(), tmax))
+                           : Color(1.0f);
+    Color tau(0.0f);
+    SurfaceHit hit;
+    int32_t end;
+    bool blocked = walk(scene, Ray{origin, dir, 0.0f, tmax}, medium, &hit, &end, [&](float t0, float t1, int32_t m) {
+        if (m >= 0 && t1 > t0) tau += optical_depth(scene.medium(m).sigma_t(), t1 - t0);
+    });
+    return blocked ? Color(0.0f) : RayMedia::transmittance_from_tau(tau);
+}
+
+Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
+                        LocalCounters& counters, bool skip_rectangles) {
+    Color L(0.0f);
+    const DiscreteDistribution& selection = scene.light_selection();
+    for (int i = 0; i < media.count; ++i) {
+        const RayMedia::Segment& s = media.seg[i];
+        const Medium& med = scene.medium(s.medium);
+        // The same five numbers per segment whatever happens, so later decisions keep their streams.
+        float u_channel = rng.next_float(), u_dist = rng.next_float(), u_select = rng.next_float();
+        Point2 u{rng.next_float(), rng.next_float()};
+        if (!med.scatters() || selection.empty()) continue;
+        DistanceSample ds = sample_segment_distance(med.sigma_t(), s.t1 - s.t0, u_channel, u_dist);
+        if (!(ds.pdf > 0.0f) || !std::isfinite(ds.pdf)) {
+            // A clear channel of an infinite segment cannot sample: part of the one-sample MIS.
+            if (!std::isinf(s.t1)) ++counters.samples_rejected;
+            continue;
+        }
+        uint32_t li = static_cast<uint32_t>(selection.sample(u_select));
+        if (skip_rectangles && scene.light(li).rectangle(nullptr)) continue;
+        Vec3 x = ray.o + ray.d * (s.t0 + ds.t);
+        LightSample ls = scene.light(li).sample(x, u);
+        if (!ls.valid()) {
+            if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;
+            continue;
+        }
+        float tmax = std::isinf(ls.dist) ? kInf : ls.dist * (1.0f - 1e-4f);
+        Color tr = shadow_transmittance(scene, x, ls.wi, tmax, s.medium);
+        if (is_black(tr)) continue;
+        float phase = med.phase.eval(-ray.d, ls.wi);
+        Color t_cam = media.transmittance(scene, s.t0) * transmittance(med.sigma_t(), ds.t);
+        L += t_cam * med.sigma_s * tr * ls.L * (phase / (selection.pmf(li) * ls.pdf * ds.pdf));
+    }
+    return L;
+}
+
+}  // namespace smis

@@ -1,0 +1,345 @@
+// Participating media: the phase function and distance sampling against their densities, transmittance
+// and single scattering against quadrature, and the photon-plane estimators (West et al. 2020, §6)
+// converging to the path tracer's image (independent renders, z-tests), with a power check and
+// numerical stress cases (parallel and grazing planes, 1:1000 lights, extreme densities).
+#include <gtest/gtest.h>
+
+#include "integrators/photon_plane_set.h"
+#include "integrators/volume.h"
+#include "stats.h"
+#include "test_scenes.h"
+
+using namespace smis;
+using namespace smis::testing;
+namespace st = smis::stats;
+
+namespace {
+
+Point2 rand2(Rng& rng) {
+    float a = rng.next_float();
+    return {a, rng.next_float()};
+}
+
+// The look-at camera of the volume scenes: at `pos`, looking along +Y.
+CameraDesc camera_looking_y(const Vec3& pos, int w, int h, float lens) {
+    CameraDesc c = camera_at(pos, w, h);
+    c.to_world.m[1][1] = 0.0f, c.to_world.m[1][2] = -1.0f;
+    c.to_world.m[2][1] = 1.0f, c.to_world.m[2][2] = 0.0f;
+    c.lens = lens;
+    return c;
+}
+
+// A rectangle light of size sx x sy at `pos`, emitting along -Z rotated by `tilt_x` radians about X.
+LightDesc rect_light(const Vec3& pos, float sx, float sy, float power, float tilt_x = 0.0f) {
+    LightDesc l;
+    l.type = "AREA";
+    l.shape = "RECTANGLE";
+    // Invisible to the camera: the randomly covered edge pixels of a visible light would dominate
+    // the image-level noise the convergence test relies on.
+    l.visible_to_camera = false;
+    l.size = sx;
+    l.size_y = sy;
+    l.power = power;
+    float c = std::cos(tilt_x), s = std::sin(tilt_x);
+    l.to_world.m[1][1] = c, l.to_world.m[1][2] = -s;
+    l.to_world.m[2][1] = s, l.to_world.m[2][2] = c;
+    l.to_world.m[0][3] = pos.x, l.to_world.m[1][3] = pos.y, l.to_world.m[2][3] = pos.z;
+    return l;
+}
+
+Medium make_medium(const Color& sigma_a, const Color& sigma_s, float g = 0.0f) {
+    Medium m;
+    m.sigma_a = sigma_a;
+    m.sigma_s = sigma_s;
+    m.phase = HenyeyGreenstein(g);
+    return m;
+}
+
+// Fig. 11 in miniature: a fog box (index-matched boundary) around a floor, a block and two
+// rectangular lights, one of them 8:1; the camera looks in from outside.
+std::shared_ptr<Scene> fog_box(int w, int h, const Medium& fog, std::vector<LightDesc> lights = {}) {
+    auto s = std::make_shared<Scene>();
+    uint32_t white = s->add_material(diffuse(Color(0.7f)));
+    Material boundary;
+    boundary.name = "fog";
+    boundary.pass_through = true;
+    boundary.medium = s->add_medium(fog);
+    uint32_t fog_mat = s->add_material(boundary);
+    add_box(*s, {-1.5f, -1.5f, -0.2f}, {1.5f, 1.5f, 2.5f}, fog_mat);
+    add_box(*s, {-1.4f, -1.4f, -0.1f}, {1.4f, 1.4f, 0.0f}, white);
+    add_box(*s, {-0.3f, 0.0f, 0.0f}, {0.3f, 0.5f, 0.8f}, white);
+    if (lights.empty())
+        lights = {rect_light({-0.5f, 0.2f, 2.0f}, 0.6f, 0.4f, 30.0f, 0.3f),
+                  rect_light({0.7f, 0.6f, 1.6f}, 0.8f, 0.1f, 20.0f, -0.4f)};
+    for (const LightDesc& l : lights) s->add_light(l);
+    s->set_camera(camera_looking_y({0.0f, -3.5f, 1.0f}, w, h, 28.0f));
+    s->commit();
+    return s;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Sampling routines
+
+TEST(Medium, HenyeyGreensteinSamplesMatchItsDensity) {
+    const Vec3 wo = normalize(Vec3(0.3f, -0.4f, 0.8f));
+    const float gs[] = {0.0f, 0.6f, -0.8f, 0.95f};
+    double alpha = st::sidak_significance(0.01, 4);
+    for (float g : gs) {
+        HenyeyGreenstein hg(g);
+        auto sample = [&](Rng& rng) {
+            PhaseSample ps = hg.sample(wo, rand2(rng));
+            return st::DirSample::valid(ps.wi, ps.pdf);
+        };
+        auto pdf = [&](const Vec3& wi) { return double(hg.pdf(wo, wi)); };
+        st::Chi2Result r = st::chi2_test_directions(sample, pdf, 400000);
+        std::printf("[chi2] HG g=%.2f %s\n", g, r.summary().c_str());
+        EXPECT_TRUE(r.passes(alpha)) << "g " << g << ": " << r.summary();
+        EXPECT_NEAR(r.pdf_integral, 1.0, 2e-3) << "g " << g;
+    }
+    // Cycles' sign convention: g > 0 scatters forward, i.e. towards wi = -wo.
+    HenyeyGreenstein forward(0.6f);
+    EXPECT_GT(forward.eval(wo, -wo), forward.eval(wo, wo));
+}
+
+TEST(Medium, SegmentDistanceSamplingIsUnbiasedForColouredMedia) {
+    // E[g(t) / pdf(t)] = integral of g over the segment, for coloured sigma_t (one-sample spectral MIS),
+    // including a clear channel and an infinite segment.
+    struct Case {
+        Color sigma_t;
+        float len;
+    } cases[] = {{{0.3f, 1.2f, 4.0f}, 2.0f}, {{0.0f, 0.5f, 2.0f}, 3.0f}, {{0.2f, 0.7f, 1.5f}, kInf}, {{1e-9f, 1e-9f, 1e-9f}, 1.0f}};
+    for (const Case& c : cases) {
+        // g(t) = exp(-t) t, integral over [0, len): 1 - (1 + len) e^-len.
+        double expected = std::isinf(c.len) ? 1.0 : 1.0 - (1.0 + c.len) * std::exp(-double(c.len));
+        st::MeanEstimator est;
+        Rng rng(7, 11);
+        for (int i = 0; i < 200000; ++i) {
+            DistanceSample ds = sample_segment_distance(c.sigma_t, c.len, rng.next_float(), rng.next_float());
+            if (ds.pdf > 0.0f) {
+                EXPECT_NEAR(ds.pdf, segment_distance_pdf(c.sigma_t, c.len, ds.t), 1e-4f * ds.pdf);
+                est.add(std::exp(-double(ds.t)) * ds.t / ds.pdf);
+            } else {
+                est.add(0.0);
+            }
+        }
+        auto z = st::z_test_mean(est, expected);
+        EXPECT_GT(z.p_value, 1e-3) << "sigma_t " << c.sigma_t.x << "," << c.sigma_t.y << "," << c.sigma_t.z
+                                   << " len " << c.len << ": " << est.mean() << " vs " << expected;
+    }
+}
+
+TEST(Medium, ChordThroughARectangle) {
+    Chord c = chord_through(0.5f, 0.25f, 2.0f, 1.0f, 1.0f, 0.0f);
+    EXPECT_NEAR(c.length(), 2.0f, 1e-6f);
+    c = chord_through(0.5f, 0.25f, 2.0f, 1.0f, 0.0f, 1.0f);
+    EXPECT_NEAR(c.length(), 1.0f, 1e-6f);
+    float r = std::sqrt(0.5f);
+    c = chord_through(0.5f, 0.5f, 1.0f, 1.0f, r, r);  // the diagonal of the unit square
+    EXPECT_NEAR(c.length(), std::sqrt(2.0f), 1e-5f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Transmittance and single scattering against quadrature
+
+TEST(Medium, ShadowTransmittanceThroughABoxIsBeersLaw) {
+    Medium fog = make_medium({0.1f, 0.2f, 0.3f}, {0.4f, 0.3f, 0.2f});
+    auto scene = fog_box(8, 8, fog);
+    // From outside, through the fog box above the floor and block: 3 m of fog along x at z = 1.8.
+    Color tr = shadow_transmittance(*scene, {-3.0f, 0.7f, 2.3f}, {1.0f, 0.0f, 0.0f}, 6.0f, kNoMedium);
+    Color expected = transmittance(fog.sigma_t(), 3.0f);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(tr[c], expected[c], 1e-4f);
+    // Blocked by the floor.
+    EXPECT_TRUE(is_black(shadow_transmittance(*scene, {0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, -1.0f}, 3.0f, 0)));
+    EXPECT_EQ(scene->camera_medium(), kNoMedium);
+    EXPECT_EQ(scene->medium_at({0.0f, 0.0f, 1.0f}), 0);
+}
+
+TEST(Medium, SingleScatteringMatchesQuadrature) {
+    // One ray through the fog box, lit by a point light inside it; the estimator's mean against a
+    // fine quadrature of  int T(0,t) sigma_s rho(t) L_light(t) T(t, light) dt  over the box.
+    Medium fog = make_medium({0.15f, 0.05f, 0.3f}, {0.5f, 0.3f, 0.1f}, 0.4f);
+    LightDesc point;
+    point.type = "POINT";
+    point.power = 50.0f;
+    point.color = Color(1.0f, 0.9f, 0.8f);
+    point.to_world.m[0][3] = 0.3f, point.to_world.m[1][3] = 0.4f, point.to_world.m[2][3] = 1.9f;
+    auto scene = fog_box(8, 8, fog, {point});
+    const Ray ray{{-3.0f, 0.0f, 1.5f}, normalize(Vec3(1.0f, 0.1f, 0.0f)), 0.0f, kInf};
+    const Light& light = scene->light(0);
+    RayMedia media;
+    SurfaceHit hit;
+    intersect_through(*scene, ray, kNoMedium, &hit, &media);
+    ASSERT_EQ(media.count, 1);
+    const auto seg = media.seg[0];
+    // Quadrature (midpoint rule, 200k intervals).
+    const int n = 200000;
+    Color expected(0.0f);
+    double dt = double(seg.t1 - seg.t0) / n;
+    for (int i = 0; i < n; ++i) {
+        float t = seg.t0 + float((i + 0.5) * dt);
+        Vec3 x = ray.o + ray.d * t;
+        LightSample ls = light.sample(x, {0.5f, 0.5f});
+        Color tr = shadow_transmittance(*scene, x, ls.wi, ls.dist, 0);
+        expected += transmittance(fog.sigma_t(), t - seg.t0) * fog.sigma_s * tr * ls.L *
+                    float(fog.phase.eval(-ray.d, ls.wi) * dt);
+    }
+    st::MeanEstimator est[3];
+    LocalCounters counters;
+    for (int i = 0; i < 200000; ++i) {
+        Rng rng(3, i);
+        Color L = single_scattering(*scene, ray, media, rng, counters);
+        for (int c = 0; c < 3; ++c) est[c].add(L[c]);
+    }
+    for (int c = 0; c < 3; ++c) {
+        auto z = st::z_test_mean(est[c], expected[c]);
+        std::printf("single scattering channel %d: %.6f +- %.6f, quadrature %.6f\n", c, est[c].mean(),
+                    est[c].std_error(), expected[c]);
+        EXPECT_GT(z.p_value, st::sidak_significance(0.01, 3)) << "channel " << c;
+        EXPECT_LT(est[c].std_error(), 0.01 * expected[c]);  // the test has power at 1%
+    }
+    EXPECT_EQ(counters.samples_rejected, 0u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Photon planes against the path tracer
+
+namespace {
+
+constexpr int kW = 24, kH = 24, kBlock = 4;
+
+// Per 4x4-block means of the green channel over K independent renders, and the whole image's mean.
+struct BlockStats {
+    std::vector<st::MeanEstimator> blocks;
+    st::MeanEstimator image;
+};
+
+BlockStats across_renders(const std::shared_ptr<Scene>& scene, const std::string& estimator, int renders,
+                          uint32_t samples, uint32_t seed0, float scale = 1.0f) {
+    BlockStats bs;
+    bs.blocks.resize((kW / kBlock) * (kH / kBlock));
+    for (int r = 0; r < renders; ++r) {
+        RenderSettings s;
+        s.volume_estimator = estimator;
+        s.samples = samples;
+        s.seed = seed0 + r;
+        s.max_bounces = 0;
+        s.photon_planes = 2048;
+        s.filter = "BOX";
+        s.filter_width = 1.0f;
+        auto img = render(scene, s);
+        std::vector<double> sum(bs.blocks.size(), 0.0);
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) sum[(y / kBlock) * (kW / kBlock) + x / kBlock] += img[4 * (y * kW + x) + 1];
+        double total = 0.0;
+        for (size_t b = 0; b < sum.size(); ++b) {
+            bs.blocks[b].add(scale * sum[b] / (kBlock * kBlock));
+            total += scale * sum[b];
+        }
+        bs.image.add(total / (kW * kH));
+    }
+    return bs;
+}
+
+// Blocks (and the whole image, counted as one more) whose means differ significantly, Šidák over
+// them and `family` comparisons.
+int disagreeing_blocks(const BlockStats& a, const BlockStats& ref, int family) {
+    double alpha = st::sidak_significance(0.01, (int(a.blocks.size()) + 1) * family);
+    int bad = st::z_test_difference(a.image, ref.image, 1e-7).p_value < alpha;
+    for (size_t b = 0; b < a.blocks.size(); ++b)
+        bad += st::z_test_difference(a.blocks[b], ref.blocks[b], 1e-7).p_value < alpha;
+    return bad;
+}
+
+}  // namespace
+
+TEST(PhotonPlanes, AllEstimatorsConvergeToThePathTracer) {
+    Medium fog = make_medium({0.05f, 0.08f, 0.12f}, {0.35f, 0.3f, 0.25f});
+    auto scene = fog_box(kW, kH, fog);
+    BlockStats ref = across_renders(scene, "PATH", 16, 1024, 100);
+    const char* estimators[] = {"PLANES_UNWEIGHTED", "PLANES_CMIS", "PLANES_SMIS_COS", "PLANES_SMIS_EXACT"};
+    for (const char* e : estimators) {
+        BlockStats planes = across_renders(scene, e, 16, 8, 200);
+        int bad = disagreeing_blocks(planes, ref, 4);
+        double rel_se = 0;
+        for (size_t b = 0; b < planes.blocks.size(); ++b)
+            rel_se += planes.blocks[b].std_error() / std::max(1e-9, planes.blocks[b].mean());
+        std::printf("%-18s image mean %.5f +- %.5f (PATH %.5f +- %.5f); blocks disagreeing: %d of %zu + image "
+                    "(mean relative standard error of a block %.4f)\n",
+                    e, planes.image.mean(), planes.image.std_error(), ref.image.mean(), ref.image.std_error(), bad,
+                    planes.blocks.size(), rel_se / planes.blocks.size());
+        EXPECT_EQ(bad, 0) << e;
+    }
+    // Power: a 5% error (e.g. a lost factor in a weight) on the best estimator must be detected.
+    BlockStats scaled = across_renders(scene, "PLANES_SMIS_EXACT", 16, 8, 200, 0.95f);
+    int detected = disagreeing_blocks(scaled, ref, 4);
+    std::printf("5%% scaled SMIS_EXACT: %d blocks (or the image) disagree, image z = %.2f\n", detected,
+                st::z_test_difference(scaled.image, ref.image).z);
+    EXPECT_GT(detected, 0);
+}
+
+TEST(PhotonPlanes, StressCasesStayFinite) {
+    struct Case {
+        const char* name;
+        Medium fog;
+        std::vector<LightDesc> lights;
+    };
+    Medium normal = make_medium({0.05f, 0.05f, 0.05f}, {0.3f, 0.3f, 0.3f});
+    std::vector<Case> cases = {
+        // A light in the plane of the camera's middle rows (camera and light at z = 1): those rays run
+        // along the light's chords, so crossings nearly parallel to planes are frequent.
+        {"parallel", normal, {rect_light({0.0f, 0.5f, 1.0f}, 1.0f, 1.0f, 30.0f)}},
+        // A light seen edge-on, planes swept nearly along it (grazing).
+        {"grazing", normal, {rect_light({0.0f, 0.0f, 1.0f}, 1.2f, 0.8f, 30.0f, kPi / 2.0f - 1e-3f)}},
+        {"aspect 1:1000", normal, {rect_light({0.0f, 0.3f, 1.8f}, 2.0f, 0.002f, 30.0f)}},
+        {"aspect 1000:1", normal, {rect_light({0.0f, 0.3f, 1.8f}, 0.002f, 2.0f, 30.0f)}},
+        {"density 1e-6", make_medium(Color(1e-7f), Color(1e-6f)), {}},
+        {"density 1e3", make_medium(Color(100.0f), Color(1000.0f)), {}},
+        {"clear channel", make_medium({0.0f, 0.1f, 0.5f}, {0.0f, 0.3f, 0.2f}), {}},
+    };
+    const char* estimators[] = {"PATH", "PLANES_UNWEIGHTED", "PLANES_CMIS", "PLANES_SMIS_COS", "PLANES_SMIS_EXACT"};
+    for (const Case& c : cases) {
+        auto scene = fog_box(16, 16, c.fog, c.lights);
+        for (const char* e : estimators) {
+            RenderSettings s;
+            s.volume_estimator = e;
+            s.samples = 2;
+            s.max_bounces = 1;
+            s.photon_planes = 4096;
+            RenderSession session(scene, s);
+            session.run();
+            auto img = session.pixels();
+            bool finite = true;
+            for (float v : img) finite = finite && std::isfinite(v);
+            RenderProgress p = session.progress();
+            auto stats = session.integrator_stats();
+            std::printf("[stress] %-14s %-18s nan caught %llu, rejected %llu (parallel %g, non-finite %g)\n", c.name,
+                        e, (unsigned long long)p.nan_caught, (unsigned long long)p.samples_rejected,
+                        stats.count("parallel_rejected") ? stats["parallel_rejected"] : 0.0,
+                        stats.count("nonfinite_rejected") ? stats["nonfinite_rejected"] : 0.0);
+            EXPECT_TRUE(finite) << c.name << " " << e;
+            EXPECT_EQ(p.nan_caught, 0u) << c.name << " " << e;
+        }
+    }
+}
+
+TEST(PhotonPlanes, UnknownEstimatorAndBadSettingsAreRefused) {
+    auto scene = fog_box(8, 8, make_medium(Color(0.1f), Color(0.1f)));
+    RenderSettings s;
+    s.volume_estimator = "PLANES_BOGUS";
+    EXPECT_THROW(RenderSession(scene, s), std::invalid_argument);
+    s.volume_estimator = "PLANES_CMIS";
+    s.integrator = "PSF_SMIS";
+    EXPECT_THROW(RenderSession(scene, s), std::invalid_argument);
+    s.integrator = "PATH";
+    s.smis_planes = 0;
+    EXPECT_THROW(RenderSession(scene, s), std::invalid_argument);
+}
+
+TEST(Medium, ScenesWithoutMediaReportNone) {
+    auto scene = small_room(8, 8);
+    EXPECT_FALSE(scene->has_media());
+    auto fog = fog_box(8, 8, make_medium(Color(0.1f), Color(0.1f)));
+    EXPECT_TRUE(fog->has_media());
+}
