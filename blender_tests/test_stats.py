@@ -11,16 +11,20 @@ scene.smis.integrator = '{integrator}'
 """
 
 
-def done_line(run):
+def skipped(run):
+    """The list after 'skipped:' in the final stats line."""
     assert run.returncode == 0, run.output[-2000:]
-    return [l for l in run.output.splitlines() if "Done" in l][-1]
+    line = [l for l in run.output.splitlines() if "Done" in l][-1]
+    return line.split("skipped: ")[1].split(", ") if "skipped: " in line else []
 
 
 def test_stats_line_lists_skipped_work():
-    line = done_line(render(setup=UNLIT.format(integrator="PATH")))
-    assert "skipped: NEE (no lights), filtering" in line, line
+    # No lights, no filtering, no spectral content, no media: all four are skipped.
+    assert set(skipped(render(setup=UNLIT.format(integrator="PATH")))) == {
+        "NEE (no lights)", "filtering", "spectral", "volumes"}
 
 
 def test_stats_line_omits_work_that_runs():
-    line = done_line(render(setup=UNLIT.format(integrator="PSF_SMIS") + "\nbpy.ops.object.light_add(type='POINT')"))
-    assert "skipped" not in line, line
+    # A light and a filtering integrator: NEE and filtering run, spectral and volume work still not.
+    found = skipped(render(setup=UNLIT.format(integrator="PSF_SMIS") + "\nbpy.ops.object.light_add(type='POINT')"))
+    assert set(found) == {"spectral", "volumes"}, found
