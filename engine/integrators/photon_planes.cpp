@@ -144,7 +144,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         camera.prev_p = ray.o;
         camera.medium = scene.camera_medium();
         camera.planes_on_camera_ray = use_planes;
-        Color L = trace_path(scene, settings, ray, camera, rng, local);
+        Color L = settings.camera_volume_only ? Color(0.0f) : trace_path(scene, settings, ray, camera, rng, local);
         if (use_planes) {
             thread_local std::vector<PlaneHit> hits;
             uint64_t parallel = 0, nonfinite = 0, gathered = 0;
