@@ -29,6 +29,8 @@ PhotonPlane sample_photon_plane(const PlaneLight& l, uint32_t light_index, Rng& 
     Chord ch = chord_through(x, y, l.width, l.height, c, s);
     PhotonPlane p;
     p.alpha = alpha;
+    p.cos_alpha = c;
+    p.sin_alpha = s;
     p.x1 = x + ch.t_lo * c;
     p.y1 = y + ch.t_lo * s;
     p.s_hat = l.u_hat * c + l.v_hat * s;

@@ -40,6 +40,7 @@ struct PhotonPlane {
     Vec3 s_hat, w_l;       // unit chord direction and sweep direction
     float x1, y1;          // chord start in 2D light coordinates
     float alpha;           // orientation in [0, pi): s_hat = cos(alpha) u_hat + sin(alpha) v_hat
+    float cos_alpha, sin_alpha;
     float chord_length, sweep_length;
     uint32_t light;        // index into the PlaneLight table
 };

@@ -216,7 +216,7 @@ struct BlockStats {
 };
 
 BlockStats across_renders(const std::shared_ptr<Scene>& scene, const std::string& estimator, int renders,
-                          uint32_t samples, uint32_t seed0, float scale = 1.0f) {
+                          uint32_t samples, uint32_t seed0, float scale = 1.0f, int smis_planes = 2) {
     BlockStats bs;
     bs.blocks.resize((kW / kBlock) * (kH / kBlock));
     for (int r = 0; r < renders; ++r) {
@@ -226,6 +226,7 @@ BlockStats across_renders(const std::shared_ptr<Scene>& scene, const std::string
         s.seed = seed0 + r;
         s.max_bounces = 0;
         s.photon_planes = 2048;
+        s.smis_planes = smis_planes;
         s.filter = "BOX";
         s.filter_width = 1.0f;
         auto img = render(scene, s);
@@ -271,6 +272,12 @@ TEST(PhotonPlanes, AllEstimatorsConvergeToThePathTracer) {
                     planes.blocks.size(), rel_se / planes.blocks.size());
         EXPECT_EQ(bad, 0) << e;
     }
+    // n = 3 orientations: the partners come from rotating by pi / 3 twice.
+    BlockStats three = across_renders(scene, "PLANES_SMIS_EXACT", 16, 8, 300, 1.0f, 3);
+    int bad3 = disagreeing_blocks(three, ref, 4);
+    std::printf("PLANES_SMIS_EXACT n=3: image mean %.5f +- %.5f, blocks disagreeing %d\n", three.image.mean(),
+                three.image.std_error(), bad3);
+    EXPECT_EQ(bad3, 0);
     // Power: a 5% error (e.g. a lost factor in a weight) on the best estimator must be detected.
     BlockStats scaled = across_renders(scene, "PLANES_SMIS_EXACT", 16, 8, 200, 0.95f);
     int detected = disagreeing_blocks(scaled, ref, 4);
