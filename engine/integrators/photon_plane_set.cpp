@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "scene/embree_ray.h"
 #include "scene/medium.h"
 
 namespace smis {
@@ -127,16 +128,7 @@ void PhotonPlaneSet::gather(const Ray& ray, std::vector<PlaneHit>* hits, uint64_
     ctx.planes = &planes_;
     ctx.hits = hits;
     ctx.parallel = parallel;
-    RTCRayHit rh;
-    rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
-    rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
-    rh.ray.tnear = ray.tmin;
-    rh.ray.tfar = ray.tmax;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.flags = 0;
-    rh.ray.time = 0.0f;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = embree_ray_hit(ray);
     rtcIntersect1(scene_, &ctx.base, &rh);
     // A primitive may sit in several BVH leaves: sort and keep each plane once.
     std::sort(hits->begin(), hits->end(), [](const PlaneHit& x, const PlaneHit& y) { return x.plane < y.plane; });
