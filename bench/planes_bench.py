@@ -2,7 +2,9 @@
 a converged reference, at equal plane count, against plane count and against time, and the cost of
 SMIS_exact's extra weights over CMIS for the same planes.
 
-    blender -b --factory-startup --addons smis_render --python bench/planes_bench.py -- [--quick]
+    blender -b --factory-startup --addons smis_render --python bench/planes_bench.py -- [--quick | --cost-only]
+
+--cost-only measures just the SMIS_exact / CMIS time ratio (9 interleaved repeats) and prints it.
 
 Runs inside Blender: scenes/volume_planes.blend (six rectangular lights in homogeneous isotropic fog,
 96x96) is exported once through the add-on's sync layer and rendered with native sessions, so no
@@ -290,6 +292,11 @@ def main():
     os.makedirs(RESULTS, exist_ok=True)
     os.makedirs(DOCS, exist_ok=True)
     scene, base = export_scene()
+    if "--cost-only" in ARGS:
+        global REPEATS
+        REPEATS = 9
+        print("COST " + json.dumps(cost_ratio(scene, base)))
+        return
     ref = reference(scene, base)
     REF_SHAPE[:] = ref.shape[:2]
     path_img, _, _, _ = render(scene, base, "PATH", 64 if QUICK else 256, 4242)

@@ -86,3 +86,18 @@ scene.smis.photon_planes = 4096
     assert img.mean() > 0.05  # the fog is lit
     if estimator != "PATH":
         assert "parallel rejected" in run.output  # the counters reach the user
+
+
+def test_photon_planes_same_seed_same_image_with_one_and_two_threads():
+    setup = """
+scene.render.resolution_percentage = 50
+scene.smis.samples = 1
+scene.smis.seed = 5
+scene.smis.threads = {threads}
+scene.smis.volume_estimator = 'PLANES_SMIS_EXACT'
+scene.smis.photon_planes = 4096
+"""
+    one = render(scene_path("volume_planes.blend"), setup.format(threads=1))
+    two = render(scene_path("volume_planes.blend"), setup.format(threads=2))
+    assert one.returncode == 0 and two.returncode == 0, one.output[-2000:] + two.output[-2000:]
+    assert np.array_equal(one.image, two.image)

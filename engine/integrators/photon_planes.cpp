@@ -87,7 +87,13 @@ struct PlaneWeights {
                 float yx = p.x1 + h.a * p.chord_length * p.cos_alpha, yy = p.y1 + h.a * p.chord_length * p.sin_alpha;
                 float cj = p.cos_alpha, sj = p.sin_alpha;
                 float sum = std::fabs(cj * a + sj * b) * (exact ? p.chord_length : 1.0f);
-                for (int j = 1; j < n; ++j) {
+                if (n == 2) {  // the perpendicular partner (-sin, cos): its inverses are known already
+                    float J1 = std::fabs(-sj * a + cj * b);
+                    sum += exact ? J1 * chord_through(yx, yy, l.width, l.height, -sj, cj, -p.inv_sin_alpha,
+                                                      p.inv_cos_alpha).length()
+                                 : J1;
+                }
+                for (int j = 1; n > 2 && j < n; ++j) {
                     float c_next = cj * rot_c - sj * rot_s;
                     sj = sj * rot_c + cj * rot_s;
                     cj = c_next;
