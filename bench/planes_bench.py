@@ -4,7 +4,8 @@ SMIS_exact's extra weights over CMIS for the same planes.
 
     blender -b --factory-startup --addons smis_render --python bench/planes_bench.py -- [--quick | --cost-only]
 
---cost-only measures just the SMIS_exact / CMIS time ratio (9 interleaved repeats) and prints it.
+--cost-only measures just the SMIS_exact / CMIS time ratio (9 interleaved repeats) and prints it;
+--replot redraws the plot and the summary from bench/results/planes_bench.json.
 
 Runs inside Blender: scenes/volume_planes.blend (six rectangular lights in homogeneous isotropic fog,
 96x96) is exported once through the add-on's sync layer and rendered with native sessions, so no
@@ -181,14 +182,15 @@ def plot(rows, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
+    colors = {e: "C%d" % i for i, e in enumerate(["PATH"] + ESTIMATORS)}
     for est in ["PATH"] + ESTIMATORS:
         for col, metric in enumerate(("mse", "smape")):
             if est != "PATH":
                 pts = [(p, mean_of(rows, experiment="plane_count", estimator=est, planes=p)[0][metric])
                        for p in PLANE_COUNTS]
-                axes[0, col].loglog(*zip(*pts), "o-", label=LABELS[est])
+                axes[0, col].loglog(*zip(*pts), "o-", color=colors[est], label=LABELS[est])
             sel = sorted((r["seconds"], r[metric]) for r in rows if r["experiment"] == "time" and r["estimator"] == est)
-            axes[1, col].loglog(*zip(*sel), "o-", label=LABELS[est])
+            axes[1, col].loglog(*zip(*sel), "o-", color=colors[est], label=LABELS[est])
     for col, metric in enumerate(("MSE", "SMAPE")):
         axes[0, col].set_xlabel("photon planes (one iteration, 1 sample per pixel)")
         axes[1, col].set_xlabel("render time (s), 2 shared cores")
@@ -291,6 +293,13 @@ def summary(rows, cost, ref_check, path):
 def main():
     os.makedirs(RESULTS, exist_ok=True)
     os.makedirs(DOCS, exist_ok=True)
+    if "--replot" in ARGS:
+        with open(os.path.join(RESULTS, "planes_bench.json")) as f:
+            data = json.load(f)
+        REF_SHAPE[:] = data.get("reference_shape", [48, 48])
+        plot(data["rows"], os.path.join(DOCS, "planes_bench.png"))
+        summary(data["rows"], data["cost"], data["reference_check"], os.path.join(DOCS, "planes_bench.md"))
+        return
     scene, base = export_scene()
     if "--cost-only" in ARGS:
         global REPEATS
@@ -320,7 +329,8 @@ def main():
         wr.writeheader()
         wr.writerows(rows)
     with open(os.path.join(RESULTS, "planes_bench.json"), "w") as f:
-        json.dump({"rows": rows, "cost": cost, "reference_check": ref_check, "quick": QUICK}, f, indent=1)
+        json.dump({"rows": rows, "cost": cost, "reference_check": ref_check, "quick": QUICK,
+                   "reference_shape": list(REF_SHAPE)}, f, indent=1)
     plot(rows, os.path.join(DOCS, "planes_bench.png"))
     montage(ref, images, os.path.join(DOCS, "planes_fig11.png"))
     summary(rows, cost, ref_check, os.path.join(DOCS, "planes_bench.md"))
