@@ -14,6 +14,10 @@ RenderSession::RenderSession(std::shared_ptr<const Scene> scene, RenderSettings 
       integrator_(make_integrator(settings_)) {
     if (settings_.samples == 0) settings_.samples = 1;
     if (settings_.max_bounces < 0) settings_.max_bounces = 0;
+    // Path-space filtering traces its own prefixes without transmittance or boundary walking.
+    if (scene_->has_media() && settings_.integrator != "PATH")
+        throw std::invalid_argument("integrator " + settings_.integrator +
+                                    " does not support participating media (volumes); use PATH");
 }
 
 RenderSession::~RenderSession() {
