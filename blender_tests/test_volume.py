@@ -101,3 +101,15 @@ scene.smis.photon_planes = 4096
     two = render(scene_path("volume_planes.blend"), setup.format(threads=2))
     assert one.returncode == 0 and two.returncode == 0, one.output[-2000:] + two.output[-2000:]
     assert np.array_equal(one.image, two.image)
+
+
+def test_volume_settings_and_panels_are_registered():
+    s = bpy.context.scene.smis
+    props = s.bl_rna.properties
+    assert {i.identifier for i in props["volume_estimator"].enum_items} == {
+        "PATH", "PLANES_UNWEIGHTED", "PLANES_CMIS", "PLANES_SMIS_COS", "PLANES_SMIS_EXACT"}
+    assert s.volume_estimator == "PATH" and s.photon_planes == 40960 and s.smis_planes == 2
+    for name in ("volume_estimator", "photon_planes", "smis_planes"):
+        assert props[name].description, f"{name} has no tooltip"
+    for panel in ("SMIS_RENDER_PT_volumes", "SMIS_MATERIAL_PT_volume", "SMIS_WORLD_PT_volume"):
+        assert hasattr(bpy.types, panel), panel

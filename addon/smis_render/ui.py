@@ -179,16 +179,22 @@ def _draw_surface(layout, id_data, fallback_prop):
     if not id_data.use_nodes:
         layout.prop(id_data, fallback_prop)
         return
-    ntree = id_data.node_tree
+    _draw_output_input(layout, id_data, "Surface")
+
+
+def _draw_output_input(layout, id_data, socket_name):
+    """The node tree feeding one input (Surface, Volume) of the Cycles/All output node."""
+    layout.use_property_split = True
+    ntree = id_data.node_tree if id_data.use_nodes else None
     node = ntree.get_output_node('CYCLES') if ntree else None
     if node is None:
-        layout.label(text="No output node")
+        layout.label(text="No output node" if id_data.use_nodes else "Use nodes (Surface panel)")
         return
-    surface = node.inputs.get("Surface")
-    if surface is None:
+    socket = node.inputs.get(socket_name)
+    if socket is None:
         layout.label(text="Incompatible output node")
         return
-    layout.template_node_view(ntree, node, surface)
+    layout.template_node_view(ntree, node, socket)
 
 
 class SMIS_MATERIAL_PT_surface(SMISButtonsPanel, bpy.types.Panel):
@@ -216,6 +222,35 @@ class SMIS_WORLD_PT_surface(SMISButtonsPanel, bpy.types.Panel):
         _draw_surface(self.layout, context.world, "color")
 
 
+class SMIS_MATERIAL_PT_volume(SMISButtonsPanel, bpy.types.Panel):
+    """Volume Scatter / Absorption / Principled Volume: the homogeneous medium inside the mesh."""
+    bl_label = "Volume"
+    bl_context = "material"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    @classmethod
+    def poll(cls, context):
+        mat = context.material
+        return mat is not None and not mat.grease_pencil and super().poll(context)
+
+    def draw(self, context):
+        _draw_output_input(self.layout, context.material, "Volume")
+
+
+class SMIS_WORLD_PT_volume(SMISButtonsPanel, bpy.types.Panel):
+    """The world's homogeneous medium, filling the scene."""
+    bl_label = "Volume"
+    bl_context = "world"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    @classmethod
+    def poll(cls, context):
+        return context.world is not None and super().poll(context)
+
+    def draw(self, context):
+        _draw_output_input(self.layout, context.world, "Volume")
+
+
 def _wrap(text, width):
     words, line, lines = text.split(), "", []
     for w in words:
@@ -237,7 +272,9 @@ classes = (
     SMIS_RENDER_PT_performance,
     SMIS_LIGHT_PT_light,
     SMIS_MATERIAL_PT_surface,
+    SMIS_MATERIAL_PT_volume,
     SMIS_WORLD_PT_surface,
+    SMIS_WORLD_PT_volume,
 )
 
 
