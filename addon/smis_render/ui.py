@@ -197,55 +197,50 @@ def _draw_output_input(layout, id_data, socket_name):
     layout.template_node_view(ntree, node, socket)
 
 
-class SMIS_MATERIAL_PT_surface(SMISButtonsPanel, bpy.types.Panel):
-    bl_label = "Surface"
+class _MaterialPanel(SMISButtonsPanel):
     bl_context = "material"
 
     @classmethod
     def poll(cls, context):
         mat = context.material
         return mat is not None and not mat.grease_pencil and super().poll(context)
+
+
+class _WorldPanel(SMISButtonsPanel):
+    bl_context = "world"
+
+    @classmethod
+    def poll(cls, context):
+        return context.world is not None and super().poll(context)
+
+
+class SMIS_MATERIAL_PT_surface(_MaterialPanel, bpy.types.Panel):
+    bl_label = "Surface"
 
     def draw(self, context):
         _draw_surface(self.layout, context.material, "diffuse_color")
 
 
-class SMIS_WORLD_PT_surface(SMISButtonsPanel, bpy.types.Panel):
-    bl_label = "Surface"
-    bl_context = "world"
-
-    @classmethod
-    def poll(cls, context):
-        return context.world is not None and super().poll(context)
-
-    def draw(self, context):
-        _draw_surface(self.layout, context.world, "color")
-
-
-class SMIS_MATERIAL_PT_volume(SMISButtonsPanel, bpy.types.Panel):
+class SMIS_MATERIAL_PT_volume(_MaterialPanel, bpy.types.Panel):
     """Volume Scatter / Absorption / Principled Volume: the homogeneous medium inside the mesh."""
     bl_label = "Volume"
-    bl_context = "material"
     bl_options = {'DEFAULT_CLOSED'}
-
-    @classmethod
-    def poll(cls, context):
-        mat = context.material
-        return mat is not None and not mat.grease_pencil and super().poll(context)
 
     def draw(self, context):
         _draw_output_input(self.layout, context.material, "Volume")
 
 
-class SMIS_WORLD_PT_volume(SMISButtonsPanel, bpy.types.Panel):
+class SMIS_WORLD_PT_surface(_WorldPanel, bpy.types.Panel):
+    bl_label = "Surface"
+
+    def draw(self, context):
+        _draw_surface(self.layout, context.world, "color")
+
+
+class SMIS_WORLD_PT_volume(_WorldPanel, bpy.types.Panel):
     """The world's homogeneous medium, filling the scene."""
     bl_label = "Volume"
-    bl_context = "world"
     bl_options = {'DEFAULT_CLOSED'}
-
-    @classmethod
-    def poll(cls, context):
-        return context.world is not None and super().poll(context)
 
     def draw(self, context):
         _draw_output_input(self.layout, context.world, "Volume")
