@@ -86,3 +86,30 @@ scene.smis.photon_planes = 4096
     assert img.mean() > 0.05  # the fog is lit
     if estimator != "PATH":
         assert "parallel rejected" in run.output  # the counters reach the user
+
+
+def test_photon_planes_same_seed_same_image_with_one_and_two_threads():
+    setup = """
+scene.render.resolution_percentage = 50
+scene.smis.samples = 1
+scene.smis.seed = 5
+scene.smis.threads = {threads}
+scene.smis.volume_estimator = 'PLANES_SMIS_EXACT'
+scene.smis.photon_planes = 4096
+"""
+    one = render(scene_path("volume_planes.blend"), setup.format(threads=1))
+    two = render(scene_path("volume_planes.blend"), setup.format(threads=2))
+    assert one.returncode == 0 and two.returncode == 0, one.output[-2000:] + two.output[-2000:]
+    assert np.array_equal(one.image, two.image)
+
+
+def test_volume_settings_and_panels_are_registered():
+    s = bpy.context.scene.smis
+    props = s.bl_rna.properties
+    assert {i.identifier for i in props["volume_estimator"].enum_items} == {
+        "PATH", "PLANES_UNWEIGHTED", "PLANES_CMIS", "PLANES_SMIS_COS", "PLANES_SMIS_EXACT"}
+    assert s.volume_estimator == "PATH" and s.photon_planes == 40960 and s.smis_planes == 2
+    for name in ("volume_estimator", "photon_planes", "smis_planes"):
+        assert props[name].description, f"{name} has no tooltip"
+    for panel in ("SMIS_RENDER_PT_volumes", "SMIS_MATERIAL_PT_volume", "SMIS_WORLD_PT_volume"):
+        assert hasattr(bpy.types, panel), panel

@@ -210,41 +210,61 @@ def _draw_surface(layout, id_data, fallback_prop):
     if not id_data.use_nodes:
         layout.prop(id_data, fallback_prop)
         return
-    ntree = id_data.node_tree
+    _draw_output_input(layout, id_data, "Surface")
+
+
+def _draw_output_input(layout, id_data, socket_name):
+    """The node tree feeding one input (Surface, Volume) of the Cycles/All output node."""
+    layout.use_property_split = True
+    ntree = id_data.node_tree if id_data.use_nodes else None
     node = ntree.get_output_node('CYCLES') if ntree else None
     if node is None:
-        layout.label(text="No output node")
+        layout.label(text="No output node" if id_data.use_nodes else "Use nodes (Surface panel)")
         return
-    surface = node.inputs.get("Surface")
-    if surface is None:
+    socket = node.inputs.get(socket_name)
+    if socket is None:
         layout.label(text="Incompatible output node")
         return
-    layout.template_node_view(ntree, node, surface)
+    layout.template_node_view(ntree, node, socket)
 
 
-class SMIS_MATERIAL_PT_surface(SMISButtonsPanel, bpy.types.Panel):
-    bl_label = "Surface"
+class _MaterialPanel(SMISButtonsPanel):
     bl_context = "material"
 
     @classmethod
     def poll(cls, context):
         mat = context.material
         return mat is not None and not mat.grease_pencil and super().poll(context)
+
+
+class _WorldPanel(SMISButtonsPanel):
+    bl_context = "world"
+
+    @classmethod
+    def poll(cls, context):
+        return context.world is not None and super().poll(context)
+
+
+class SMIS_MATERIAL_PT_surface(_MaterialPanel, bpy.types.Panel):
+    bl_label = "Surface"
 
     def draw(self, context):
         _draw_surface(self.layout, context.material, "diffuse_color")
 
 
-class SMIS_MATERIAL_PT_spectral(SMISButtonsPanel, bpy.types.Panel):
-    """material.smis: what spectral rendering adds to the node material."""
-    bl_label = "Spectral"
-    bl_context = "material"
+class SMIS_MATERIAL_PT_volume(_MaterialPanel, bpy.types.Panel):
+    """Volume Scatter / Absorption / Principled Volume: the homogeneous medium inside the mesh."""
+    bl_label = "Volume"
     bl_options = {'DEFAULT_CLOSED'}
 
-    @classmethod
-    def poll(cls, context):
-        mat = context.material
-        return mat is not None and not mat.grease_pencil and super().poll(context)
+    def draw(self, context):
+        _draw_output_input(self.layout, context.material, "Volume")
+
+
+class SMIS_MATERIAL_PT_spectral(_MaterialPanel, bpy.types.Panel):
+    """material.smis: what spectral rendering adds to the node material."""
+    bl_label = "Spectral"
+    bl_options = {'DEFAULT_CLOSED'}
 
     def draw(self, context):
         layout = self.layout
@@ -260,16 +280,20 @@ class SMIS_MATERIAL_PT_spectral(SMISButtonsPanel, bpy.types.Panel):
             col.prop(s, "abbe")
 
 
-class SMIS_WORLD_PT_surface(SMISButtonsPanel, bpy.types.Panel):
+class SMIS_WORLD_PT_surface(_WorldPanel, bpy.types.Panel):
     bl_label = "Surface"
-    bl_context = "world"
-
-    @classmethod
-    def poll(cls, context):
-        return context.world is not None and super().poll(context)
 
     def draw(self, context):
         _draw_surface(self.layout, context.world, "color")
+
+
+class SMIS_WORLD_PT_volume(_WorldPanel, bpy.types.Panel):
+    """The world's homogeneous medium, filling the scene."""
+    bl_label = "Volume"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        _draw_output_input(self.layout, context.world, "Volume")
 
 
 def _wrap(text, width):
@@ -295,7 +319,9 @@ classes = (
     SMIS_LIGHT_PT_light,
     SMIS_MATERIAL_PT_surface,
     SMIS_MATERIAL_PT_spectral,
+    SMIS_MATERIAL_PT_volume,
     SMIS_WORLD_PT_surface,
+    SMIS_WORLD_PT_volume,
 )
 
 

@@ -45,6 +45,9 @@ struct RenderSettings {
     std::string volume_estimator = "PATH";
     uint32_t photon_planes = 40960;    // planes per iteration (one iteration = one camera sample)
     int smis_planes = 2;               // n: orientations per SMIS realisation (eq. 27)
+    // Benchmarks of the volume estimators: render only the camera rays' single scattering (PATH:
+    // from every light; photon planes: from the rectangular lights they cover).
+    bool camera_volume_only = false;
 };
 
 // Counters reported to the user (stats line) and checked by the stress tests.

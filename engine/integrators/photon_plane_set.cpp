@@ -2,22 +2,27 @@
 
 #include <algorithm>
 
+#include "scene/embree_ray.h"
 #include "scene/medium.h"
 
 namespace smis {
 
-Chord chord_through(float x, float y, float width, float height, float c, float s) {
+Chord chord_through(float x, float y, float width, float height, float c, float s, float inv_c, float inv_s) {
     Chord ch{-kInf, kInf};
-    auto slab = [&](float p, float d, float size) {
+    auto slab = [&](float p, float d, float inv_d, float size) {
         if (d == 0.0f) return;  // parallel to this pair of edges: p is between them already
-        float t1 = -p / d, t2 = (size - p) / d;
+        float t1 = -p * inv_d, t2 = (size - p) * inv_d;
         ch.t_lo = std::max(ch.t_lo, std::min(t1, t2));
         ch.t_hi = std::min(ch.t_hi, std::max(t1, t2));
     };
-    slab(x, c, width);
-    slab(y, s, height);
+    slab(x, c, inv_c, width);
+    slab(y, s, inv_s, height);
     if (!(ch.t_hi > ch.t_lo)) ch.t_hi = ch.t_lo = 0.0f;
     return ch;
+}
+
+Chord chord_through(float x, float y, float width, float height, float c, float s) {
+    return chord_through(x, y, width, height, c, s, c != 0.0f ? 1.0f / c : 0.0f, s != 0.0f ? 1.0f / s : 0.0f);
 }
 
 PhotonPlane sample_photon_plane(const PlaneLight& l, uint32_t light_index, Rng& rng) {
@@ -29,6 +34,10 @@ PhotonPlane sample_photon_plane(const PlaneLight& l, uint32_t light_index, Rng& 
     Chord ch = chord_through(x, y, l.width, l.height, c, s);
     PhotonPlane p;
     p.alpha = alpha;
+    p.cos_alpha = c;
+    p.sin_alpha = s;
+    p.inv_cos_alpha = c != 0.0f ? 1.0f / c : 0.0f;
+    p.inv_sin_alpha = s != 0.0f ? 1.0f / s : 0.0f;
     p.x1 = x + ch.t_lo * c;
     p.y1 = y + ch.t_lo * s;
     p.s_hat = l.u_hat * c + l.v_hat * s;
@@ -125,16 +134,7 @@ void PhotonPlaneSet::gather(const Ray& ray, std::vector<PlaneHit>* hits, uint64_
     ctx.planes = &planes_;
     ctx.hits = hits;
     ctx.parallel = parallel;
-    RTCRayHit rh;
-    rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
-    rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
-    rh.ray.tnear = ray.tmin;
-    rh.ray.tfar = ray.tmax;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.flags = 0;
-    rh.ray.time = 0.0f;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = embree_ray_hit(ray);
     rtcIntersect1(scene_, &ctx.base, &rh);
     // A primitive may sit in several BVH leaves: sort and keep each plane once.
     std::sort(hits->begin(), hits->end(), [](const PlaneHit& x, const PlaneHit& y) { return x.plane < y.plane; });

@@ -33,6 +33,8 @@ struct Chord {
     float length() const { return t_hi - t_lo; }
 };
 Chord chord_through(float x, float y, float width, float height, float c, float s);
+// The same with 1/c and 1/s given (any value where c or s is 0): no division.
+Chord chord_through(float x, float y, float width, float height, float c, float s, float inv_c, float inv_s);
 
 struct PhotonPlane {
     Vec3 origin;           // chord start p1 (3D)
@@ -40,6 +42,7 @@ struct PhotonPlane {
     Vec3 s_hat, w_l;       // unit chord direction and sweep direction
     float x1, y1;          // chord start in 2D light coordinates
     float alpha;           // orientation in [0, pi): s_hat = cos(alpha) u_hat + sin(alpha) v_hat
+    float cos_alpha, sin_alpha, inv_cos_alpha, inv_sin_alpha;
     float chord_length, sweep_length;
     uint32_t light;        // index into the PlaneLight table
 };

@@ -63,41 +63,49 @@ PlaneLights collect_plane_lights(const Scene& scene) {
     return out;
 }
 
-// W of the header comment for one crossing of plane p by direction d.
-float plane_weight(PlaneWeighting weighting, int n, const PlaneLight& l, const PhotonPlane& p, const PlaneHit& h,
-                   const Vec3& d) {
-    // J(alpha') = |cos(alpha') a + sin(alpha') b| for every orientation of a chord swept along w_l.
-    float a = dot(cross(l.u_hat, p.w_l), d), b = dot(cross(l.v_hat, p.w_l), d);
-    switch (weighting) {
-        case PlaneWeighting::Unweighted:
-            return 1.0f / (p.chord_length * std::fabs(dot(cross(p.s_hat, p.w_l), d)));
-        case PlaneWeighting::Cmis:
-            return 1.0f / (p.chord_length * (2.0f / kPi) * std::sqrt(a * a + b * b));
-        case PlaneWeighting::SmisCos:
-        case PlaneWeighting::SmisExact: {
-            const bool exact = weighting == PlaneWeighting::SmisExact;
-            float c0 = std::cos(p.alpha), s0 = std::sin(p.alpha);
-            // The path's light point y in 2D light coordinates (on the realised chord).
-            float yx = p.x1 + h.a * p.chord_length * c0, yy = p.y1 + h.a * p.chord_length * s0;
-            float sum = 0.0f;
-            for (int j = 0; j < n; ++j) {
-                float cj = c0, sj = s0;
-                if (j > 0) {
-                    float aj = p.alpha + float(j) * kPi / float(n);
-                    cj = std::cos(aj);
-                    sj = std::sin(aj);
+// The estimator's weighting with what it needs precomputed: the rotation by pi / n between the SMIS
+// orientations, so a crossing costs no trigonometry (the second plane "only computes a weight").
+struct PlaneWeights {
+    PlaneWeighting weighting;
+    int n;
+    float rot_c, rot_s;  // cos, sin of pi / n
+    PlaneWeights(PlaneWeighting w, int n_) : weighting(w), n(n_), rot_c(std::cos(kPi / n_)), rot_s(std::sin(kPi / n_)) {}
+
+    // W of the header comment for one crossing of plane p by direction d.
+    float operator()(const PlaneLight& l, const PhotonPlane& p, const PlaneHit& h, const Vec3& d) const {
+        // J(alpha') = |cos(alpha') a + sin(alpha') b| for every orientation of a chord swept along w_l.
+        float a = dot(cross(l.u_hat, p.w_l), d), b = dot(cross(l.v_hat, p.w_l), d);
+        switch (weighting) {
+            case PlaneWeighting::Unweighted:
+                return 1.0f / (p.chord_length * std::fabs(p.cos_alpha * a + p.sin_alpha * b));
+            case PlaneWeighting::Cmis:
+                return 1.0f / (p.chord_length * (2.0f / kPi) * std::sqrt(a * a + b * b));
+            case PlaneWeighting::SmisCos:
+            case PlaneWeighting::SmisExact: {
+                const bool exact = weighting == PlaneWeighting::SmisExact;
+                // The path's light point y in 2D light coordinates (on the realised chord).
+                float yx = p.x1 + h.a * p.chord_length * p.cos_alpha, yy = p.y1 + h.a * p.chord_length * p.sin_alpha;
+                float cj = p.cos_alpha, sj = p.sin_alpha;
+                float sum = std::fabs(cj * a + sj * b) * (exact ? p.chord_length : 1.0f);
+                if (n == 2) {  // the perpendicular partner (-sin, cos): its inverses are known already
+                    float J1 = std::fabs(-sj * a + cj * b);
+                    sum += exact ? J1 * chord_through(yx, yy, l.width, l.height, -sj, cj, -p.inv_sin_alpha,
+                                                      p.inv_cos_alpha).length()
+                                 : J1;
                 }
-                float Jj = std::fabs(cj * a + sj * b);
-                float len = !exact ? 1.0f
-                            : j == 0 ? p.chord_length
-                                     : chord_through(yx, yy, l.width, l.height, cj, sj).length();
-                sum += Jj * len;
+                for (int j = 1; n > 2 && j < n; ++j) {
+                    float c_next = cj * rot_c - sj * rot_s;
+                    sj = sj * rot_c + cj * rot_s;
+                    cj = c_next;
+                    float Jj = std::fabs(cj * a + sj * b);
+                    sum += exact ? Jj * chord_through(yx, yy, l.width, l.height, cj, sj).length() : Jj;
+                }
+                return float(n) / (exact ? sum : p.chord_length * sum);
             }
-            return float(n) / (exact ? sum : p.chord_length * sum);
         }
+        return 0.0f;
     }
-    return 0.0f;
-}
+};
 
 }  // namespace
 
@@ -109,7 +117,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     const Scene& scene = ctx.scene;
     const RenderSettings& settings = ctx.settings;
     const int w = ctx.film.width(), h = ctx.film.height();
-    const int n = std::max(1, settings.smis_planes);
+    const PlaneWeights plane_weight(weighting_, std::max(1, settings.smis_planes));
 
     // The plane set of this iteration, from its own stream (independent of the pixels' streams).
     auto t0 = Clock::now();
@@ -144,7 +152,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         camera.prev_p = ray.o;
         camera.medium = scene.camera_medium();
         camera.planes_on_camera_ray = use_planes;
-        Color L = trace_path(scene, settings, ray, camera, rng, local);
+        Color L = settings.camera_volume_only ? Color(0.0f) : trace_path(scene, settings, ray, camera, rng, local);
         if (use_planes) {
             thread_local std::vector<PlaneHit> hits;
             uint64_t parallel = 0, nonfinite = 0, gathered = 0;
@@ -164,7 +172,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     float dist = hit.b * p.sweep_length;
                     Color tr = shadow_transmittance(scene, xs, -p.w_l, dist * (1.0f - 1e-4f), seg.medium);
                     if (is_black(tr)) continue;
-                    float weight = plane_weight(weighting_, n, l, p, hit, ray.d) *
+                    float weight = plane_weight(l, p, hit, ray.d) *
                                    med.phase.eval(-ray.d, -p.w_l) * std::exp(l.flight_rate * dist);
                     Color c = media.transmittance(scene, hit.t) * med.sigma_s * tr * plane_scale[p.light] * weight;
                     if (!is_finite(c)) {

@@ -95,25 +95,50 @@ Color shadow_transmittance(const Scene& scene, const Vec3& origin, const Vec3& d
 
 Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
                         LocalCounters& counters, bool skip_rectangles) {
+    // Per scattering segment: a light chosen by power, then a distance from a one-sample MIS mixture
+    // of spectral-MIS distance sampling and equiangular sampling towards a point of that light (the
+    // mixture's density is the average of both), then next-event estimation from there. As in
+    // Cycles, the equiangular half removes the inverse-square noise of lights inside the medium.
+    // For lights whose sampled point does not depend on the reference point (area and triangle
+    // lights) the focus is the very point next-event estimation then connects to, so the joint
+    // density of (distance, light point) cancels the 1/d^2 of the connection; for the others the
+    // focus is drawn independently, which keeps the estimator unbiased for every light type.
     Color L(0.0f);
     const DiscreteDistribution& selection = scene.light_selection();
     for (int i = 0; i < media.count; ++i) {
         const RayMedia::Segment& s = media.seg[i];
         const Medium& med = scene.medium(s.medium);
-        // The same five numbers per segment whatever happens, so later decisions keep their streams.
-        float u_channel = rng.next_float(), u_dist = rng.next_float(), u_select = rng.next_float();
-        Point2 u{rng.next_float(), rng.next_float()};
+        // The same numbers per segment whatever happens, so later decisions keep their streams.
+        float u_select = rng.next_float(), u_technique = rng.next_float(), u_channel = rng.next_float(),
+              u_dist = rng.next_float();
+        Point2 u_focus{rng.next_float(), rng.next_float()}, u{rng.next_float(), rng.next_float()};
         if (!med.scatters() || selection.empty()) continue;
-        DistanceSample ds = sample_segment_distance(med.sigma_t(), s.t1 - s.t0, u_channel, u_dist);
-        if (!(ds.pdf > 0.0f) || !std::isfinite(ds.pdf)) {
+        uint32_t li = static_cast<uint32_t>(selection.sample(u_select));
+        if (skip_rectangles && scene.light(li).rectangle(nullptr)) continue;
+        const Light& light = scene.light(li);
+        const float len = s.t1 - s.t0;
+        const Vec3 o = ray.o + ray.d * s.t0;
+        EquiangularFrame eq;
+        if (!light.at_infinity()) {
+            Vec3 mid = o + ray.d * (std::isinf(len) ? 1.0f : 0.5f * len);
+            // The focus is the light point even when mid sees the light from behind (pdf 0): the ray
+            // may still pass in front of it, close to the point.
+            bool same_point = light.point_independent_of_reference();
+            LightSample focus = light.sample(mid, same_point ? u : u_focus);
+            if ((focus.pdf > 0.0f || same_point) && focus.dist > 0.0f && std::isfinite(focus.dist))
+                eq = equiangular_frame(o, ray.d, len, mid + focus.wi * focus.dist);
+        }
+        DistanceSample ds = eq.valid && u_technique < 0.5f ? sample_equiangular(eq, u_dist)
+                                                           : sample_segment_distance(med.sigma_t(), len, u_channel, u_dist);
+        float pdf = segment_distance_pdf(med.sigma_t(), len, ds.t);
+        if (eq.valid) pdf = 0.5f * (pdf + equiangular_pdf(eq, ds.t));
+        if (!(ds.pdf > 0.0f) || !(pdf > 0.0f) || !std::isfinite(pdf)) {
             // A clear channel of an infinite segment cannot sample: part of the one-sample MIS.
             if (!std::isinf(s.t1)) ++counters.samples_rejected;
             continue;
         }
-        uint32_t li = static_cast<uint32_t>(selection.sample(u_select));
-        if (skip_rectangles && scene.light(li).rectangle(nullptr)) continue;
-        Vec3 x = ray.o + ray.d * (s.t0 + ds.t);
-        LightSample ls = scene.light(li).sample(x, u);
+        Vec3 x = o + ray.d * ds.t;
+        LightSample ls = light.sample(x, u);
         if (!ls.valid()) {
             if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;
             continue;
@@ -123,7 +148,7 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
         if (is_black(tr)) continue;
         float phase = med.phase.eval(-ray.d, ls.wi);
         Color t_cam = media.transmittance(scene, s.t0) * transmittance(med.sigma_t(), ds.t);
-        L += t_cam * med.sigma_s * tr * ls.L * (phase / (selection.pmf(li) * ls.pdf * ds.pdf));
+        L += t_cam * med.sigma_s * tr * ls.L * (phase / (selection.pmf(li) * ls.pdf * pdf));
     }
     return L;
 }

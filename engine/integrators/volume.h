@@ -46,9 +46,9 @@ bool intersect_through(const Scene& scene, const Ray& ray, int32_t medium, Surfa
 // Transmittance from origin along unit dir up to tmax; zero when an opaque surface blocks it.
 Color shadow_transmittance(const Scene& scene, const Vec3& origin, const Vec3& dir, float tmax, int32_t medium);
 
-// Single scattering along the media of a ray: one distance per scattering segment (spectral MIS
-// over the channels' truncated exponentials), one light sample by power, the phase function and the
-// shadow ray's transmittance. With skip_rectangles, rectangular area lights contribute nothing
+// Single scattering along the media of a ray: per scattering segment one light chosen by power, one
+// distance (one-sample MIS of spectral-MIS distance sampling and equiangular sampling towards that
+// light), one light sample from there, the phase function and the shadow ray's transmittance. With skip_rectangles, rectangular area lights contribute nothing
 // (photon planes estimate their single scattering instead).
 Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
                         LocalCounters& counters, bool skip_rectangles = false);

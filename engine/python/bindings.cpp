@@ -122,6 +122,7 @@ RenderSettings parse_settings(const py::dict& d) {
     s.volume_estimator = get<std::string>(d, "volume_estimator", s.volume_estimator);
     s.photon_planes = get<uint32_t>(d, "photon_planes", s.photon_planes);
     s.smis_planes = get<int>(d, "smis_planes", s.smis_planes);
+    s.camera_volume_only = get<bool>(d, "camera_volume_only", s.camera_volume_only);
     return s;
 }
 

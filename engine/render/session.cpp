@@ -19,12 +19,14 @@ RenderSession::RenderSession(std::shared_ptr<const Scene> scene, RenderSettings 
 
 std::vector<std::string> RenderSession::skipped() const {
     std::vector<std::string> out = scene_->skipped();
-    // Spectral rendering is a mode of the path tracer; AUTO resolves to RGB without spectral content.
+    // Spectral rendering is a mode of the path tracer; AUTO resolves to RGB without spectral content
+    // (and with media, which the spectral path tracer does not track).
     if (resolve_spectral_mode(settings_, *scene_) == "RGB")
         out.push_back(scene_->has_spectral_content() && scene_->has_media() ? "spectral (not with media: RGB)"
                                                                              : "spectral");
+    else if (settings_.integrator != "PATH")
+        out.push_back("spectral (only PATH renders spectrally: RGB here)");
     if (!scene_->has_media()) out.push_back("volumes");
-    else if (settings_.integrator != "PATH") out.push_back("spectral (only PATH renders spectrally: RGB here)");
     integrator_->add_skipped(settings_, &out);
     return out;
 }

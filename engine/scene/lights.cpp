@@ -76,6 +76,7 @@ public:
         return true;
     }
     float power(float) const override { return luminance(radiance_) * area_ * kPi; }
+    bool point_independent_of_reference() const override { return true; }
     bool rectangle(LightRectangle* out) const override {
         // Photon planes need an orthogonal frame on the light (a sheared light falls back to NEE).
         if (ellipse_ || std::fabs(dot(u_, v_)) > 1e-4f * length(u_) * length(v_)) return false;

@@ -47,6 +47,9 @@ public:
     virtual bool intersect(const Ray& ray, LightHit* hit) const { return false; }
     virtual bool at_infinity() const { return false; }
     virtual bool is_delta() const { return false; }
+    // True when sample(ref, u) picks the same light point for every ref (uniform area sampling, a
+    // point without radius): single scattering then aims equiangular sampling at that very point.
+    virtual bool point_independent_of_reference() const { return false; }
     // Rectangular area lights (Blender's SQUARE/RECTANGLE shapes) describe themselves for photon
     // planes; every other light returns false.
     virtual bool rectangle(LightRectangle* out) const { return false; }
@@ -84,6 +87,7 @@ public:
     float pdf(const Vec3& ref, const Vec3& wi) const override;
     // Density of hitting point p (normal n) from ref, already known from a BVH hit.
     float pdf_at(const Vec3& ref, const Vec3& p) const;
+    bool point_independent_of_reference() const override { return true; }
     float power(float scene_radius) const override;
     const Color& radiance() const { return radiance_; }
     float area() const { return area_; }

@@ -56,4 +56,30 @@ float segment_distance_pdf(const Color& sigma_t, float len, float t) {
            (1.0f / 3.0f);
 }
 
+EquiangularFrame equiangular_frame(const Vec3& o, const Vec3& d, float len, const Vec3& p) {
+    EquiangularFrame f;
+    f.delta = dot(p - o, d);
+    f.h = length(p - (o + d * f.delta));
+    if (!(f.h > 1e-7f * std::max(1.0f, std::fabs(f.delta))) || !std::isfinite(f.h)) return f;
+    f.theta_a = std::atan2(-f.delta, f.h);
+    f.theta_b = std::isinf(len) ? 0.5f * kPi : std::atan2(len - f.delta, f.h);
+    f.valid = f.theta_b > f.theta_a;
+    return f;
+}
+
+DistanceSample sample_equiangular(const EquiangularFrame& f, float u) {
+    DistanceSample ds;
+    if (!f.valid) return ds;
+    float theta = f.theta_a + u * (f.theta_b - f.theta_a);
+    ds.t = std::max(0.0f, f.delta + f.h * std::tan(theta));
+    ds.pdf = equiangular_pdf(f, ds.t);
+    return ds;
+}
+
+float equiangular_pdf(const EquiangularFrame& f, float t) {
+    if (!f.valid) return 0.0f;
+    float x = t - f.delta;
+    return f.h / ((f.theta_b - f.theta_a) * (f.h * f.h + x * x));
+}
+
 }  // namespace smis

@@ -56,6 +56,18 @@ struct DistanceSample {
 DistanceSample sample_segment_distance(const Color& sigma_t, float len, float u_channel, float u);
 float segment_distance_pdf(const Color& sigma_t, float len, float t);
 
+// Equiangular sampling (Kulla & Fajardo 2012) of t in [0, len) on the line o + t d (d unit) towards a
+// point p: pdf proportional to 1 / |o + t d - p|^2, which cancels the light's inverse-square falloff
+// near the light where distance sampling is poor. Invalid (pdf 0) when p lies on the line.
+struct EquiangularFrame {
+    float delta = 0.0f, h = 0.0f;     // p's projection on the line and its distance to it
+    float theta_a = 0.0f, theta_b = 0.0f;
+    bool valid = false;
+};
+EquiangularFrame equiangular_frame(const Vec3& o, const Vec3& d, float len, const Vec3& p);
+DistanceSample sample_equiangular(const EquiangularFrame& f, float u);
+float equiangular_pdf(const EquiangularFrame& f, float t);
+
 // Free-flight distance with a scalar rate (exponential, not truncated): the survival probability to
 // distance d is exp(-rate d). Rate 0 returns infinity.
 inline float sample_free_flight(float rate, float u) {

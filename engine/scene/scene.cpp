@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "spectral/spectra.h"
+#include "scene/embree_ray.h"
 
 namespace smis {
 namespace {
@@ -338,16 +339,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
     if (!embree_accepts(ray.o, ray.d, ray.tmin, ray.tmax)) return false;  // see embree_accepts()
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    RTCRayHit rh;
-    rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
-    rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
-    rh.ray.tnear = ray.tmin;
-    rh.ray.tfar = ray.tmax;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.flags = 0;
-    rh.ray.time = 0.0f;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = embree_ray_hit(ray);
     rtcIntersect1(scene_, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     fill_hit(ray, rh, hit);
