@@ -264,3 +264,55 @@ TEST(Spectral, EveryModeIsUnbiased) {
     }
     EXPECT_GT(brightest, 0.01);  // the scene is lit: the test can fail
 }
+
+namespace {
+
+// A glass ball (a ball lens) before an emissive half-plane whose edge is off the axis, seen directly
+// through the ball: the edge's image inside the ball is displaced by an amount that depends on the IOR,
+// so with dispersion the red and blue images of the edge separate (a colour fringe).
+std::shared_ptr<Scene> ball_lens(const std::string& dispersion) {
+    auto s = std::make_shared<Scene>();
+    Material glass;
+    Lobe g;
+    g.kind = LobeKind::Dielectric;
+    g.alpha = 0.0f;
+    g.eta = 1.7f;
+    glass.lobes.push_back(g);
+    glass.spectral.dispersion = dispersion;
+    glass.spectral.abbe = 20.0f;
+    add_sphere(*s, 0.5f, 48, 96, s->add_material(glass));
+    Material lamp = diffuse(Color(0.0f), Color(1.0f));
+    lamp.spectral.emission_spectrum = "D65";
+    add_box(*s, {0.12f, -10.0f, -3.1f}, {10.0f, 10.0f, -3.0f}, s->add_material(lamp));
+    CameraDesc c = camera_at({0.0f, 0.0f, 2.5f}, 32, 32);
+    c.lens = 120.0f;
+    s->set_camera(c);
+    s->commit();
+    return s;
+}
+
+// Horizontal separation (pixels) of the red and blue images: difference of their x centroids.
+double red_blue_separation(const std::vector<float>& img, int w) {
+    double sr = 0, sb = 0, xr = 0, xb = 0;
+    for (size_t p = 0; p < img.size() / 4; ++p) {
+        double x = double(p % w);
+        xr += x * img[4 * p], sr += img[4 * p];
+        xb += x * img[4 * p + 2], sb += img[4 * p + 2];
+    }
+    return xr / sr - xb / sb;
+}
+
+}  // namespace
+
+TEST(Spectral, DispersiveGlassSeparatesColours) {
+    std::vector<double> on, off;
+    for (uint32_t seed : {1u, 2u}) {
+        on.push_back(red_blue_separation(render_mode(ball_lens("ABBE"), "SMIS", 256, seed), 32));
+        off.push_back(red_blue_separation(render_mode(ball_lens("NONE"), "SMIS", 256, seed), 32));
+    }
+    std::printf("red - blue centroid: dispersive %.4f %.4f px, constant IOR %.4f %.4f px\n", on[0], on[1], off[0],
+                off[1]);
+    double noise = std::max({std::fabs(on[0] - on[1]), std::fabs(off[0] - off[1]), std::fabs(off[0]), 1e-3});
+    EXPECT_GT(std::fabs(on[0] + on[1]) / 2.0, 5.0 * noise);
+    EXPECT_LT(std::fabs(off[0] + off[1]) / 2.0, 0.05);
+}
