@@ -121,6 +121,16 @@ TEST(Spectral, MeasuredAndDispersiveMaterials) {
 
 namespace {
 
+Material smooth_glass(float eta) {
+    Material m;
+    Lobe g;
+    g.kind = LobeKind::Dielectric;
+    g.alpha = 0.0f;
+    g.eta = eta;
+    m.lobes.push_back(g);
+    return m;
+}
+
 // Floor, a gold glossy sphere and a dispersive glass sphere lit by an F10 area light, a D65 point
 // light and a blackbody emissive quad: every spectral feature in one small scene.
 std::shared_ptr<Scene> spectral_scene(int size, bool spectral_content = true) {
@@ -129,12 +139,7 @@ std::shared_ptr<Scene> spectral_scene(int size, bool spectral_content = true) {
     Material gold = glossy(Color(1.0f), 0.3f);
     if (spectral_content) gold.spectral.metal = "Au";
     uint32_t au = s->add_material(gold);
-    Material glass;
-    Lobe g;
-    g.kind = LobeKind::Dielectric;
-    g.alpha = 0.0f;
-    g.eta = 1.5f;
-    glass.lobes.push_back(g);
+    Material glass = smooth_glass(1.5f);
     if (spectral_content) glass.spectral.dispersion = "N-SF11";
     uint32_t gl = s->add_material(glass);
     Material lamp = diffuse(Color(0.0f), Color(2.0f));
@@ -159,11 +164,7 @@ std::shared_ptr<Scene> spectral_scene(int size, bool spectral_content = true) {
     point.to_world.m[0][3] = 1.5f, point.to_world.m[1][3] = -1.5f, point.to_world.m[2][3] = 1.5f;
     if (spectral_content) point.spectrum = "D65";
     s->add_light(point);
-    CameraDesc c = camera_at({0.0f, -3.0f, 0.35f}, size, size);
-    // Look along +Y.
-    c.to_world.m[1][1] = 0.0f, c.to_world.m[1][2] = -1.0f;
-    c.to_world.m[2][1] = 1.0f, c.to_world.m[2][2] = 0.0f;
-    c.lens = 30.0f;
+    CameraDesc c = camera_along_y({0.0f, -3.0f, 0.35f}, size, size, 30.0f);
     s->set_camera(c);
     s->commit();
     return s;
@@ -272,12 +273,7 @@ namespace {
 // so with dispersion the red and blue images of the edge separate (a colour fringe).
 std::shared_ptr<Scene> ball_lens(const std::string& dispersion) {
     auto s = std::make_shared<Scene>();
-    Material glass;
-    Lobe g;
-    g.kind = LobeKind::Dielectric;
-    g.alpha = 0.0f;
-    g.eta = 1.7f;
-    glass.lobes.push_back(g);
+    Material glass = smooth_glass(1.7f);
     glass.spectral.dispersion = dispersion;
     glass.spectral.abbe = 20.0f;
     add_sphere(*s, 0.5f, 48, 96, s->add_material(glass));
