@@ -88,11 +88,16 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         x0, y0, x1, y1 = export.camera["border"]
         w, h = x1 - x0, y1 - y0
 
+        settings = properties.session_settings(scene)
         try:
-            session = smis.RenderSession(export.scene, properties.session_settings(scene))
+            session = smis.RenderSession(export.scene, settings)
+            spectral = smis.resolve_spectral_mode(export.scene, settings)
         except ValueError as exc:
             self.report({'ERROR'}, "SMIS: invalid render settings: %s" % exc)
             return
+        if spectral != "RGB" and settings["integrator"] != "PATH":
+            self._reporter.warning("Spectral rendering (%s) is only implemented for Path Tracing; "
+                                   "%s renders in RGB" % (spectral, settings["integrator"]))
 
         # begin_result's rectangle is relative to the border window: Blender's result
         # is already border-sized, so (0, 0, w, h) is the whole of it.
