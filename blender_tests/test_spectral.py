@@ -72,3 +72,10 @@ world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
     assert np.isfinite(px).all()
     gold = (px[:, 0] > 1.3 * px[:, 2]) & (px[:, 0] > 0.2)
     assert gold.mean() > 0.05, px.mean(axis=0)
+
+
+def test_spectral_content_with_path_space_filtering_warns():
+    run = render(setup=SMALL + "light.smis.spectrum = 'F10'\nscene.smis.integrator = 'PSF_SMIS'\n"
+                 "scene.smis.samples = 4\n")
+    assert run.returncode == 0, run.output[-2000:]
+    assert "only implemented for Path Tracing" in run.output, run.output[-2000:]

@@ -31,8 +31,9 @@ OUTDIR defaults to the folder holding this script (scenes/). Writes:
                          (light.smis.spectrum = F10, spiky SPD). 128x128.
   spectral_glass.blend   Spectral rendering (after Fig. 9): sharp glass objects of
                          slightly dispersive glasses (N-BK7, F2 and N-SF11 Sellmeier, an
-                         Abbe-number sphere) before coloured stripes on a white floor and
-                         wall, lit by two D65 area lights. 128x128.
+                         Abbe-number cube) before coloured stripes on a white floor and
+                         wall and three thin D65 emissive slits seen through the glasses, lit
+                         by two D65 area lights. 128x128.
                          The smis properties are written by registering the add-on's
                          spectral_properties module (no native module needed).
 
@@ -575,6 +576,15 @@ def build_spectral_glass(path):
         box_object(sc, "Stripe%d" % i, (x, 1.15, 0.0), (x + 0.3, 1.2, 2.0), diffuse("Stripe%d" % i, color))
         box_object(sc, "FloorStripe%d" % i, (x, -1.0, 0.0), (x + 0.3, 1.15, 0.005),
                    diffuse("FloorStripe%d" % i, color))
+    # Thin D65 emissive slits on the wall, seen through the glasses: their refracted images split
+    # into coloured fringes where the glass disperses.
+    slit = _node_material("Slit")[0]
+    emit = _bsdf_node(slit.node_tree, 'ShaderNodeEmission', {"Color": (1.0, 1.0, 1.0), "Strength": 6.0},
+                      (-250, 0))
+    slit.node_tree.links.new(emit.outputs[0], slit.node_tree.nodes["Material Output"].inputs["Surface"])
+    slit.smis.emission_spectrum = 'D65'
+    for i, x in enumerate((-0.62, 0.12, 0.88)):
+        box_object(sc, "Slit%d" % i, (x, 1.14, 0.0), (x + 0.03, 1.15, 1.2), slit)
     glasses = (("N-BK7", (-0.75, -0.2, 0.35), 0.35), ("F2", (0.05, 0.1, 0.4), 0.4),
                ("N-SF11", (0.8, -0.3, 0.3), 0.3))
     for glass, loc, radius in glasses:

@@ -96,9 +96,13 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         settings["aux_passes"] = bool(aux)  # off: the engine traces no extra rays for them
         try:
             session = smis.RenderSession(export.scene, settings)
+            spectral = smis.resolve_spectral_mode(export.scene, settings)
         except ValueError as exc:
             self.report({'ERROR'}, "SMIS: invalid render settings: %s" % exc)
             return
+        if spectral != "RGB" and settings["integrator"] != "PATH":
+            self._reporter.warning("Spectral rendering (%s) is only implemented for Path Tracing; "
+                                   "%s renders in RGB" % (spectral, settings["integrator"]))
 
         # begin_result's rectangle is relative to the border window: Blender's result
         # is already border-sized, so (0, 0, w, h) is the whole of it.

@@ -105,14 +105,6 @@ LobeTerms microfacet_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
     return t;
 }
 
-EvalPdf microfacet_eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
-    LobeTerms t = microfacet_terms(lobe, wo, wi);
-    EvalPdf r;
-    r.pdf = t.pdf;
-    r.value = lobe.weight * microfacet_fresnel(lobe, t.cos_d) * t.geom;
-    return finite_or_zero(r);
-}
-
 // Walter et al. 2007 rough dielectric, with the discrete reflect/refract choice made with
 // probability F(wo.wm) or 1 - F(wo.wm), so the Fresnel factors cancel in value / pdf.
 LobeTerms dielectric_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
@@ -161,29 +153,14 @@ LobeTerms dielectric_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
     return r;
 }
 
-EvalPdf dielectric_eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
-    LobeTerms t = dielectric_terms(lobe, wo, wi);
+// The lobe's eval and pdf from its factored terms: weight * Fresnel * geom (bsdf.h, LobeTerms).
+EvalPdf lobe_eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+    LobeTerms t = lobe_terms(lobe, wo, wi);
     EvalPdf r;
     r.pdf = t.pdf;
-    r.value = lobe.weight * t.geom;
+    r.value = lobe.kind == LobeKind::Microfacet ? lobe.weight * microfacet_fresnel(lobe, t.cos_d) * t.geom
+                                                : lobe.weight * t.geom;
     return finite_or_zero(r);
-}
-
-EvalPdf lobe_eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
-    if (lobe_is_delta(lobe)) return {};
-    switch (lobe.kind) {
-        case LobeKind::Diffuse: {
-            // One-sided like Cycles' diffuse closure; the integrator orients the frame.
-            if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return {};
-            EvalPdf r;
-            r.pdf = cosine_hemisphere_pdf(wi.z);
-            r.value = lobe.weight * (wi.z * kInvPi);
-            return finite_or_zero(r);
-        }
-        case LobeKind::Microfacet: return microfacet_eval_pdf(lobe, wo, wi);
-        case LobeKind::Dielectric: return dielectric_eval_pdf(lobe, wo, wi);
-    }
-    return {};
 }
 
 BsdfSample sample_diffuse(const Lobe& lobe, const Vec3& wo, Point2 u) {
@@ -212,7 +189,7 @@ BsdfSample sample_microfacet(const Lobe& lobe, const Vec3& wo, Point2 u) {
     if (!(wi.z > 0.0f)) return s;  // reflected below the horizon: the single-scatter energy loss
     wi = normalize(wi);
     // Evaluate through the same code path as eval()/pdf() so that the three always agree.
-    EvalPdf r = microfacet_eval_pdf(lobe, wo, wi);
+    EvalPdf r = lobe_eval_pdf(lobe, wo, wi);
     if (!(r.pdf > 0.0f)) return s;
     s.wi = wi;
     s.value = r.value;
@@ -265,7 +242,7 @@ BsdfSample sample_dielectric(const Lobe& lobe, const Vec3& wo, Point2 u, float u
         if (!refract_dir(o, wm, etap, &i) || !(i.z < 0.0f)) return s;
     }
     Vec3 wi = i * side;
-    EvalPdf r = dielectric_eval_pdf(lobe, wo, wi);
+    EvalPdf r = lobe_eval_pdf(lobe, wo, wi);
     if (!(r.pdf > 0.0f)) return s;
     s.wi = wi;
     s.value = r.value;
@@ -382,10 +359,6 @@ LobeTerms lobe_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
     }
     if (!std::isfinite(t.geom) || !std::isfinite(t.pdf) || !(t.pdf >= 0.0f)) return {};
     return t;
-}
-
-Color lobe_fresnel(const Lobe& lobe, float cos_d) {
-    return lobe.kind == LobeKind::Microfacet ? microfacet_fresnel(lobe, cos_d) : Color(1.0f);
 }
 
 float lobe_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) { return lobe_eval_pdf(lobe, wo, wi).pdf; }

@@ -71,8 +71,6 @@ struct LobeTerms {
     float geom = 0.0f, cos_d = 1.0f, pdf = 0.0f;
 };
 LobeTerms lobe_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
-// The Fresnel factor of a Microfacet lobe for the RGB weight (1 for the other kinds).
-Color lobe_fresnel(const Lobe& lobe, float cos_d);
 bool lobe_is_delta(const Lobe& lobe);
 
 // Rough scalar estimate of the lobe's albedo, only used to choose which lobe to sample.

@@ -121,6 +121,16 @@ TEST(Spectral, MeasuredAndDispersiveMaterials) {
 
 namespace {
 
+Material smooth_glass(float eta) {
+    Material m;
+    Lobe g;
+    g.kind = LobeKind::Dielectric;
+    g.alpha = 0.0f;
+    g.eta = eta;
+    m.lobes.push_back(g);
+    return m;
+}
+
 // Floor, a gold glossy sphere and a dispersive glass sphere lit by an F10 area light, a D65 point
 // light and a blackbody emissive quad: every spectral feature in one small scene.
 std::shared_ptr<Scene> spectral_scene(int size, bool spectral_content = true) {
@@ -129,12 +139,7 @@ std::shared_ptr<Scene> spectral_scene(int size, bool spectral_content = true) {
     Material gold = glossy(Color(1.0f), 0.3f);
     if (spectral_content) gold.spectral.metal = "Au";
     uint32_t au = s->add_material(gold);
-    Material glass;
-    Lobe g;
-    g.kind = LobeKind::Dielectric;
-    g.alpha = 0.0f;
-    g.eta = 1.5f;
-    glass.lobes.push_back(g);
+    Material glass = smooth_glass(1.5f);
     if (spectral_content) glass.spectral.dispersion = "N-SF11";
     uint32_t gl = s->add_material(glass);
     Material lamp = diffuse(Color(0.0f), Color(2.0f));
@@ -159,11 +164,7 @@ std::shared_ptr<Scene> spectral_scene(int size, bool spectral_content = true) {
     point.to_world.m[0][3] = 1.5f, point.to_world.m[1][3] = -1.5f, point.to_world.m[2][3] = 1.5f;
     if (spectral_content) point.spectrum = "D65";
     s->add_light(point);
-    CameraDesc c = camera_at({0.0f, -3.0f, 0.35f}, size, size);
-    // Look along +Y.
-    c.to_world.m[1][1] = 0.0f, c.to_world.m[1][2] = -1.0f;
-    c.to_world.m[2][1] = 1.0f, c.to_world.m[2][2] = 0.0f;
-    c.lens = 30.0f;
+    CameraDesc c = camera_along_y({0.0f, -3.0f, 0.35f}, size, size, 30.0f);
     s->set_camera(c);
     s->commit();
     return s;
@@ -263,4 +264,51 @@ TEST(Spectral, EveryModeIsUnbiased) {
         }
     }
     EXPECT_GT(brightest, 0.01);  // the scene is lit: the test can fail
+}
+
+namespace {
+
+// A glass ball (a ball lens) before an emissive half-plane whose edge is off the axis, seen directly
+// through the ball: the edge's image inside the ball is displaced by an amount that depends on the IOR,
+// so with dispersion the red and blue images of the edge separate (a colour fringe).
+std::shared_ptr<Scene> ball_lens(const std::string& dispersion) {
+    auto s = std::make_shared<Scene>();
+    Material glass = smooth_glass(1.7f);
+    glass.spectral.dispersion = dispersion;
+    glass.spectral.abbe = 20.0f;
+    add_sphere(*s, 0.5f, 48, 96, s->add_material(glass));
+    Material lamp = diffuse(Color(0.0f), Color(1.0f));
+    lamp.spectral.emission_spectrum = "D65";
+    add_box(*s, {0.12f, -10.0f, -3.1f}, {10.0f, 10.0f, -3.0f}, s->add_material(lamp));
+    CameraDesc c = camera_at({0.0f, 0.0f, 2.5f}, 32, 32);
+    c.lens = 120.0f;
+    s->set_camera(c);
+    s->commit();
+    return s;
+}
+
+// Horizontal separation (pixels) of the red and blue images: difference of their x centroids.
+double red_blue_separation(const std::vector<float>& img, int w) {
+    double sr = 0, sb = 0, xr = 0, xb = 0;
+    for (size_t p = 0; p < img.size() / 4; ++p) {
+        double x = double(p % w);
+        xr += x * img[4 * p], sr += img[4 * p];
+        xb += x * img[4 * p + 2], sb += img[4 * p + 2];
+    }
+    return xr / sr - xb / sb;
+}
+
+}  // namespace
+
+TEST(Spectral, DispersiveGlassSeparatesColours) {
+    std::vector<double> on, off;
+    for (uint32_t seed : {1u, 2u}) {
+        on.push_back(red_blue_separation(render_mode(ball_lens("ABBE"), "SMIS", 256, seed), 32));
+        off.push_back(red_blue_separation(render_mode(ball_lens("NONE"), "SMIS", 256, seed), 32));
+    }
+    std::printf("red - blue centroid: dispersive %.4f %.4f px, constant IOR %.4f %.4f px\n", on[0], on[1], off[0],
+                off[1]);
+    double noise = std::max({std::fabs(on[0] - on[1]), std::fabs(off[0] - off[1]), std::fabs(off[0]), 1e-3});
+    EXPECT_GT(std::fabs(on[0] + on[1]) / 2.0, 5.0 * noise);
+    EXPECT_LT(std::fabs(off[0] + off[1]) / 2.0, 0.05);
 }

@@ -85,6 +85,15 @@ inline void add_box(Scene& s, const Vec3& lo, const Vec3& hi, uint32_t material)
     s.add_instance(mesh, Transform());
 }
 
+// A camera at pos looking along +Y: its -Z rotated onto +Y (rotation of +90 degrees about X).
+inline CameraDesc camera_along_y(const Vec3& pos, int w, int h, float lens) {
+    CameraDesc c = camera_at(pos, w, h);
+    c.to_world.m[1][1] = 0.0f, c.to_world.m[1][2] = -1.0f;
+    c.to_world.m[2][1] = 1.0f, c.to_world.m[2][2] = 0.0f;
+    c.lens = lens;
+    return c;
+}
+
 inline Material glossy(const Color& color, float roughness) {
     Material m;
     Lobe l;
@@ -119,11 +128,7 @@ inline std::shared_ptr<Scene> small_room(int w, int h) {
     light.power = 60.0f;
     light.to_world.m[2][3] = 1.98f;  // facing down (-Z), as Blender's default
     s->add_light(light);
-    CameraDesc c = camera_at({0.0f, -2.9f, 1.0f}, w, h);
-    // Look along +Y: rotate the camera's -Z onto +Y (rotation of +90 degrees about X).
-    c.to_world.m[1][1] = 0.0f, c.to_world.m[1][2] = -1.0f;
-    c.to_world.m[2][1] = 1.0f, c.to_world.m[2][2] = 0.0f;
-    c.lens = 22.0f;
+    CameraDesc c = camera_along_y({0.0f, -2.9f, 1.0f}, w, h, 22.0f);
     s->set_camera(c);
     s->commit();
     return s;
