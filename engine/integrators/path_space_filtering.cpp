@@ -39,10 +39,12 @@ struct PathRecord {
     Vec3 p, wo, ng, ns;
     uint32_t material = 0;
     bool backfacing = false;
+    SurfaceAttribs attr;  // texture coordinates and object colour of x1
     float radius = 0.0f;
     // Suffix: its first vertex z1.
     Vec3 z, z_ng, z_ns;       // z1, its geometric and shading normals (both on the geometric side)
     uint32_t z_material = 0;
+    SurfaceAttribs z_attr;
     Color L_out{0.0f};        // radiance leaving z1 towards x1, emission at z1 excluded
     // z1's own estimators, kept so the unbiased variant can re-evaluate z1's BSDF for another x1:
     // L_out(wo) = f(wo, nee_dir) nee_weighted + f(wo, next_dir) next_weighted.
@@ -50,8 +52,9 @@ struct PathRecord {
     Color nee_weighted{0.0f}, next_weighted{0.0f};
 };
 
-Bsdf bsdf_at(const Scene& scene, uint32_t material, const Vec3& ns, const Vec3& ng, bool backfacing) {
-    return scene.material(material).make_bsdf(Frame(ns), ng, backfacing);
+Bsdf bsdf_at(const Scene& scene, uint32_t material, const Vec3& ns, const Vec3& ng, bool backfacing,
+             const SurfaceAttribs& attr) {
+    return scene.material(material).make_bsdf(Frame(ns), ng, backfacing, attr);
 }
 
 // Stage 1 for one pixel sample.
@@ -96,6 +99,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         rec.ns = sp.ns;
         rec.material = hit.material;
         rec.backfacing = sp.backfacing;
+        rec.attr = hit.attr;
         rec.radius = settings.psf_radius_px * camera.pixel_footprint(prefix_length);
         DirectSample ds = sample_direct(scene, settings, sp, rng, counters);
         if (ds.valid) rec.fixed += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
@@ -150,6 +154,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         rec.z_ng = h1.ng;
         rec.z_ns = h1.ns;
         rec.z_material = h1.material;
+        rec.z_attr = h1.attr;
         rec.L_out = L_out;
         return rec;
     }
@@ -229,7 +234,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         if (q.has_vertex && weighting_ == PsfWeighting::Path) {
             if (q.has_suffix) {
                 // The path tracer's own estimate: f cos / p_omega times the suffix radiance.
-                Bsdf b = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing);
+                Bsdf b = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, q.attr);
                 Vec3 d = normalize(q.z - q.p);
                 float pdf = b.pdf(q.wo, d);
                 if (pdf > 0.0f) L += q.beta * b.eval(q.wo, d) * q.L_out / pdf;
@@ -260,7 +265,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             for (size_t jj = 0; jj < nb.size(); ++jj) {
                 const PathRecord& t = records[nb[jj]];
                 techniques[jj].rec = &t;
-                techniques[jj].bsdf = bsdf_at(scene, t.material, t.ns, t.ng, t.backfacing);
+                techniques[jj].bsdf = bsdf_at(scene, t.material, t.ns, t.ng, t.backfacing, t.attr);
                 techniques[jj].wo = techniques[jj].bsdf.fix_wo(t.wo);
             }
             const Bsdf& own = techniques[0].bsdf;
@@ -295,7 +300,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     bool back = dot(z_wo, smp.z_ng) < 0.0f;
                     Vec3 zng = back ? -smp.z_ng : smp.z_ng;
                     Vec3 zns = back ? -smp.z_ns : smp.z_ns;
-                    Bsdf bz = bsdf_at(scene, smp.z_material, zns, zng, back);
+                    Bsdf bz = bsdf_at(scene, smp.z_material, zns, zng, back, smp.z_attr);
                     L_z = bz.eval(z_wo, smp.nee_dir) * smp.nee_weighted + bz.eval(z_wo, smp.next_dir) * smp.next_weighted;
                 }
                 Color contribution = f * L_z * (absdot(wdir, smp.z_ng) / dist2);

@@ -121,6 +121,16 @@ auto value_errors(F&& f) -> decltype(f()) {
     }
 }
 
+// A closure's non-constant colour: "texture" (id from add_texture), "object_color", "to_f0".
+LobeInput parse_lobe_input(const Scene& s, const py::dict& d) {
+    LobeInput in;
+    if (d.contains("texture") && !d["texture"].is_none())
+        in.texture = value_errors([&] { return s.texture(d["texture"].cast<uint32_t>()); });
+    in.object_color = get<bool>(d, "object_color", false);
+    in.to_f0 = get<bool>(d, "to_f0", false);
+    return in;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_smis, m) {
@@ -132,16 +142,45 @@ PYBIND11_MODULE(_smis, m) {
              [](Scene& s, const py::dict& d) {
                  Material mat;
                  mat.name = get<std::string>(d, "name", "");
+                 bool varies = false;
                  if (d.contains("closures"))
-                     for (auto c : d["closures"]) mat.lobes.push_back(parse_lobe(c.cast<py::dict>()));
+                     for (auto c : d["closures"]) {
+                         auto cd = c.cast<py::dict>();
+                         mat.lobes.push_back(parse_lobe(cd));
+                         mat.inputs.push_back(parse_lobe_input(s, cd));
+                         varies = varies || mat.inputs.back().varies();
+                     }
+                 if (!varies) mat.inputs.clear();  // constant lobes: no per-hit work
                  mat.emission = get_color(d, "emission", Color(0.0f));
-                 return s.add_material(std::move(mat));
+                 if (d.contains("normal_map")) {
+                     auto nm = d["normal_map"].cast<py::dict>();
+                     mat.normal_map = value_errors([&] { return s.texture(nm["texture"].cast<uint32_t>()); });
+                     mat.normal_strength = get<float>(nm, "strength", 1.0f);
+                 }
+                 return value_errors([&] { return s.add_material(std::move(mat)); });
              })
+        .def(
+            "add_texture",
+            [](Scene& s, py::array_t<float, py::array::c_style | py::array::forcecast> rgba, const std::string& colorspace,
+               const std::string& interpolation, const std::string& extension) {
+                int w, h;
+                const float* data = image_data(rgba, &w, &h);
+                Texture::Wrap wrap = extension == "EXTEND" ? Texture::Wrap::Extend
+                                     : extension == "CLIP" ? Texture::Wrap::Clip
+                                                           : Texture::Wrap::Repeat;
+                return value_errors([&] {
+                    return s.add_texture(
+                        std::make_shared<Texture>(data, w, h, colorspace, interpolation == "Closest", wrap));
+                });
+            },
+            py::arg("rgba"), py::arg("colorspace") = "sRGB", py::arg("interpolation") = "Linear",
+            py::arg("extension") = "REPEAT",
+            "An image texture from (h, w, 4) float pixels, bottom row first (Image.pixels); returns its id")
         .def(
             "add_mesh",
             [](Scene& s, py::array_t<float, py::array::c_style | py::array::forcecast> vertices,
                py::array_t<int32_t, py::array::c_style | py::array::forcecast> triangles, py::object corner_normals,
-               py::object material_index, std::vector<uint32_t> materials) {
+               py::object material_index, std::vector<uint32_t> materials, py::object corner_uvs) {
                 if (vertices.ndim() != 2 || vertices.shape(1) != 3) throw py::value_error("vertices must be (N, 3)");
                 if (triangles.ndim() != 2 || triangles.shape(1) != 3) throw py::value_error("triangles must be (M, 3)");
                 size_t nv = vertices.shape(0), nt = triangles.shape(0);
@@ -155,18 +194,27 @@ PYBIND11_MODULE(_smis, m) {
                     mat_index = material_index.cast<decltype(mat_index)>();
                     if (size_t(mat_index.size()) != nt) throw py::value_error("material_index must be (M,)");
                 }
+                py::array_t<float, py::array::c_style | py::array::forcecast> uvs;
+                if (!corner_uvs.is_none()) {
+                    uvs = corner_uvs.cast<decltype(uvs)>();
+                    if (size_t(uvs.size()) != nt * 6) throw py::value_error("corner_uvs must be (M, 3, 2)");
+                }
                 const float* np = corner_normals.is_none() ? nullptr : normals.data();
                 const int32_t* mp = material_index.is_none() ? nullptr : mat_index.data();
+                const float* up = corner_uvs.is_none() ? nullptr : uvs.data();
                 py::gil_scoped_release release;
-                return s.add_mesh(vertices.data(), nv, triangles.data(), nt, np, mp, materials);
+                return s.add_mesh(vertices.data(), nv, triangles.data(), nt, np, mp, materials, up);
             },
             py::arg("vertices"), py::arg("triangles"), py::arg("corner_normals") = py::none(),
-            py::arg("material_index") = py::none(), py::arg("materials") = std::vector<uint32_t>{})
+            py::arg("material_index") = py::none(), py::arg("materials") = std::vector<uint32_t>{},
+            py::arg("corner_uvs") = py::none())
         .def("mesh_dropped", &Scene::mesh_dropped)
         .def("add_instance",
-             [](Scene& s, uint32_t mesh, MatrixArray matrix) {
-                 value_errors([&] { s.add_instance(mesh, to_transform(matrix)); });
-             })
+             [](Scene& s, uint32_t mesh, MatrixArray matrix, std::vector<float> color) {
+                 if (color.size() < 3) throw py::value_error("color needs three components");
+                 value_errors([&] { s.add_instance(mesh, to_transform(matrix), {color[0], color[1], color[2]}); });
+             },
+             py::arg("mesh"), py::arg("matrix"), py::arg("color") = std::vector<float>{1.0f, 1.0f, 1.0f})
         .def("add_light",
              [](Scene& s, const py::dict& d) {
                  LightDesc l;

@@ -75,6 +75,9 @@ uint32_t Scene::add_material(Material material) {
         l.alpha = std::isfinite(l.alpha) ? clampf(l.alpha, 0.0f, 1.0f) : 1.0f;
         l.eta = (std::isfinite(l.eta) && l.eta > 0.0f) ? l.eta : 1.5f;
     }
+    if (!material.inputs.empty() && material.inputs.size() != material.lobes.size())
+        throw std::invalid_argument("material inputs must be empty or one per lobe");
+    if (!std::isfinite(material.normal_strength)) material.normal_strength = 0.0f;
     if (!is_finite(material.emission)) material.emission = Color(0.0f);
     material.emission = vmax(material.emission, Color(0.0f));
     materials_.push_back(std::move(material));
@@ -83,7 +86,7 @@ uint32_t Scene::add_material(Material material) {
 
 uint32_t Scene::add_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
                          const float* corner_normals, const int32_t* material_index,
-                         const std::vector<uint32_t>& slot_materials) {
+                         const std::vector<uint32_t>& slot_materials, const float* corner_uvs) {
     if (committed_) throw std::logic_error("scene already committed");
     Mesh mesh;
     // Embree reads 16 bytes past the last vertex of shared buffers: keep one float3 of padding.
@@ -109,6 +112,11 @@ uint32_t Scene::add_mesh(const float* vertices, size_t nv, const int32_t* triang
         mesh.indices.insert(mesh.indices.end(), {uint32_t(i0), uint32_t(i1), uint32_t(i2)});
         if (corner_normals)
             for (int k = 0; k < 3; ++k) mesh.corner_normals.push_back(load3(corner_normals + 9 * t + 3 * k));
+        if (corner_uvs)
+            for (int k = 0; k < 3; ++k) {
+                Point2 uv{corner_uvs[6 * t + 2 * k], corner_uvs[6 * t + 2 * k + 1]};
+                mesh.uvs.push_back(std::isfinite(uv.x) && std::isfinite(uv.y) ? uv : Point2{});
+            }
         uint32_t mat = 0;
         if (material_index) {
             int32_t slot = material_index[t];
@@ -125,13 +133,25 @@ uint32_t Scene::add_mesh(const float* vertices, size_t nv, const int32_t* triang
 
 uint32_t Scene::mesh_dropped(uint32_t mesh) const { return mesh < meshes_.size() ? meshes_[mesh].dropped : 0; }
 
-void Scene::add_instance(uint32_t mesh, const Transform& to_world) {
+uint32_t Scene::add_texture(std::shared_ptr<const Texture> texture) {
+    if (committed_) throw std::logic_error("scene already committed");
+    if (!texture) throw std::invalid_argument("null texture");
+    textures_.push_back(std::move(texture));
+    return static_cast<uint32_t>(textures_.size() - 1);
+}
+
+std::shared_ptr<const Texture> Scene::texture(uint32_t id) const {
+    if (id >= textures_.size()) throw std::invalid_argument("unknown texture id");
+    return textures_[id];
+}
+
+void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color) {
     if (committed_) throw std::logic_error("scene already committed");
     if (mesh >= meshes_.size()) throw std::invalid_argument("instance of an unknown mesh");
     if (!to_world.is_finite() || !invertible_in_float(to_world))
         throw std::invalid_argument("instance transform is not finite or is singular");
     if (meshes_[mesh].indices.empty()) return;
-    instances_.push_back({mesh, to_world, false, -1});
+    instances_.push_back({mesh, to_world, false, -1, is_finite(object_color) ? vmax(object_color, Color(0.0f)) : Color(1.0f)});
     meshes_[mesh].users++;
 }
 
@@ -318,11 +338,45 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
     hit->ng = ng;
     hit->ns = ns;
     hit->material = mesh.materials[prim];
+    hit->attr.object_color = inst.object_color;
+    if (!mesh.uvs.empty()) {
+        const Point2* uv = &mesh.uvs[3 * prim];
+        hit->attr.uv = {uv[0].x * w + uv[1].x * u + uv[2].x * v, uv[0].y * w + uv[1].y * u + uv[2].y * v};
+        const Material& mat = materials_[hit->material];
+        if (mat.normal_map) hit->ns = apply_normal_map(mat, mesh, inst, prim, ns, ng, hit->attr.uv);
+    }
     hit->light = -1;
     if (inst.light_base >= 0) {
         int32_t local = emissive_local_[inst.mesh][prim];
         if (local >= 0) hit->light = inst.light_base + local;
     }
+}
+
+// Blender's Normal Map node in tangent space: the tangent follows the UV map's u direction on the
+// triangle, the bitangent its v direction (sign from the UV winding), blended by Strength as Cycles
+// does: N = normalize(N + (N_map - N) * strength).
+Vec3 Scene::apply_normal_map(const Material& mat, const Mesh& mesh, const Instance& inst, uint32_t prim,
+                             const Vec3& ns, const Vec3& ng, Point2 uv) const {
+    const uint32_t* idx = &mesh.indices[3 * prim];
+    Vec3 a = load3(&mesh.positions[3 * idx[0]]), b = load3(&mesh.positions[3 * idx[1]]),
+         c = load3(&mesh.positions[3 * idx[2]]);
+    const Point2* t = &mesh.uvs[3 * prim];
+    float du1 = t[1].x - t[0].x, dv1 = t[1].y - t[0].y, du2 = t[2].x - t[0].x, dv2 = t[2].y - t[0].y;
+    float det = du1 * dv2 - du2 * dv1;
+    if (!(std::fabs(det) > 1e-20f)) return ns;  // degenerate UVs: no tangent frame
+    Vec3 dpdu = ((b - a) * dv2 - (c - a) * dv1) / det;
+    if (!inst.identity) dpdu = inst.to_world.vector(dpdu);
+    Vec3 tangent = dpdu - ns * dot(ns, dpdu);
+    if (!(length_sq(tangent) > 0.0f)) return ns;
+    tangent = normalize(tangent);
+    // Mirrored UVs (negative det) and mirroring transforms flip the bitangent.
+    float sign = (det < 0.0f ? -1.0f : 1.0f) * (inst.to_world.determinant3() < 0.0f && !inst.identity ? -1.0f : 1.0f);
+    Vec3 bitangent = cross(ns, tangent) * sign;
+    Color m = mat.normal_map->lookup(uv).rgb * 2.0f - Color(1.0f);
+    Vec3 mapped = normalize(tangent * m.x + bitangent * m.y + ns * m.z);
+    Vec3 n = normalize(ns + (mapped - ns) * std::max(mat.normal_strength, 0.0f));
+    if (!is_finite(n)) return ns;
+    return dot(n, ng) < 0.0f ? ns : n;  // never below the surface (as fill_hit's own rule)
 }
 
 bool Scene::occluded(const Vec3& origin, const Vec3& dir, float tmax) const {

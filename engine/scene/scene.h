@@ -22,6 +22,7 @@ struct SurfaceHit {
     Vec3 ns;              // unit shading normal, on the same side as ng
     uint32_t material = 0;
     int32_t light = -1;   // index into Scene::lights() when the triangle emits, else -1
+    SurfaceAttribs attr;  // UV and object colour, for textured materials
 };
 
 struct SceneStats {
@@ -38,14 +39,18 @@ public:
 
     // --- building ---------------------------------------------------------------------------------
     uint32_t add_material(Material material);
+    // Image textures, referenced by materials through Material::inputs / normal_map.
+    uint32_t add_texture(std::shared_ptr<const Texture> texture);
+    std::shared_ptr<const Texture> texture(uint32_t id) const;
     // vertices: nv x 3, triangles: nt x 3 indices, corner_normals: nt x 3 x 3 or null, material_index: nt
-    // (slot numbers) or null, slot_materials: engine material per slot. Degenerate triangles, triangles
+    // (slot numbers) or null, slot_materials: engine material per slot, corner_uvs: nt x 3 x 2 or null
+    // (only textured materials need them). Degenerate triangles, triangles
     // with out-of-range indices and non-finite vertices are dropped and counted (mesh_dropped()).
     uint32_t add_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
                       const float* corner_normals, const int32_t* material_index,
-                      const std::vector<uint32_t>& slot_materials);
+                      const std::vector<uint32_t>& slot_materials, const float* corner_uvs = nullptr);
     uint32_t mesh_dropped(uint32_t mesh) const;
-    void add_instance(uint32_t mesh, const Transform& to_world);
+    void add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color = Color(1.0f));
     uint32_t add_light(const LightDesc& desc);  // throws std::invalid_argument for unusable lights
     void set_world(const Color& radiance);
     void set_camera(const CameraDesc& desc);
@@ -81,6 +86,7 @@ private:
         std::vector<uint32_t> indices;       // 3 per triangle
         std::vector<Vec3> corner_normals;    // 3 per triangle, or empty for flat shading
         std::vector<uint32_t> materials;     // per triangle, engine material id
+        std::vector<Point2> uvs;             // 3 per triangle, or empty
         uint32_t dropped = 0;
         uint32_t users = 0;
         RTCScene prototype = nullptr;        // when instanced more than once
@@ -90,7 +96,10 @@ private:
         Transform to_world;
         bool identity;         // flattened into world space
         int32_t light_base;    // first triangle light of this instance, -1 if none emit
+        Color object_color;
     };
+    Vec3 apply_normal_map(const Material& mat, const Mesh& mesh, const Instance& inst, uint32_t prim,
+                          const Vec3& ns, const Vec3& ng, Point2 uv) const;
     void build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id);
     void add_triangle_lights(Instance& inst);
     void fill_hit(const Ray& ray, const struct RTCRayHit& rh, SurfaceHit* hit) const;
@@ -99,6 +108,7 @@ private:
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
     std::vector<Material> materials_;
+    std::vector<std::shared_ptr<const Texture>> textures_;
     std::vector<Mesh> meshes_;
     std::vector<Instance> instances_;
     std::vector<uint32_t> geom_to_instance_;       // top-level geometry id -> instance

@@ -77,11 +77,14 @@ def _export_prototype(obj, scene, materials, counts):
         if len(mesh.polygons) == 0:
             return None
         mat_ids = _material_ids(obj, mesh, materials)
-        buf = mesh_buffers(mesh, len(mat_ids))
+        buf = mesh_buffers(mesh, len(mat_ids), materials.uv_map_for(mat_ids))
         if buf.triangle_count == 0:
             return None
+        if buf.corner_uvs is None and materials.uv_map_for(mat_ids) is not None:
+            materials.warning("Object '%s' has textured materials but no UV map; textures read "
+                              "their bottom-left texel" % obj.name)
         mesh_id = scene.add_mesh(buf.vertices, buf.triangles, buf.corner_normals,
-                                 buf.material_index, mat_ids)
+                                 buf.material_index, mat_ids, buf.corner_uvs)
     finally:
         obj.to_mesh_clear()
     counts.meshes += 1
@@ -132,6 +135,6 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None):
         else:
             mesh_id = prototypes[key] = _export_prototype(obj, scene, materials, counts)
         if mesh_id is not None:
-            scene.add_instance(mesh_id, _matrix(inst))
+            scene.add_instance(mesh_id, _matrix(inst), obj.color[:3])
             counts.instances += 1
     return counts
