@@ -24,8 +24,8 @@ class SMISRenderEngine(bpy.types.RenderEngine):
     bl_use_postprocess = True           # compositor and sequencer run on our result
     bl_use_shading_nodes_custom = False  # use Blender's shader node editor (Cycles' nodes)
     bl_use_preview = False               # no material preview renders yet
-    # No interactive viewport render yet (no view_update/view_draw, so Blender offers
-    # no "Rendered" shading); Material Preview uses EEVEE on the same nodes, as Cycles.
+    # Rendered shading is ours (view_update/view_draw); Material Preview uses EEVEE on
+    # the same nodes, as with Cycles.
     bl_use_eevee_viewport = True
 
     def __init__(self):
@@ -33,6 +33,9 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         self._export = None
         self._export_error = None
         self._reporter = Reporter(self)
+        # Interactive viewport state. When Blender frees the engine, the native session
+        # in it is destroyed too, and its destructor stops and joins the render threads.
+        self._viewport = None
 
     def break_requested(self):
         """Blender's test_break() (Esc in the UI, closing the render window).
@@ -62,6 +65,25 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         except Exception as exc:  # a bug of ours: report it, never take Blender down
             traceback.print_exc()
             self._export_error = "Scene export failed: %s: %s" % (type(exc).__name__, exc)
+
+    # -- interactive viewport ----------------------------------------------------------
+
+    def view_update(self, context, depsgraph):
+        from .viewport import ViewportRenderer  # needs the gpu module: UI sessions only
+        if self._viewport is None:
+            self._viewport = ViewportRenderer()
+        try:
+            self._viewport.update(context, depsgraph)
+        except Exception:  # a bug of ours must not take the UI down
+            traceback.print_exc()
+
+    def view_draw(self, context, depsgraph):
+        if self._viewport is None:
+            return
+        try:
+            self._viewport.draw(self, context, depsgraph)
+        except Exception:
+            traceback.print_exc()
 
     def update_render_passes(self, scene=None, renderlayer=None):
         passes.register_passes(self, scene, renderlayer)

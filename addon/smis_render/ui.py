@@ -39,6 +39,9 @@ class SMIS_RENDER_PT_sampling(SMISButtonsPanel, bpy.types.Panel):
         col = layout.column()
         col.prop(settings, "samples")
         col.prop(settings, "time_limit")
+        sub = col.column(align=True)
+        sub.prop(settings, "viewport_samples")
+        sub.prop(settings, "viewport_resolution_divider")
         # As Cycles lays it out: the seed with the animated-seed toggle beside it.
         row = col.row(align=True)
         row.prop(settings, "seed")

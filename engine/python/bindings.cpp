@@ -268,6 +268,7 @@ PYBIND11_MODULE(_smis, m) {
                  value_errors([&] { s.set_camera(c); });
              })
         .def("has_camera", &Scene::has_camera)
+        .def("set_fast_build", &Scene::set_fast_build)
         .def("commit",
              [](Scene& s) {
                  py::gil_scoped_release release;

@@ -204,7 +204,7 @@ void Scene::commit() {
     scene_ = rtcNewScene(device_);
     // ROBUST: watertight traversal, so rays do not leak through edges shared by two triangles.
     rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(scene_, build_quality());
 
     // Meshes used once are flattened into world space (one BVH level, as Cycles does for unique
     // objects); meshes used several times become one Embree prototype shared by Embree instances.
@@ -212,7 +212,7 @@ void Scene::commit() {
         if (mesh.users < 2) continue;
         mesh.prototype = rtcNewScene(device_);
         rtcSetSceneFlags(mesh.prototype, RTC_SCENE_FLAG_ROBUST);
-        rtcSetSceneBuildQuality(mesh.prototype, RTC_BUILD_QUALITY_HIGH);
+        rtcSetSceneBuildQuality(mesh.prototype, build_quality());
         build_mesh_geometry(mesh.prototype, mesh, 0);
         rtcCommitScene(mesh.prototype);
     }

@@ -56,6 +56,9 @@ public:
     void set_camera(const CameraDesc& desc);
     bool has_camera() const { return has_camera_; }
     void commit();  // builds the BVH and the light-selection table; throws if no camera was set
+    // The interactive viewport rebuilds the scene after every edit: a faster, lower-quality BVH
+    // build pays off there (Embree's LOW quality: no spatial splits; slower rays).
+    void set_fast_build(bool fast) { fast_build_ = fast; }
 
     // --- queries (thread-safe after commit) --------------------------------------------------------
     bool intersect(const Ray& ray, SurfaceHit* hit) const;
@@ -101,6 +104,7 @@ private:
     Vec3 apply_normal_map(const Material& mat, const Mesh& mesh, const Instance& inst, uint32_t prim,
                           const Vec3& ns, const Vec3& ng, Point2 uv) const;
     void build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id);
+    RTCBuildQuality build_quality() const { return fast_build_ ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_HIGH; }
     void add_triangle_lights(Instance& inst);
     void fill_hit(const Ray& ray, const struct RTCRayHit& rh, SurfaceHit* hit) const;
 
@@ -117,7 +121,7 @@ private:
     std::vector<uint32_t> hittable_lights_, infinite_lights_;
     DiscreteDistribution light_selection_;
     Camera camera_;
-    bool has_camera_ = false, committed_ = false;
+    bool has_camera_ = false, committed_ = false, fast_build_ = false;
     Color world_{0.0f};
     float radius_ = 1.0f;
     SceneStats stats_;
