@@ -125,3 +125,52 @@ scene.view_layers.new("Second")
     assert sum(("Noise Texture" in l) for l in run.output.splitlines()) == 1
     # The untranslated Color input falls back to the socket's own value.
     np.testing.assert_allclose(albedo, 0.5, rtol=1e-5)
+
+
+def test_image_alpha_cuts_out_the_surface():
+    # Alpha 0 in the bottom-left and top-right texels: camera rays go through there (no albedo,
+    # background depth), the other texels are opaque.
+    run = render(setup=PLANE + """
+nt.nodes.remove(diffuse)
+principled = nt.nodes.new("ShaderNodeBsdfPrincipled")
+nt.links.new(principled.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+tex = image_node("Cutout", [1, 1, 1, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0], 'sRGB')
+nt.links.new(tex.outputs["Color"], principled.inputs["Base Color"])
+nt.links.new(tex.outputs["Alpha"], principled.inputs["Alpha"])
+vl.use_pass_z = True
+""")
+    assert run.returncode == 0, run.output[-3000:]
+    assert "Alpha" not in "".join(l for l in run.output.splitlines() if "Warning" in l or "WARN" in l)
+    ch = _smis.read_exr_channels(run.image_path)
+    albedo = quadrant_centres(ch["ViewLayer.Albedo.R"][2:-2, 2:-2])
+    depth = quadrant_centres(ch["ViewLayer.Depth.Z"][2:-2, 2:-2])
+    assert albedo[0] == 0 and albedo[3] == 0 and albedo[1] > 0.5 and albedo[2] > 0.5, albedo
+    assert depth[0] == 1e10 and depth[3] == 1e10 and abs(depth[1] - 3.0) < 1e-4, depth
+
+
+# A plane between the light, the camera and the cube; the world is black so that the plane does not
+# change the scene's light selection (the world light's power depends on the scene's size).
+OCCLUDER = """
+scene.render.resolution_x = scene.render.resolution_y = 32
+scene.smis.samples = 4
+scene.world.use_nodes = False
+scene.world.color = (0.0, 0.0, 0.0)
+bpy.ops.mesh.primitive_plane_add(size=3.0, location=(0.0, 0.0, 2.0))
+mat = bpy.data.materials.new("Glassless")
+mat.use_nodes = True
+mat.node_tree.nodes["Principled BSDF"].inputs["Alpha"].default_value = {alpha}
+bpy.context.active_object.data.materials.append(mat)
+{remove}
+"""
+
+
+def test_transparent_surface_changes_nothing_and_half_alpha_shades():
+    """Alpha 0: camera, bounce and shadow rays all pass, so the image is the one without the plane,
+    pixel for pixel; alpha 0.5 makes the plane half there (seen and casting a partial shadow)."""
+    runs = [render(setup=OCCLUDER.format(alpha=a, remove=r)) for a, r in (
+        (0.0, ""), (1.0, "bpy.data.objects.remove(bpy.context.active_object)"), (0.5, ""))]
+    for run in runs:
+        assert run.returncode == 0, run.output[-3000:]
+    transparent, absent, half = (r.image for r in runs)
+    assert np.array_equal(transparent, absent)
+    assert not np.array_equal(half, absent)

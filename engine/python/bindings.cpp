@@ -152,6 +152,12 @@ PYBIND11_MODULE(_smis, m) {
                      }
                  if (!varies) mat.inputs.clear();  // constant lobes: no per-hit work
                  mat.emission = get_color(d, "emission", Color(0.0f));
+                 if (d.contains("alpha")) {
+                     auto a = d["alpha"].cast<py::dict>();
+                     mat.alpha = get<float>(a, "value", 1.0f);
+                     if (a.contains("texture") && !a["texture"].is_none())
+                         mat.alpha_texture = value_errors([&] { return s.texture(a["texture"].cast<uint32_t>()); });
+                 }
                  if (d.contains("normal_map")) {
                      auto nm = d["normal_map"].cast<py::dict>();
                      mat.normal_map = value_errors([&] { return s.texture(nm["texture"].cast<uint32_t>()); });

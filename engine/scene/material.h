@@ -34,9 +34,15 @@ struct Material {
     // Tangent-space normal map (Normal Map node on an image texture) and its Strength.
     std::shared_ptr<const Texture> normal_map;
     float normal_strength = 1.0f;
+    // Principled Alpha: constant, times an image texture's alpha when linked. Below 1 the surface
+    // is a stochastic cut-out (Scene keeps a hit with probability alpha).
+    float alpha = 1.0f;
+    std::shared_ptr<const Texture> alpha_texture;
+    bool cutout() const { return alpha < 1.0f || alpha_texture; }
+    float alpha_at(Point2 uv) const { return alpha_texture ? alpha * alpha_texture->lookup(uv).alpha : alpha; }
     bool emissive() const { return max_component(emission) > 0.0f; }
     bool needs_uv() const {
-        if (normal_map) return true;
+        if (normal_map || alpha_texture) return true;
         for (const LobeInput& in : inputs)
             if (in.texture) return true;
         return false;

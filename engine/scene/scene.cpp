@@ -1,6 +1,9 @@
 #include "scene/scene.h"
 
+#include <cstring>
 #include <stdexcept>
+
+#include "core/rng.h"
 
 namespace smis {
 namespace {
@@ -78,6 +81,7 @@ uint32_t Scene::add_material(Material material) {
     if (!material.inputs.empty() && material.inputs.size() != material.lobes.size())
         throw std::invalid_argument("material inputs must be empty or one per lobe");
     if (!std::isfinite(material.normal_strength)) material.normal_strength = 0.0f;
+    material.alpha = std::isfinite(material.alpha) ? clampf(material.alpha, 0.0f, 1.0f) : 1.0f;
     if (!is_finite(material.emission)) material.emission = Color(0.0f);
     material.emission = vmax(material.emission, Color(0.0f));
     materials_.push_back(std::move(material));
@@ -177,9 +181,52 @@ void Scene::build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id) {
                                3 * sizeof(float), nv);
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
                                3 * sizeof(uint32_t), nt);
+    bool cutout = false;
+    for (uint32_t m : mesh.materials) cutout = cutout || materials_[m].cutout();
+    if (cutout) {  // only meshes with cut-out materials pay for the filter calls
+        mesh.owner = this;
+        rtcSetGeometryUserData(geom, &mesh);
+        rtcSetGeometryIntersectFilterFunction(geom, cutout_filter);
+        rtcSetGeometryOccludedFilterFunction(geom, cutout_filter);
+    }
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(target, geom, id);
     rtcReleaseGeometry(geom);
+}
+
+// Alpha cut-outs: a hit on a surface of alpha a is kept with probability a, chosen by a hash of
+// the ray and the triangle. Different rays decide independently, so camera, bounce and shadow rays
+// see the surface with frequency a (Cycles' stochastic transparency, in expectation), while the
+// same ray always decides the same way: images stay identical for any thread count. A hit the
+// filter rejects is simply not there; the ray goes on to the next surface.
+void Scene::cutout_filter(const RTCFilterFunctionNArguments* args) {
+    const Mesh& mesh = *static_cast<const Mesh*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+        const Material& mat = mesh.owner->materials_[mesh.materials[prim]];
+        if (!mat.cutout()) continue;
+        Point2 uv;
+        if (!mesh.uvs.empty()) {
+            float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i), w = 1.0f - u - v;
+            const Point2* t = &mesh.uvs[3 * prim];
+            uv = {t[0].x * w + t[1].x * u + t[2].x * v, t[0].y * w + t[1].y * u + t[2].y * v};
+        }
+        float alpha = mat.alpha_at(uv);
+        if (alpha >= 1.0f) continue;
+        auto bits = [](float f) { uint32_t b; std::memcpy(&b, &f, 4); return uint64_t(b); };
+        const RTCRayN* r = args->ray;
+        unsigned n = args->N;
+        uint64_t h = mix64(bits(RTCRayN_org_x(const_cast<RTCRayN*>(r), n, i)) << 32 |
+                           bits(RTCRayN_org_y(const_cast<RTCRayN*>(r), n, i)));
+        h = mix64(h ^ (bits(RTCRayN_org_z(const_cast<RTCRayN*>(r), n, i)) << 32 |
+                       bits(RTCRayN_dir_x(const_cast<RTCRayN*>(r), n, i))));
+        h = mix64(h ^ (bits(RTCRayN_dir_y(const_cast<RTCRayN*>(r), n, i)) << 32 |
+                       bits(RTCRayN_dir_z(const_cast<RTCRayN*>(r), n, i))));
+        h = mix64(h ^ (uint64_t(prim) << 32 | RTCHitN_instID(args->hit, n, i, 0)));
+        float u01 = static_cast<float>(h >> 40) * 0x1p-24f;
+        if (!(u01 < alpha)) args->valid[i] = 0;
+    }
 }
 
 void Scene::add_triangle_lights(Instance& inst) {

@@ -93,7 +93,9 @@ private:
         uint32_t dropped = 0;
         uint32_t users = 0;
         RTCScene prototype = nullptr;        // when instanced more than once
+        const Scene* owner = nullptr;        // for the cut-out filter, which gets only the mesh
     };
+    static void cutout_filter(const struct RTCFilterFunctionNArguments* args);
     struct Instance {
         uint32_t mesh;
         Transform to_world;

@@ -1,8 +1,13 @@
 // Image textures: texel placement, bilinear weights, wrapping and sRGB decoding as Blender's Image
-// Texture node; a textured material scales its lobe by the texture at the hit's UV.
+// Texture node; a textured material scales its lobe by the texture at the hit's UV; alpha cut-outs
+// are hit with frequency alpha.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "core/rng.h"
 #include "scene/material.h"
+#include "scene/scene.h"
 #include "scene/texture.h"
 
 using namespace smis;
@@ -63,4 +68,31 @@ TEST(Texture, MaterialLobeTakesTheTextureAndObjectColour) {
     EXPECT_FLOAT_EQ(b.lobe(0).weight.x, 0.25f);
     EXPECT_FLOAT_EQ(b.lobe(0).weight.y, 0.0f);
     EXPECT_TRUE(m.needs_uv());
+}
+
+TEST(Cutout, SurfaceOfAlphaAIsHitWithFrequencyA) {
+    Scene s;
+    Material m;
+    m.lobes.push_back(Lobe{});
+    m.alpha = 0.3f;
+    uint32_t mat = s.add_material(m);
+    const float quad[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+    const int32_t tris[] = {0, 1, 2, 0, 2, 3};
+    s.add_instance(s.add_mesh(quad, 4, tris, 2, nullptr, nullptr, {mat}), Transform());
+    s.set_camera(CameraDesc{});
+    s.commit();
+    Rng rng(5, 0);
+    const int n = 20000;
+    int hits = 0, blocked = 0;
+    for (int i = 0; i < n; ++i) {
+        Vec3 o(rng.next_float() - 0.5f, rng.next_float() - 0.5f, 1.0f);
+        SurfaceHit h;
+        hits += s.intersect(Ray{o, Vec3(0, 0, -1), 0.0f, kInf}, &h);
+        blocked += s.occluded(o, Vec3(0, 0, -1), 2.0f);
+        // The same ray decides the same way every time (deterministic images).
+        EXPECT_EQ(s.intersect(Ray{o, Vec3(0, 0, -1), 0.0f, kInf}, &h), s.intersect(Ray{o, Vec3(0, 0, -1), 0.0f, kInf}, &h));
+    }
+    const double sigma = std::sqrt(0.3 * 0.7 / n);
+    EXPECT_NEAR(hits / double(n), 0.3, 4 * sigma);
+    EXPECT_NEAR(blocked / double(n), 0.3, 4 * sigma);
 }

@@ -58,6 +58,7 @@ class _Translation:
         self.emission = BLACK
         self.uv_map = None        # UV map the textures read ('' = active render), None = no UVs
         self.normal_map = None
+        self.alpha = None         # {"value": a, "texture": id?} for cut-outs
         self._checked_nodes = set()
         self._translated_links = set()  # (node name, input name) handled by textures.py
 
@@ -107,13 +108,27 @@ class _Translation:
         found = tex.normal_map(node.inputs["Normal"], self.textures, self._warn_node)
         if found is None or found[0] is None:
             return  # unlinked, or not translatable: _check_links names it
-        self._translated_links.add((node.name, "Normal"))
-        desc, uv_map = found
-        if self.normal_map is not None and self.normal_map != desc:
-            self._warn_node(node, "has a second, different normal map; using the first")
+        self._set_per_material(node, "Normal", "normal_map", *found)
+
+    def _alpha(self, node):
+        """Principled Alpha: a constant below 1 or an Image Texture's Alpha makes the material a
+        stochastic cut-out (one alpha per material)."""
+        found = tex.alpha_input(node.inputs["Alpha"], self.textures)
+        if found is not None:  # else opaque, or an untranslatable link (_check_links names it)
+            self._set_per_material(node, "Alpha", "alpha", *found)
+
+    def _set_per_material(self, node, input_name, attr, desc, uv_map):
+        """Record a per-material input (normal map, alpha) translated from node's input; a second,
+        different one is warned about and ignored."""
+        if node.inputs[input_name].is_linked:
+            self._translated_links.add((node.name, input_name))
+        current = getattr(self, attr)
+        if current is not None and current != desc:
+            self._warn_node(node, "has a second, different %s; using the first" % input_name)
             return
-        self.normal_map = desc
-        self._use_uv_map(uv_map)
+        setattr(self, attr, desc)
+        if uv_map is not None:
+            self._use_uv_map(uv_map)
 
     def _value(self, node, name):
         value = node.inputs[name].default_value
@@ -210,6 +225,7 @@ class _Translation:
         rough = _clamp01(v("Roughness"))
         specular = max(v("Specular"), 0.0)
         self._warn_principled_extras(node, t)
+        self._alpha(node)
 
         dielectric_w = (1.0 - m) * (1.0 - t)
         self._add(_colored("diffuse", _scale(w, dielectric_w), base_in))
@@ -227,8 +243,6 @@ class _Translation:
         v = lambda name: self._value(node, name)  # noqa: E731
         ignored = [name for name in ("Subsurface", "Specular Tint", "Anisotropic", "Sheen",
                                      "Clearcoat") if v(name) > 0.0]
-        if v("Alpha") < 1.0:
-            ignored.append("Alpha")
         if t > 0.0 and v("Transmission Roughness") > 0.0:
             ignored.append("Transmission Roughness")
         if node.distribution != 'GGX':
@@ -279,6 +293,8 @@ def translate(material, warn, textures=None):
     desc = {"name": name, "closures": tr.closures, "emission": tr.emission, "uv_map": tr.uv_map}
     if tr.normal_map is not None:
         desc["normal_map"] = tr.normal_map
+    if tr.alpha is not None:
+        desc["alpha"] = tr.alpha
     return desc
 
 

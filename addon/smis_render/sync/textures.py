@@ -117,6 +117,22 @@ def color_input(socket, textures, warn_node):
     return None
 
 
+def alpha_input(socket, textures):
+    """Principled Alpha: ({"value": a}, None) for a constant below 1, ({"value": 1, "texture": id},
+    uv_map) for an Image Texture's Alpha output, None when opaque or not translatable."""
+    src = nodes.linked_output(socket)
+    if src is None:
+        value = float(socket.default_value)
+        return ({"value": value}, None) if value < 1.0 else None
+    node = src.node
+    if node.bl_idname != 'ShaderNodeTexImage' or src.name != "Alpha" or textures is None:
+        return None
+    tex = textures.id_for(node)
+    if tex is None:
+        return None
+    return {"value": 1.0, "texture": tex}, uv_map_of(node)[0]
+
+
 def normal_map(socket, textures, warn_node):
     """A shader's Normal input fed by Normal Map (tangent space) <- Image Texture: returns
     ({"texture": id, "strength": s}, uv_map) or None if not linked; (None, None) if not
