@@ -60,26 +60,26 @@ def full_export(depsgraph):
     return best
 
 
-class UpdateRecorder:
-    """Hands each depsgraph update to the viewport sync, as view_update() does."""
+class ViewUpdate:
+    """A depsgraph_update_post handler doing what view_update() does: the depsgraph's list of
+    updates is only valid inside the handler."""
 
-    def __init__(self, vs):
-        self.vs = vs
+    def __init__(self, vs, camera):
+        self.vs, self.camera, self.times = vs, camera, []
 
     def __call__(self, scene, depsgraph):
         self.vs.invalidate(depsgraph)
+        e = self.vs.build(native.load(), depsgraph, Reporter(None), self.camera, edited=True)
+        commit = 0.0 if self.vs.last_in_place else e.commit_seconds
+        self.times.append((self.vs.last_seconds, commit, self.vs.last_exported, self.vs.last_in_place))
 
 
-def resync(vs, edit):
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    cam = sync_camera.export_camera(None, depsgraph, print)
-    times = []
+def resync(handler, edit):
+    handler.times = []
     for _ in range(REPEATS):
         edit()
-        bpy.context.view_layer.update()  # fires depsgraph_update_post -> invalidate
-        e = vs.build(native.load(), bpy.context.evaluated_depsgraph_get(), Reporter(None), cam)
-        times.append((vs.last_seconds, e.commit_seconds, vs.last_exported))
-    return min(times)
+        bpy.context.view_layer.update()  # fires depsgraph_update_post
+    return min(handler.times)
 
 
 def measure(unique):
@@ -87,8 +87,9 @@ def measure(unique):
     depsgraph = bpy.context.evaluated_depsgraph_get()
     e = full_export(depsgraph)
     vs = ViewportSync()
-    vs.build(native.load(), depsgraph, Reporter(None), sync_camera.export_camera(None, depsgraph, print))
-    recorder = UpdateRecorder(vs)
+    camera = sync_camera.export_camera(None, depsgraph, print)
+    vs.build(native.load(), depsgraph, Reporter(None), camera)
+    recorder = ViewUpdate(vs, camera)
     bpy.app.handlers.depsgraph_update_post.append(recorder)
     try:
         target = bpy.data.objects["S3_4"]
@@ -101,8 +102,8 @@ def measure(unique):
             for v in target.data.vertices[:50]:
                 v.co.z += 0.01
             target.data.update()
-        moved = resync(vs, move)
-        edited = resync(vs, edit_mesh) if unique else None
+        moved = resync(recorder, move)
+        edited = resync(recorder, edit_mesh) if unique else None
     finally:
         bpy.app.handlers.depsgraph_update_post.remove(recorder)
     row = {
@@ -116,10 +117,11 @@ def measure(unique):
         "move_resync_s": round(moved[0], 4),
         "move_resync_python_s": round(moved[0] - moved[1], 4),
         "move_meshes_exported": moved[2],
+        "move_in_place": moved[3],
     }
     if edited:
         row.update(edit_resync_s=round(edited[0], 4), edit_resync_python_s=round(edited[0] - edited[1], 4),
-                   edit_meshes_exported=edited[2])
+                   edit_meshes_exported=edited[2], edit_in_place=edited[3])
     return row
 
 

@@ -32,10 +32,12 @@ def test_rendered_viewport_updates_after_edits():
     assert "FAILED" not in log and "Traceback" not in log, log[-3000:]
     syncs = [l for l in log.splitlines() if l.startswith("SMIS viewport: scene sync")]
     print("\n".join(syncs))
-    # The first sync exports the cube; moving it exports nothing; editing its mesh exports it again.
+    # The first sync exports the cube; moving it exports nothing; editing its mesh exports it again;
+    # both edits update the engine scene in place.
     assert len(syncs) == 3, log[-3000:]
     assert [", 1 meshes exported" in syncs[0], ", 0 meshes exported" in syncs[1],
             ", 1 meshes exported" in syncs[2]] == [True, True, True], syncs
+    assert ["new engine scene" in syncs[0], "in place" in syncs[1], "in place" in syncs[2]] == [True] * 3, syncs
     solid, before, moved, edited = (load_png(os.path.join(out, n + ".png"))
                                     for n in ("solid", "before", "moved", "edited"))
     changed = lambda a, b: np.mean(np.abs(a - b).sum(axis=-1) > 0.1)  # noqa: E731

@@ -32,18 +32,21 @@ class ViewportRenderer:
     # -- view_update ---------------------------------------------------------------
 
     def update(self, context, depsgraph):
-        if self.export is not None:
+        edited = self.export is not None
+        if edited:
             self.sync.invalidate(depsgraph)
         self.stop()
         self.camera = self._camera(context, depsgraph.scene)
         try:
-            self.export = self.sync.build(native.load(), depsgraph, self.reporter, self.camera)
+            self.export = self.sync.build(native.load(), depsgraph, self.reporter, self.camera, edited)
+            self.export.scene.set_camera(self.camera)
             self.error = None
         except (RuntimeError, ExportError, ValueError) as exc:
             self.export, self.error = None, str(exc)
             return
-        print("SMIS viewport: scene sync %.1f ms, %d meshes exported, %d cached"
-              % (1000 * self.sync.last_seconds, self.sync.last_exported, len(self.sync.cache)))
+        print("SMIS viewport: scene sync %.1f ms, %d meshes exported, %d cached, %s"
+              % (1000 * self.sync.last_seconds, self.sync.last_exported, len(self.sync.cache),
+                 "updated in place" if self.sync.last_in_place else "new engine scene"))
         self._start(depsgraph.scene)
 
     # -- view_draw -----------------------------------------------------------------

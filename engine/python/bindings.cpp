@@ -121,6 +121,38 @@ auto value_errors(F&& f) -> decltype(f()) {
     }
 }
 
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using IntArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
+
+// add_mesh/replace_mesh arguments checked and converted; the arrays stay alive as members.
+struct MeshArgs {
+    FloatArray vertex_array, normal_array, uv_array;
+    IntArray triangle_array, index_array;
+    size_t nv = 0, nt = 0;
+    const float *vertices = nullptr, *normals = nullptr, *uvs = nullptr;
+    const int32_t *triangles = nullptr, *material_index = nullptr;
+
+    MeshArgs(FloatArray v, IntArray t, const py::object& corner_normals, const py::object& mat_index,
+             const py::object& corner_uvs)
+        : vertex_array(std::move(v)), triangle_array(std::move(t)) {
+        if (vertex_array.ndim() != 2 || vertex_array.shape(1) != 3) throw py::value_error("vertices must be (N, 3)");
+        if (triangle_array.ndim() != 2 || triangle_array.shape(1) != 3)
+            throw py::value_error("triangles must be (M, 3)");
+        nv = vertex_array.shape(0), nt = triangle_array.shape(0);
+        vertices = vertex_array.data(), triangles = triangle_array.data();
+        normals = optional(corner_normals, normal_array, nt * 9, "corner_normals must be (M, 3, 3)");
+        uvs = optional(corner_uvs, uv_array, nt * 6, "corner_uvs must be (M, 3, 2)");
+        material_index = optional(mat_index, index_array, nt, "material_index must be (M,)");
+    }
+    template <class A>
+    static auto optional(const py::object& o, A& keep, size_t size, const char* error) -> decltype(keep.data()) {
+        if (o.is_none()) return nullptr;
+        keep = o.cast<A>();
+        if (size_t(keep.size()) != size) throw py::value_error(error);
+        return keep.data();
+    }
+};
+
 // A closure's non-constant colour: "texture" (id from add_texture), "object_color", "to_f0".
 LobeInput parse_lobe_input(const Scene& s, const py::dict& d) {
     LobeInput in;
@@ -184,36 +216,45 @@ PYBIND11_MODULE(_smis, m) {
             "An image texture from (h, w, 4) float pixels, bottom row first (Image.pixels); returns its id")
         .def(
             "add_mesh",
-            [](Scene& s, py::array_t<float, py::array::c_style | py::array::forcecast> vertices,
-               py::array_t<int32_t, py::array::c_style | py::array::forcecast> triangles, py::object corner_normals,
-               py::object material_index, std::vector<uint32_t> materials, py::object corner_uvs) {
-                if (vertices.ndim() != 2 || vertices.shape(1) != 3) throw py::value_error("vertices must be (N, 3)");
-                if (triangles.ndim() != 2 || triangles.shape(1) != 3) throw py::value_error("triangles must be (M, 3)");
-                size_t nv = vertices.shape(0), nt = triangles.shape(0);
-                py::array_t<float, py::array::c_style | py::array::forcecast> normals;
-                py::array_t<int32_t, py::array::c_style | py::array::forcecast> mat_index;
-                if (!corner_normals.is_none()) {
-                    normals = corner_normals.cast<decltype(normals)>();
-                    if (size_t(normals.size()) != nt * 9) throw py::value_error("corner_normals must be (M, 3, 3)");
-                }
-                if (!material_index.is_none()) {
-                    mat_index = material_index.cast<decltype(mat_index)>();
-                    if (size_t(mat_index.size()) != nt) throw py::value_error("material_index must be (M,)");
-                }
-                py::array_t<float, py::array::c_style | py::array::forcecast> uvs;
-                if (!corner_uvs.is_none()) {
-                    uvs = corner_uvs.cast<decltype(uvs)>();
-                    if (size_t(uvs.size()) != nt * 6) throw py::value_error("corner_uvs must be (M, 3, 2)");
-                }
-                const float* np = corner_normals.is_none() ? nullptr : normals.data();
-                const int32_t* mp = material_index.is_none() ? nullptr : mat_index.data();
-                const float* up = corner_uvs.is_none() ? nullptr : uvs.data();
+            [](Scene& s, FloatArray vertices, IntArray triangles, py::object corner_normals, py::object material_index,
+               std::vector<uint32_t> materials, py::object corner_uvs) {
+                MeshArgs a(vertices, triangles, corner_normals, material_index, corner_uvs);
                 py::gil_scoped_release release;
-                return s.add_mesh(vertices.data(), nv, triangles.data(), nt, np, mp, materials, up);
+                return s.add_mesh(a.vertices, a.nv, a.triangles, a.nt, a.normals, a.material_index, materials, a.uvs);
             },
             py::arg("vertices"), py::arg("triangles"), py::arg("corner_normals") = py::none(),
             py::arg("material_index") = py::none(), py::arg("materials") = std::vector<uint32_t>{},
             py::arg("corner_uvs") = py::none())
+        .def(
+            "replace_mesh",
+            [](Scene& s, uint32_t mesh, FloatArray vertices, IntArray triangles, py::object corner_normals,
+               py::object material_index, std::vector<uint32_t> materials, py::object corner_uvs) {
+                MeshArgs a(vertices, triangles, corner_normals, material_index, corner_uvs);
+                py::gil_scoped_release release;
+                return s.replace_mesh(mesh, a.vertices, a.nv, a.triangles, a.nt, a.normals, a.material_index, materials,
+                                      a.uvs);
+            },
+            py::arg("mesh"), py::arg("vertices"), py::arg("triangles"), py::arg("corner_normals") = py::none(),
+            py::arg("material_index") = py::none(), py::arg("materials") = std::vector<uint32_t>{},
+            py::arg("corner_uvs") = py::none(),
+            "Viewport scenes: replace a committed mesh in place (same arguments as add_mesh); False if the "
+            "scene must be rebuilt instead")
+        .def(
+            "set_instance_transforms",
+            [](Scene& s, py::array_t<double, py::array::c_style | py::array::forcecast> matrices) {
+                if (matrices.ndim() != 3 || matrices.shape(1) != 4 || matrices.shape(2) != 4)
+                    throw py::value_error("matrices must be (N, 4, 4)");
+                size_t n = matrices.shape(0);
+                std::vector<float> rows(12 * n);
+                auto m = matrices.unchecked<3>();
+                for (size_t i = 0; i < n; ++i)
+                    for (int r = 0; r < 3; ++r)
+                        for (int c = 0; c < 4; ++c) rows[12 * i + 4 * r + c] = static_cast<float>(m(i, r, c));
+                py::gil_scoped_release release;
+                return s.set_instance_transforms(rows.data(), n);
+            },
+            "Viewport scenes: new matrices for every instance, in add_instance order; False if the scene must "
+            "be rebuilt instead")
         .def("mesh_dropped", &Scene::mesh_dropped)
         .def("add_instance",
              [](Scene& s, uint32_t mesh, MatrixArray matrix, std::vector<float> color) {

@@ -92,6 +92,15 @@ uint32_t Scene::add_mesh(const float* vertices, size_t nv, const int32_t* triang
                          const float* corner_normals, const int32_t* material_index,
                          const std::vector<uint32_t>& slot_materials, const float* corner_uvs) {
     if (committed_) throw std::logic_error("scene already committed");
+    Mesh mesh = make_mesh(vertices, nv, triangles, nt, corner_normals, material_index, slot_materials, corner_uvs);
+    stats_.dropped_triangles += mesh.dropped;
+    meshes_.push_back(std::move(mesh));
+    return static_cast<uint32_t>(meshes_.size() - 1);
+}
+
+Scene::Mesh Scene::make_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
+                             const float* corner_normals, const int32_t* material_index,
+                             const std::vector<uint32_t>& slot_materials, const float* corner_uvs) const {
     Mesh mesh;
     // Embree reads 16 bytes past the last vertex of shared buffers: keep one float3 of padding.
     mesh.positions.assign(vertices, vertices + 3 * nv);
@@ -130,9 +139,61 @@ uint32_t Scene::add_mesh(const float* vertices, size_t nv, const int32_t* triang
         }
         mesh.materials.push_back(mat < materials_.size() ? mat : 0);
     }
-    stats_.dropped_triangles += mesh.dropped;
-    meshes_.push_back(std::move(mesh));
-    return static_cast<uint32_t>(meshes_.size() - 1);
+    return mesh;
+}
+
+bool Scene::emissive(const Mesh& mesh) const {
+    for (uint32_t m : mesh.materials)
+        if (materials_[m].emissive()) return true;
+    return false;
+}
+
+void Scene::build_prototype(Mesh& mesh) {
+    mesh.prototype = rtcNewScene(device_);
+    rtcSetSceneFlags(mesh.prototype, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(mesh.prototype, build_quality());
+    build_mesh_geometry(mesh.prototype, mesh, 0);
+    rtcCommitScene(mesh.prototype);
+}
+
+bool Scene::set_instance_transforms(const float* rows, size_t n) {
+    if (!committed_ || !fast_build_ || n != instances_.size()) return false;
+    std::vector<Transform> transforms(n);
+    for (size_t i = 0; i < n; ++i) {
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c) transforms[i].m[r][c] = rows[12 * i + 4 * r + c];
+        if (instances_[i].light_base >= 0 || !transforms[i].is_finite() || !invertible_in_float(transforms[i]))
+            return false;  // triangle lights are in world space; bad matrices are refused as in add_instance
+    }
+    for (size_t i = 0; i < n; ++i) {
+        instances_[i].to_world = transforms[i];
+        RTCGeometry geom = rtcGetGeometry(scene_, static_cast<unsigned>(i));  // geometry id = instance index
+        rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &transforms[i].m[0][0]);
+        rtcCommitGeometry(geom);
+    }
+    rtcCommitScene(scene_);  // rebuilds the top level only
+    return embree_error_.empty();
+}
+
+bool Scene::replace_mesh(uint32_t id, const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
+                         const float* corner_normals, const int32_t* material_index,
+                         const std::vector<uint32_t>& slot_materials, const float* corner_uvs) {
+    if (!committed_ || !fast_build_ || id >= meshes_.size() || !meshes_[id].prototype) return false;
+    Mesh mesh = make_mesh(vertices, nv, triangles, nt, corner_normals, material_index, slot_materials, corner_uvs);
+    if (mesh.indices.empty() || emissive(mesh) || emissive(meshes_[id])) return false;
+    mesh.users = meshes_[id].users;
+    build_prototype(mesh);
+    for (size_t i = 0; i < instances_.size(); ++i) {
+        if (instances_[i].mesh != id) continue;
+        RTCGeometry geom = rtcGetGeometry(scene_, static_cast<unsigned>(i));
+        rtcSetGeometryInstancedScene(geom, mesh.prototype);
+        rtcCommitGeometry(geom);
+    }
+    rtcReleaseScene(meshes_[id].prototype);
+    stats_.triangles += (mesh.indices.size() / 3 - meshes_[id].indices.size() / 3) * mesh.users;
+    meshes_[id] = std::move(mesh);
+    rtcCommitScene(scene_);
+    return embree_error_.empty();
 }
 
 uint32_t Scene::mesh_dropped(uint32_t mesh) const { return mesh < meshes_.size() ? meshes_[mesh].dropped : 0; }
@@ -255,14 +316,9 @@ void Scene::commit() {
 
     // Meshes used once are flattened into world space (one BVH level, as Cycles does for unique
     // objects); meshes used several times become one Embree prototype shared by Embree instances.
-    for (Mesh& mesh : meshes_) {
-        if (mesh.users < 2) continue;
-        mesh.prototype = rtcNewScene(device_);
-        rtcSetSceneFlags(mesh.prototype, RTC_SCENE_FLAG_ROBUST);
-        rtcSetSceneBuildQuality(mesh.prototype, build_quality());
-        build_mesh_geometry(mesh.prototype, mesh, 0);
-        rtcCommitScene(mesh.prototype);
-    }
+    // Fast-build (viewport) scenes keep every used mesh a prototype, for in-place updates.
+    for (Mesh& mesh : meshes_)
+        if (mesh.users >= (fast_build_ ? 1u : 2u)) build_prototype(mesh);
     emissive_local_.assign(meshes_.size(), {});
     for (size_t m = 0; m < meshes_.size(); ++m) {
         const Mesh& mesh = meshes_[m];

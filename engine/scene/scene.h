@@ -60,6 +60,17 @@ public:
     // build pays off there (Embree's LOW quality: no spatial splits; slower rays).
     void set_fast_build(bool fast) { fast_build_ = fast; }
 
+    // --- interactive updates (fast-build scenes, after commit; nothing may be rendering) -------
+    // Fast-build scenes keep every mesh in its own Embree prototype, so the viewport can move
+    // instances and replace one mesh without rebuilding the others. Both return false, changing
+    // nothing, when the scene cannot be updated in place (instance count differs, emissive
+    // geometry, all triangles dropped): the caller then builds a new scene.
+    // rows: n x 3 x 4 floats, the first three rows of each instance's matrix, in add_instance order.
+    bool set_instance_transforms(const float* rows, size_t n);
+    bool replace_mesh(uint32_t mesh, const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
+                      const float* corner_normals, const int32_t* material_index,
+                      const std::vector<uint32_t>& slot_materials, const float* corner_uvs = nullptr);
+
     // --- queries (thread-safe after commit) --------------------------------------------------------
     bool intersect(const Ray& ray, SurfaceHit* hit) const;
     bool occluded(const Vec3& origin, const Vec3& dir, float tmax) const;
@@ -106,6 +117,11 @@ private:
     Vec3 apply_normal_map(const Material& mat, const Mesh& mesh, const Instance& inst, uint32_t prim,
                           const Vec3& ns, const Vec3& ng, Point2 uv) const;
     void build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id);
+    Mesh make_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt, const float* corner_normals,
+                   const int32_t* material_index, const std::vector<uint32_t>& slot_materials,
+                   const float* corner_uvs) const;
+    void build_prototype(Mesh& mesh);
+    bool emissive(const Mesh& mesh) const;
     RTCBuildQuality build_quality() const { return fast_build_ ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_HIGH; }
     void add_triangle_lights(Instance& inst);
     void fill_hit(const Ray& ray, const struct RTCRayHit& rh, SurfaceHit* hit) const;

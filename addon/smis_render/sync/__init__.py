@@ -25,6 +25,7 @@ class Export:
     stats: dict = field(default_factory=dict)   # scene.stats() after commit
     seconds: float = 0.0
     commit_seconds: float = 0.0   # of `seconds`: the engine's BVH build and light tables
+    materials: object = None       # the MaterialCache (engine material ids of this scene)
 
 
 def export_depsgraph(native, depsgraph, reporter, engine=None, view_camera=None, cache=None):
@@ -61,7 +62,7 @@ def export_depsgraph(native, depsgraph, reporter, engine=None, view_camera=None,
 
     done = time.perf_counter()
     return Export(scene=scene, camera=cam, counts=counts, stats=dict(scene.stats()),
-                  seconds=done - t0, commit_seconds=done - t_commit)
+                  seconds=done - t0, commit_seconds=done - t_commit, materials=mats)
 
 
 __all__ = ["Export", "ExportError", "Cancelled", "export_depsgraph"]

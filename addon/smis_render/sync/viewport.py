@@ -11,10 +11,11 @@ builds a new BVH): the engine scene is immutable while a render reads it.
 import time
 
 import bpy
+import numpy as np
 from mathutils import Matrix
 
 from . import export_depsgraph
-from .instances import GeometryCache
+from .instances import GeometryCache, instance_matrix, mesh_of, walk_instances
 
 
 ORTHO_BACKOFF = 1e4
@@ -54,12 +55,19 @@ def view_camera(region, region_data, width, height):
 
 
 class ViewportSync:
-    """Engine scenes for one viewport, re-exporting only what edits touched."""
+    """Engine scenes for one viewport, re-exporting only what edits touched.
+
+    After a full export, edits that only move objects or change meshes are applied to the
+    same engine scene in place (new instance matrices, the changed meshes' prototypes
+    rebuilt); anything else (materials, lights, world, added or removed objects) builds a
+    new scene from the cached meshes."""
 
     def __init__(self):
         self.cache = GeometryCache()
-        self.last_seconds = 0.0     # the last scene build (export + commit)
+        self.export = None
+        self.last_seconds = 0.0     # the last update (export + commit, or in-place update)
         self.last_exported = 0      # meshes taken from Blender by it
+        self.last_in_place = False
 
     def invalidate(self, depsgraph):
         """Forget the meshes of objects whose geometry the last edit changed."""
@@ -70,10 +78,51 @@ class ViewportSync:
             elif isinstance(datablock, bpy.types.Mesh):
                 self.cache.invalidate(data_name=datablock.original.name_full)
 
-    def build(self, native, depsgraph, reporter, camera):
+    def build(self, native, depsgraph, reporter, camera, edited=False):
+        """The engine scene for the depsgraph: updated in place when `edited` allows it,
+        else exported (from cached meshes where possible). Returns the Export."""
         t0 = time.perf_counter()
         before = self.cache.exported
-        export = export_depsgraph(native, depsgraph, reporter, view_camera=camera, cache=self.cache)
+        self.last_in_place = edited and self.export is not None and self._update_in_place(depsgraph, reporter)
+        if not self.last_in_place:
+            self.cache.start_export()
+            self.export = export_depsgraph(native, depsgraph, reporter, view_camera=camera, cache=self.cache)
         self.last_seconds = time.perf_counter() - t0
         self.last_exported = self.cache.exported - before
-        return export
+        return self.export
+
+    def _update_in_place(self, depsgraph, reporter):
+        changed_geometry = set()
+        for update in depsgraph.updates:
+            datablock = update.id
+            if isinstance(datablock, bpy.types.Object):
+                if datablock.type == 'LIGHT':
+                    return False
+                if update.is_updated_geometry:
+                    changed_geometry.add(datablock.original.name_full)
+            elif not isinstance(datablock, (bpy.types.Mesh, bpy.types.Scene)):
+                return False  # materials, world, lights, collections: a new scene
+        keys, matrices, edited = [], [], {}
+        for kind, inst, obj in walk_instances(depsgraph, reporter):
+            if kind == 'LIGHT':
+                continue  # unchanged: a light edit returned above
+            key = self.cache.identity(obj)
+            if key not in self.cache.mesh_ids:
+                continue  # empty geometry, never added to the engine
+            keys.append((key, tuple(obj.color[:3])))  # a new object colour needs a new scene
+            matrices.append(instance_matrix(inst))
+            if key[0] in changed_geometry:
+                edited.setdefault(key, obj)
+        if keys != self.cache.instance_keys:
+            return False  # objects added, removed or re-ordered
+        scene = self.export.scene
+        try:
+            for key, obj in edited.items():
+                buf, mat_ids = mesh_of(obj, self.export.materials, self.cache)
+                if buf is None or not scene.replace_mesh(
+                        self.cache.mesh_ids[key], buf.vertices, buf.triangles, buf.corner_normals,
+                        buf.material_index, mat_ids, buf.corner_uvs):
+                    return False
+        except (RuntimeError, ValueError):  # e.g. a new material: the committed scene can't take it
+            return False
+        return bool(scene.set_instance_transforms(np.array(matrices, dtype=np.float64).reshape(-1, 4, 4)))
