@@ -82,6 +82,7 @@ uint32_t Scene::add_material(Material material) {
         throw std::invalid_argument("material inputs must be empty or one per lobe");
     if (!std::isfinite(material.normal_strength)) material.normal_strength = 0.0f;
     material.alpha = std::isfinite(material.alpha) ? clampf(material.alpha, 0.0f, 1.0f) : 1.0f;
+    varying_materials_ = varying_materials_ || !material.inputs.empty();
     if (!is_finite(material.emission)) material.emission = Color(0.0f);
     material.emission = vmax(material.emission, Color(0.0f));
     materials_.push_back(std::move(material));

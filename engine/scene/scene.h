@@ -84,6 +84,8 @@ public:
     }
     const Camera& camera() const { return camera_; }
     const Material& material(uint32_t id) const { return materials_[id]; }
+    // Some material's lobes vary over surfaces (textures, object colour): hits' SurfaceAttribs matter.
+    bool has_varying_materials() const { return varying_materials_; }
     const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
     const Light& light(uint32_t i) const { return *lights_[i]; }
     const DiscreteDistribution& light_selection() const { return light_selection_; }
@@ -139,7 +141,7 @@ private:
     std::vector<uint32_t> hittable_lights_, infinite_lights_;
     DiscreteDistribution light_selection_;
     Camera camera_;
-    bool has_camera_ = false, committed_ = false, fast_build_ = false;
+    bool has_camera_ = false, committed_ = false, fast_build_ = false, varying_materials_ = false;
     Color world_{0.0f};
     float radius_ = 1.0f;
     SceneStats stats_;
