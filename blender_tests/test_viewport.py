@@ -48,3 +48,11 @@ def test_rendered_viewport_updates_after_edits():
     print("fraction of the 3D view changed: solid->rendered %.4f, move %.4f, mesh edit %.4f" % fractions)
     assert min(fractions) > 0.005, fractions
     print("screenshots in", out)
+    # The material preview icon was rendered, by SMIS: the only SMIS render() call of this session
+    # (the viewport draws without one) reports SMIS' counters. (Blender's buffered report output
+    # does not keep its order relative to the script's prints.)
+    assert "SMIS counters: paths" in log, log[-3000:]
+    preview = [l for l in log.splitlines() if "material preview " in l and "mean" in l]
+    assert preview and " 0x0 " not in preview[0], log[-3000:]
+    assert float(preview[0].split("range ")[1]) > 0.2, preview  # a shaded ball, not a flat icon
+    print(preview[0])

@@ -1,6 +1,6 @@
 """Drives Blender's UI (under Xvfb) for test_viewport.py: switches the 3D view to Rendered shading
 with SMIS (after a Solid-shading screenshot), waits for the progressive render, screenshots the 3D view, moves the cube, then edits
-its mesh, screenshotting after each.
+its mesh, screenshotting after each; finally renders the material's preview icon.
 
     xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --addons smis_render \\
         --python blender_tests/viewport_ui.py -- OUT_DIR
@@ -54,12 +54,29 @@ def edit_mesh():
     print("SMIS viewport test: edited the mesh", flush=True)
 
 
-def finish():
+def material_preview():
     screenshot("edited.png")
+    # The material's preview icon, which Blender renders with the scene's engine (bl_use_preview)
+    # when the Material Properties draw it.
+    for window in bpy.context.window_manager.windows:
+        for area in window.screen.areas:
+            if area.type == 'PROPERTIES':
+                area.spaces.active.context = 'MATERIAL'
+    bpy.data.materials["Material"].preview_ensure()
+    print("SMIS viewport test: material preview requested", flush=True)
+
+
+def finish():
+    preview = bpy.data.materials["Material"].preview
+    pixels = list(preview.icon_pixels_float)
+    w, h = preview.icon_size
+    mean = sum(pixels) / max(len(pixels), 1)
+    spread = max(pixels, default=0.0) - min(pixels, default=0.0)
+    print("SMIS viewport test: material preview %dx%d mean %.4f range %.4f" % (w, h, mean, spread), flush=True)
     bpy.ops.wm.quit_blender()
 
 
-STEPS = [start, move_cube, edit_mesh, finish]
+STEPS = [start, move_cube, edit_mesh, material_preview, finish]
 
 
 def run_next():
@@ -70,7 +87,9 @@ def run_next():
         print("SMIS viewport test: FAILED in %s: %r" % (step.__name__, exc), flush=True)
         bpy.ops.wm.quit_blender()
         return None
-    return WAIT if STEPS else None
+    if not STEPS:
+        return None
+    return 8.0 if step is material_preview else WAIT  # the icon renders in a background job
 
 
 bpy.context.preferences.view.show_splash = False

@@ -15,6 +15,7 @@ from . import native, passes, properties, sync
 from .sync.reports import Reporter
 
 POLL_SECONDS = 0.2            # test_break / progress / stats cadence
+PREVIEW_SAMPLES = 16          # material preview renders
 RESULT_UPDATE_SECONDS = 1.5   # how often the intermediate image is shown
 
 
@@ -23,7 +24,7 @@ class SMISRenderEngine(bpy.types.RenderEngine):
     bl_label = "SMIS"
     bl_use_postprocess = True           # compositor and sequencer run on our result
     bl_use_shading_nodes_custom = False  # use Blender's shader node editor (Cycles' nodes)
-    bl_use_preview = False               # no material preview renders yet
+    bl_use_preview = True                # material/light/world preview thumbnails and panels
     # Rendered shading is ours (view_update/view_draw); Material Preview uses EEVEE on
     # the same nodes, as with Cycles.
     bl_use_eevee_viewport = True
@@ -51,8 +52,7 @@ class SMISRenderEngine(bpy.types.RenderEngine):
     def update(self, data, depsgraph):
         """Translate the view layer's depsgraph into a committed engine scene."""
         self._export, self._export_error = None, None
-        if self.is_preview:
-            return
+        self._reporter.quiet = self.is_preview
         try:
             smis = native.load()
             self.update_stats("", "Exporting scene")
@@ -91,8 +91,6 @@ class SMISRenderEngine(bpy.types.RenderEngine):
     # -- render ----------------------------------------------------------------------
 
     def render(self, depsgraph):
-        if self.is_preview:
-            return
         export, self._export = self._export, None
         if self._export_error:
             # In background mode an ERROR report makes Blender exit 1 and write nothing:
@@ -116,6 +114,9 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         aux = passes.enabled_passes(scene, depsgraph.view_layer)
         settings = properties.session_settings(scene)
         settings["aux_passes"] = bool(aux)  # off: the engine traces no extra rays for them
+        if self.is_preview:
+            # Blender's preview scene (material ball, light, world) is rendered small and often.
+            settings.update(samples=min(settings["samples"], PREVIEW_SAMPLES), time_limit=0.0)
         try:
             session = smis.RenderSession(export.scene, settings)
         except ValueError as exc:
