@@ -80,3 +80,15 @@ def test_passes_do_not_change_the_image():
     # PATH has no diagnostic pass: it is not registered even though the toggle is on.
     assert not any("Reused" in name for name in with_passes)
     np.testing.assert_array_equal(layer_pass(with_passes, "Combined", "RGBA"), plain.image)
+
+
+def test_principled_albedo_counts_the_specular_layer_by_its_reflectance():
+    """Default Principled BSDF (base 0.8, Specular 0.5 = IOR 1.5): diffuse 0.8 plus the specular
+    layer's F0 = 0.04, as a denoising albedo should read (not 0.8 + 1)."""
+    setup = PLANE_SCENE.format(integrator="PATH") + PASSES_ON + """
+mat.node_tree.nodes.remove(diffuse)
+principled = mat.node_tree.nodes.new("ShaderNodeBsdfPrincipled")
+mat.node_tree.links.new(principled.outputs[0], mat.node_tree.nodes["Material Output"].inputs["Surface"])
+"""
+    albedo = layer_pass(channels(render(setup=setup)), "Albedo", "RGB")
+    np.testing.assert_allclose(albedo, 0.84, rtol=1e-4)

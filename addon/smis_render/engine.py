@@ -15,6 +15,7 @@ from . import native, passes, properties, sync
 from .sync.reports import Reporter
 
 POLL_SECONDS = 0.2            # test_break / progress / stats cadence
+PREVIEW_SAMPLES = 16          # material preview renders
 RESULT_UPDATE_SECONDS = 1.5   # how often the intermediate image is shown
 
 
@@ -23,9 +24,9 @@ class SMISRenderEngine(bpy.types.RenderEngine):
     bl_label = "SMIS"
     bl_use_postprocess = True           # compositor and sequencer run on our result
     bl_use_shading_nodes_custom = False  # use Blender's shader node editor (Cycles' nodes)
-    bl_use_preview = False               # no material preview renders yet
-    # No interactive viewport render yet (no view_update/view_draw, so Blender offers
-    # no "Rendered" shading); Material Preview uses EEVEE on the same nodes, as Cycles.
+    bl_use_preview = True                # material/light/world preview thumbnails and panels
+    # Rendered shading is ours (view_update/view_draw); Material Preview uses EEVEE on
+    # the same nodes, as with Cycles.
     bl_use_eevee_viewport = True
 
     def __init__(self):
@@ -33,6 +34,9 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         self._export = None
         self._export_error = None
         self._reporter = Reporter(self)
+        # Interactive viewport state. When Blender frees the engine, the native session
+        # in it is destroyed too, and its destructor stops and joins the render threads.
+        self._viewport = None
 
     def break_requested(self):
         """Blender's test_break() (Esc in the UI, closing the render window).
@@ -48,8 +52,7 @@ class SMISRenderEngine(bpy.types.RenderEngine):
     def update(self, data, depsgraph):
         """Translate the view layer's depsgraph into a committed engine scene."""
         self._export, self._export_error = None, None
-        if self.is_preview:
-            return
+        self._reporter.quiet = self.is_preview
         try:
             smis = native.load()
             self.update_stats("", "Exporting scene")
@@ -63,14 +66,31 @@ class SMISRenderEngine(bpy.types.RenderEngine):
             traceback.print_exc()
             self._export_error = "Scene export failed: %s: %s" % (type(exc).__name__, exc)
 
+    # -- interactive viewport ----------------------------------------------------------
+
+    def view_update(self, context, depsgraph):
+        from .viewport import ViewportRenderer  # needs the gpu module: UI sessions only
+        if self._viewport is None:
+            self._viewport = ViewportRenderer()
+        try:
+            self._viewport.update(context, depsgraph)
+        except Exception:  # a bug of ours must not take the UI down
+            traceback.print_exc()
+
+    def view_draw(self, context, depsgraph):
+        if self._viewport is None:
+            return
+        try:
+            self._viewport.draw(self, context, depsgraph)
+        except Exception:
+            traceback.print_exc()
+
     def update_render_passes(self, scene=None, renderlayer=None):
         passes.register_passes(self, scene, renderlayer)
 
     # -- render ----------------------------------------------------------------------
 
     def render(self, depsgraph):
-        if self.is_preview:
-            return
         export, self._export = self._export, None
         if self._export_error:
             # In background mode an ERROR report makes Blender exit 1 and write nothing:
@@ -94,6 +114,9 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         aux = passes.enabled_passes(scene, depsgraph.view_layer)
         settings = properties.session_settings(scene)
         settings["aux_passes"] = bool(aux)  # off: the engine traces no extra rays for them
+        if self.is_preview:
+            # Blender's preview scene (material ball, light, world) is rendered small and often.
+            settings.update(samples=min(settings["samples"], PREVIEW_SAMPLES), time_limit=0.0)
         try:
             session = smis.RenderSession(export.scene, settings)
             spectral = smis.resolve_spectral_mode(export.scene, settings)

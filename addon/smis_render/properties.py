@@ -16,6 +16,18 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
                     "0 renders direct lighting only",
         default=8, min=0, soft_max=64,
     )
+    viewport_samples: IntProperty(
+        name="Viewport Samples",
+        description="Samples per pixel of the interactive viewport (Rendered shading); it refines "
+                    "progressively up to this and restarts after every edit",
+        default=32, min=1, soft_max=1024,
+    )
+    viewport_resolution_divider: IntProperty(
+        name="Viewport Pixel Size",
+        description="Render the viewport at 1/N of its resolution and scale it up: N^2 times "
+                    "fewer paths per refinement",
+        default=2, min=1, max=8,
+    )
     seed: IntProperty(
         name="Seed",
         description="Seed of the random numbers; different seeds give different noise patterns",

@@ -39,6 +39,9 @@ class SMIS_RENDER_PT_sampling(SMISButtonsPanel, bpy.types.Panel):
         col = layout.column()
         col.prop(settings, "samples")
         col.prop(settings, "time_limit")
+        sub = col.column(align=True)
+        sub.prop(settings, "viewport_samples")
+        sub.prop(settings, "viewport_resolution_divider")
         # As Cycles lays it out: the seed with the animated-seed toggle beside it.
         row = col.row(align=True)
         row.prop(settings, "seed")
@@ -334,7 +337,6 @@ _EXCLUDED_GENERIC = {
     'DATA_PT_area',             # idem
     'DATA_PT_spot',             # idem (and it is a child of EEVEE's light panel)
     'DATA_PT_falloff_curve',    # custom light falloff is not supported
-    'DATA_PT_preview',          # no material/light previews (bl_use_preview = False)
     'VIEWLAYER_PT_filter',
     'VIEWLAYER_PT_layer_passes',  # passes are declared by the engine itself
     'RENDER_PT_freestyle',
@@ -347,6 +349,7 @@ _EXCLUDED_GENERIC = {
 # show every Cycles panel. Hence SMIS' own Surface panels for materials and worlds.
 _EXTRA_PANELS = (
     'EEVEE_MATERIAL_PT_context_material',
+    'MATERIAL_PT_preview',      # rendered by SMIS (bl_use_preview)
 )
 
 # panel class -> the COMPAT_ENGINES it had in its own __dict__ (None if inherited)

@@ -4,6 +4,25 @@
 
 namespace smis {
 
+namespace {
+
+// Reflectance of the closures at normal incidence: a lobe's weight, times its Fresnel reflectance
+// where the lobe carries one (the Principled specular layer's dielectric F0, a metal's f0), so a
+// white Principled BSDF reads about 1, not 1 plus the specular layer's full weight.
+Color albedo(const Bsdf& bsdf) {
+    Color sum(0.0f);
+    for (int i = 0; i < bsdf.lobe_count(); ++i) {
+        const Lobe& l = bsdf.lobe(i);
+        if (l.kind == LobeKind::Microfacet && l.fresnel == FresnelMode::Schlick) sum += l.weight * l.f0;
+        else if (l.kind == LobeKind::Microfacet && l.fresnel == FresnelMode::Dielectric)
+            sum += l.weight * sqr((l.eta - 1.0f) / (l.eta + 1.0f));
+        else sum += l.weight;
+    }
+    return sum;
+}
+
+}  // namespace
+
 AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng) {
     AuxSample a;
     SurfaceHit hit;
@@ -15,7 +34,7 @@ AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng) {
     Color throughput(1.0f);
     for (int bounce = 0;; ++bounce) {
         if (!sp.bsdf.is_delta() || bounce == kAuxMaxDeltaBounces) {
-            a.albedo = throughput * sp.bsdf.albedo_weight();
+            a.albedo = throughput * albedo(sp.bsdf);
             break;
         }
         float u_lobe = rng.next_float();

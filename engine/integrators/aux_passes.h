@@ -7,7 +7,8 @@ namespace smis {
 
 // Depth and normal of the first hit along the camera ray, as Cycles' Z and Normal passes. Albedo
 // as Cycles' denoising albedo: the first hit that is not a perfect mirror or smooth glass gives its
-// closure weights, times the throughput of the Dirac bounces that led there (at most
+// closures' reflectance (weights, Fresnel-scaled at normal incidence for specular layers and
+// metals), times the throughput of the Dirac bounces that led there (at most
 // kAuxMaxDeltaBounces, chosen with `rng`, a stream of its own so the image does not change).
 constexpr int kAuxMaxDeltaBounces = 8;
 AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng);

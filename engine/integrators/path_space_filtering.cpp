@@ -50,13 +50,21 @@ struct PathRecord {
     Color nee_weighted{0.0f}, next_weighted{0.0f};
 };
 
-Bsdf bsdf_at(const Scene& scene, uint32_t material, const Vec3& ns, const Vec3& ng, bool backfacing) {
-    return scene.material(material).make_bsdf(Frame(ns), ng, backfacing);
+// Texture coordinates and object colours of a record's x1 and z1, kept beside the records and only
+// for scenes whose materials vary over surfaces (Scene::has_varying_materials), so the records of
+// other scenes stay small (the gather stage is bound by reading them).
+struct RecordAttribs {
+    SurfaceAttribs x1, z1;
+};
+
+Bsdf bsdf_at(const Scene& scene, uint32_t material, const Vec3& ns, const Vec3& ng, bool backfacing,
+             const SurfaceAttribs& attr = {}) {
+    return scene.material(material).make_bsdf(Frame(ns), ng, backfacing, attr);
 }
 
 // Stage 1 for one pixel sample.
 PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
-                        LocalCounters& counters, const Camera& camera) {
+                        LocalCounters& counters, const Camera& camera, RecordAttribs* attribs) {
     PathRecord rec;
     PathState st;
     st.prev_p = ray.o;
@@ -96,6 +104,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         rec.ns = sp.ns;
         rec.material = hit.material;
         rec.backfacing = sp.backfacing;
+        if (attribs) attribs->x1 = hit.attr;
         rec.radius = settings.psf_radius_px * camera.pixel_footprint(prefix_length);
         DirectSample ds = sample_direct(scene, settings, sp, rng, counters);
         if (ds.valid) rec.fixed += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
@@ -150,6 +159,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         rec.z_ng = h1.ng;
         rec.z_ns = h1.ns;
         rec.z_material = h1.material;
+        if (attribs) attribs->z1 = h1.attr;
         rec.L_out = L_out;
         return rec;
     }
@@ -239,13 +249,16 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     const RenderSettings& settings = ctx.settings;
     const int w = ctx.film.width(), h = ctx.film.height();
     std::vector<PathRecord> records(size_t(w) * h);
+    std::vector<RecordAttribs> attribs(scene.has_varying_materials() ? records.size() : 0);
+    auto x1_attr = [&](size_t k) { return attribs.empty() ? SurfaceAttribs{} : attribs[k].x1; };
 
     // Stage 1: one full path per pixel.
     auto t0 = Clock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
-        records[size_t(y) * w + x] = trace_record(scene, settings, ray, rng, local, scene.camera());
+        const size_t k = size_t(y) * w + x;
+        records[k] = trace_record(scene, settings, ray, rng, local, scene.camera(), attribs.empty() ? nullptr : &attribs[k]);
         ++local.paths;
     });
     if (ctx.should_stop()) return;  // a partial iteration never reaches the film
@@ -287,7 +300,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         if (q.has_vertex && weighting_ == PsfWeighting::Path) {
             if (q.has_suffix) {
                 // The path tracer's own estimate: f cos / p_omega times the suffix radiance.
-                Bsdf b = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing);
+                Bsdf b = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, x1_attr(k));
                 Vec3 d = normalize(q.z - q.p);
                 float pdf = b.pdf(q.wo, d);
                 if (pdf > 0.0f) L += q.beta * b.eval(q.wo, d) * q.L_out / pdf;
@@ -319,7 +332,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             for (size_t jj = 0; jj < nb.size(); ++jj) {
                 const PathRecord& t = records[nb[jj]];
                 techniques[jj].rec = &t;
-                techniques[jj].bsdf = bsdf_at(scene, t.material, t.ns, t.ng, t.backfacing);
+                techniques[jj].bsdf = bsdf_at(scene, t.material, t.ns, t.ng, t.backfacing, x1_attr(nb[jj]));
                 techniques[jj].wo = techniques[jj].bsdf.fix_wo(t.wo);
             }
             const Bsdf& own = techniques[0].bsdf;
@@ -359,7 +372,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     bool back = dot(z_wo, smp.z_ng) < 0.0f;
                     Vec3 zng = back ? -smp.z_ng : smp.z_ng;
                     Vec3 zns = back ? -smp.z_ns : smp.z_ns;
-                    Bsdf bz = bsdf_at(scene, smp.z_material, zns, zng, back);
+                    Bsdf bz = bsdf_at(scene, smp.z_material, zns, zng, back,
+                                      attribs.empty() ? SurfaceAttribs{} : attribs[nb[ii]].z1);
                     L_z = bz.eval(z_wo, smp.nee_dir) * smp.nee_weighted + bz.eval(z_wo, smp.next_dir) * smp.next_weighted;
                 }
                 Color contribution = f * L_z * (absdot(wdir, smp.z_ng) / dist2);

@@ -11,7 +11,7 @@ ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const
     sp.backfacing = dot(sp.wo, hit.ng) < 0.0f;
     sp.ng = sp.backfacing ? -hit.ng : hit.ng;
     sp.ns = sp.backfacing ? -hit.ns : hit.ns;
-    sp.bsdf = scene.material(hit.material).make_bsdf(Frame(sp.ns), sp.ng, sp.backfacing);
+    sp.bsdf = scene.material(hit.material).make_bsdf(Frame(sp.ns), sp.ng, sp.backfacing, hit.attr);
     return sp;
 }
 

@@ -136,6 +136,48 @@ auto value_errors(F&& f) -> decltype(f()) {
     }
 }
 
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using IntArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
+
+// add_mesh/replace_mesh arguments checked and converted; the arrays stay alive as members.
+struct MeshArgs {
+    FloatArray vertex_array, normal_array, uv_array;
+    IntArray triangle_array, index_array;
+    size_t nv = 0, nt = 0;
+    const float *vertices = nullptr, *normals = nullptr, *uvs = nullptr;
+    const int32_t *triangles = nullptr, *material_index = nullptr;
+
+    MeshArgs(FloatArray v, IntArray t, const py::object& corner_normals, const py::object& mat_index,
+             const py::object& corner_uvs)
+        : vertex_array(std::move(v)), triangle_array(std::move(t)) {
+        if (vertex_array.ndim() != 2 || vertex_array.shape(1) != 3) throw py::value_error("vertices must be (N, 3)");
+        if (triangle_array.ndim() != 2 || triangle_array.shape(1) != 3)
+            throw py::value_error("triangles must be (M, 3)");
+        nv = vertex_array.shape(0), nt = triangle_array.shape(0);
+        vertices = vertex_array.data(), triangles = triangle_array.data();
+        normals = optional(corner_normals, normal_array, nt * 9, "corner_normals must be (M, 3, 3)");
+        uvs = optional(corner_uvs, uv_array, nt * 6, "corner_uvs must be (M, 3, 2)");
+        material_index = optional(mat_index, index_array, nt, "material_index must be (M,)");
+    }
+    template <class A>
+    static auto optional(const py::object& o, A& keep, size_t size, const char* error) -> decltype(keep.data()) {
+        if (o.is_none()) return nullptr;
+        keep = o.cast<A>();
+        if (size_t(keep.size()) != size) throw py::value_error(error);
+        return keep.data();
+    }
+};
+
+// A closure's non-constant colour: "texture" (id from add_texture), "object_color", "to_f0".
+LobeInput parse_lobe_input(const Scene& s, const py::dict& d) {
+    LobeInput in;
+    if (d.contains("texture") && !d["texture"].is_none())
+        in.texture = value_errors([&] { return s.texture(d["texture"].cast<uint32_t>()); });
+    in.object_color = get<bool>(d, "object_color", false);
+    in.to_f0 = get<bool>(d, "to_f0", false);
+    return in;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_smis, m) {
@@ -147,8 +189,15 @@ PYBIND11_MODULE(_smis, m) {
              [](Scene& s, const py::dict& d) {
                  Material mat;
                  mat.name = get<std::string>(d, "name", "");
+                 bool varies = false;
                  if (d.contains("closures"))
-                     for (auto c : d["closures"]) mat.lobes.push_back(parse_lobe(c.cast<py::dict>()));
+                     for (auto c : d["closures"]) {
+                         auto cd = c.cast<py::dict>();
+                         mat.lobes.push_back(parse_lobe(cd));
+                         mat.inputs.push_back(parse_lobe_input(s, cd));
+                         varies = varies || mat.inputs.back().varies();
+                     }
+                 if (!varies) mat.inputs.clear();  // constant lobes: no per-hit work
                  mat.emission = get_color(d, "emission", Color(0.0f));
                  MaterialSpectral& sp = mat.spectral;
                  sp.emission_spectrum = get<std::string>(d, "emission_spectrum", sp.emission_spectrum);
@@ -159,38 +208,84 @@ PYBIND11_MODULE(_smis, m) {
                  mat.pass_through = get<bool>(d, "pass_through", false);
                  if (d.contains("volume") && !d["volume"].is_none())
                      mat.medium = value_errors([&] { return add_medium(s, d["volume"].cast<py::dict>()); });
+                 if (d.contains("alpha")) {
+                     auto a = d["alpha"].cast<py::dict>();
+                     mat.alpha = get<float>(a, "value", 1.0f);
+                     if (a.contains("texture") && !a["texture"].is_none())
+                         mat.alpha_texture = value_errors([&] { return s.texture(a["texture"].cast<uint32_t>()); });
+                 }
+                 if (d.contains("normal_map")) {
+                     auto nm = d["normal_map"].cast<py::dict>();
+                     mat.normal_map = value_errors([&] { return s.texture(nm["texture"].cast<uint32_t>()); });
+                     mat.normal_strength = get<float>(nm, "strength", 1.0f);
+                 }
                  return value_errors([&] { return s.add_material(std::move(mat)); });
              })
         .def(
+            "add_texture",
+            [](Scene& s, py::array_t<float, py::array::c_style | py::array::forcecast> rgba, const std::string& colorspace,
+               const std::string& interpolation, const std::string& extension) {
+                int w, h;
+                const float* data = image_data(rgba, &w, &h);
+                Texture::Wrap wrap = extension == "EXTEND" ? Texture::Wrap::Extend
+                                     : extension == "CLIP" ? Texture::Wrap::Clip
+                                                           : Texture::Wrap::Repeat;
+                return value_errors([&] {
+                    return s.add_texture(
+                        std::make_shared<Texture>(data, w, h, colorspace, interpolation == "Closest", wrap));
+                });
+            },
+            py::arg("rgba"), py::arg("colorspace") = "sRGB", py::arg("interpolation") = "Linear",
+            py::arg("extension") = "REPEAT",
+            "An image texture from (h, w, 4) float pixels, bottom row first (Image.pixels); returns its id")
+        .def(
             "add_mesh",
-            [](Scene& s, py::array_t<float, py::array::c_style | py::array::forcecast> vertices,
-               py::array_t<int32_t, py::array::c_style | py::array::forcecast> triangles, py::object corner_normals,
-               py::object material_index, std::vector<uint32_t> materials) {
-                if (vertices.ndim() != 2 || vertices.shape(1) != 3) throw py::value_error("vertices must be (N, 3)");
-                if (triangles.ndim() != 2 || triangles.shape(1) != 3) throw py::value_error("triangles must be (M, 3)");
-                size_t nv = vertices.shape(0), nt = triangles.shape(0);
-                py::array_t<float, py::array::c_style | py::array::forcecast> normals;
-                py::array_t<int32_t, py::array::c_style | py::array::forcecast> mat_index;
-                if (!corner_normals.is_none()) {
-                    normals = corner_normals.cast<decltype(normals)>();
-                    if (size_t(normals.size()) != nt * 9) throw py::value_error("corner_normals must be (M, 3, 3)");
-                }
-                if (!material_index.is_none()) {
-                    mat_index = material_index.cast<decltype(mat_index)>();
-                    if (size_t(mat_index.size()) != nt) throw py::value_error("material_index must be (M,)");
-                }
-                const float* np = corner_normals.is_none() ? nullptr : normals.data();
-                const int32_t* mp = material_index.is_none() ? nullptr : mat_index.data();
+            [](Scene& s, FloatArray vertices, IntArray triangles, py::object corner_normals, py::object material_index,
+               std::vector<uint32_t> materials, py::object corner_uvs) {
+                MeshArgs a(vertices, triangles, corner_normals, material_index, corner_uvs);
                 py::gil_scoped_release release;
-                return s.add_mesh(vertices.data(), nv, triangles.data(), nt, np, mp, materials);
+                return s.add_mesh(a.vertices, a.nv, a.triangles, a.nt, a.normals, a.material_index, materials, a.uvs);
             },
             py::arg("vertices"), py::arg("triangles"), py::arg("corner_normals") = py::none(),
-            py::arg("material_index") = py::none(), py::arg("materials") = std::vector<uint32_t>{})
+            py::arg("material_index") = py::none(), py::arg("materials") = std::vector<uint32_t>{},
+            py::arg("corner_uvs") = py::none())
+        .def(
+            "replace_mesh",
+            [](Scene& s, uint32_t mesh, FloatArray vertices, IntArray triangles, py::object corner_normals,
+               py::object material_index, std::vector<uint32_t> materials, py::object corner_uvs) {
+                MeshArgs a(vertices, triangles, corner_normals, material_index, corner_uvs);
+                py::gil_scoped_release release;
+                return s.replace_mesh(mesh, a.vertices, a.nv, a.triangles, a.nt, a.normals, a.material_index, materials,
+                                      a.uvs);
+            },
+            py::arg("mesh"), py::arg("vertices"), py::arg("triangles"), py::arg("corner_normals") = py::none(),
+            py::arg("material_index") = py::none(), py::arg("materials") = std::vector<uint32_t>{},
+            py::arg("corner_uvs") = py::none(),
+            "Viewport scenes: replace a committed mesh in place (same arguments as add_mesh); False if the "
+            "scene must be rebuilt instead")
+        .def(
+            "set_instance_transforms",
+            [](Scene& s, py::array_t<double, py::array::c_style | py::array::forcecast> matrices) {
+                if (matrices.ndim() != 3 || matrices.shape(1) != 4 || matrices.shape(2) != 4)
+                    throw py::value_error("matrices must be (N, 4, 4)");
+                size_t n = matrices.shape(0);
+                std::vector<float> rows(12 * n);
+                auto m = matrices.unchecked<3>();
+                for (size_t i = 0; i < n; ++i)
+                    for (int r = 0; r < 3; ++r)
+                        for (int c = 0; c < 4; ++c) rows[12 * i + 4 * r + c] = static_cast<float>(m(i, r, c));
+                py::gil_scoped_release release;
+                return s.set_instance_transforms(rows.data(), n);
+            },
+            "Viewport scenes: new matrices for every instance, in add_instance order; False if the scene must "
+            "be rebuilt instead")
         .def("mesh_dropped", &Scene::mesh_dropped)
         .def("add_instance",
-             [](Scene& s, uint32_t mesh, MatrixArray matrix) {
-                 value_errors([&] { s.add_instance(mesh, to_transform(matrix)); });
-             })
+             [](Scene& s, uint32_t mesh, MatrixArray matrix, std::vector<float> color) {
+                 if (color.size() < 3) throw py::value_error("color needs three components");
+                 value_errors([&] { s.add_instance(mesh, to_transform(matrix), {color[0], color[1], color[2]}); });
+             },
+             py::arg("mesh"), py::arg("matrix"), py::arg("color") = std::vector<float>{1.0f, 1.0f, 1.0f})
         .def("add_light",
              [](Scene& s, const py::dict& d) {
                  LightDesc l;
@@ -249,6 +344,7 @@ PYBIND11_MODULE(_smis, m) {
              })
         .def("has_camera", &Scene::has_camera)
         .def("has_spectral_content", &Scene::has_spectral_content)
+        .def("set_fast_build", &Scene::set_fast_build)
         .def("commit",
              [](Scene& s) {
                  py::gil_scoped_release release;

@@ -1,9 +1,11 @@
 #include "scene/scene.h"
 
+#include <cstring>
 #include <stdexcept>
 
 #include "spectral/spectra.h"
 #include "scene/embree_ray.h"
+#include "core/rng.h"
 
 namespace smis {
 namespace {
@@ -103,6 +105,11 @@ uint32_t Scene::add_material(Material material) {
     }
     for (size_t i = 0; i < material.lobes.size(); ++i) material.lobes[i].index = static_cast<uint8_t>(i);
     validate_spectral(material.spectral, material.name);
+    if (!material.inputs.empty() && material.inputs.size() != material.lobes.size())
+        throw std::invalid_argument("material inputs must be empty or one per lobe");
+    if (!std::isfinite(material.normal_strength)) material.normal_strength = 0.0f;
+    material.alpha = std::isfinite(material.alpha) ? clampf(material.alpha, 0.0f, 1.0f) : 1.0f;
+    varying_materials_ = varying_materials_ || !material.inputs.empty();
     if (!is_finite(material.emission)) material.emission = Color(0.0f);
     material.emission = vmax(material.emission, Color(0.0f));
     materials_.push_back(std::move(material));
@@ -111,8 +118,17 @@ uint32_t Scene::add_material(Material material) {
 
 uint32_t Scene::add_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
                          const float* corner_normals, const int32_t* material_index,
-                         const std::vector<uint32_t>& slot_materials) {
+                         const std::vector<uint32_t>& slot_materials, const float* corner_uvs) {
     if (committed_) throw std::logic_error("scene already committed");
+    Mesh mesh = make_mesh(vertices, nv, triangles, nt, corner_normals, material_index, slot_materials, corner_uvs);
+    stats_.dropped_triangles += mesh.dropped;
+    meshes_.push_back(std::move(mesh));
+    return static_cast<uint32_t>(meshes_.size() - 1);
+}
+
+Scene::Mesh Scene::make_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
+                             const float* corner_normals, const int32_t* material_index,
+                             const std::vector<uint32_t>& slot_materials, const float* corner_uvs) const {
     Mesh mesh;
     // Embree reads 16 bytes past the last vertex of shared buffers: keep one float3 of padding.
     mesh.positions.assign(vertices, vertices + 3 * nv);
@@ -137,6 +153,11 @@ uint32_t Scene::add_mesh(const float* vertices, size_t nv, const int32_t* triang
         mesh.indices.insert(mesh.indices.end(), {uint32_t(i0), uint32_t(i1), uint32_t(i2)});
         if (corner_normals)
             for (int k = 0; k < 3; ++k) mesh.corner_normals.push_back(load3(corner_normals + 9 * t + 3 * k));
+        if (corner_uvs)
+            for (int k = 0; k < 3; ++k) {
+                Point2 uv{corner_uvs[6 * t + 2 * k], corner_uvs[6 * t + 2 * k + 1]};
+                mesh.uvs.push_back(std::isfinite(uv.x) && std::isfinite(uv.y) ? uv : Point2{});
+            }
         uint32_t mat = 0;
         if (material_index) {
             int32_t slot = material_index[t];
@@ -146,20 +167,84 @@ uint32_t Scene::add_mesh(const float* vertices, size_t nv, const int32_t* triang
         }
         mesh.materials.push_back(mat < materials_.size() ? mat : 0);
     }
-    stats_.dropped_triangles += mesh.dropped;
-    meshes_.push_back(std::move(mesh));
-    return static_cast<uint32_t>(meshes_.size() - 1);
+    return mesh;
+}
+
+bool Scene::emissive(const Mesh& mesh) const {
+    for (uint32_t m : mesh.materials)
+        if (materials_[m].emissive()) return true;
+    return false;
+}
+
+void Scene::build_prototype(Mesh& mesh) {
+    mesh.prototype = rtcNewScene(device_);
+    rtcSetSceneFlags(mesh.prototype, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(mesh.prototype, build_quality());
+    build_mesh_geometry(mesh.prototype, mesh, 0);
+    rtcCommitScene(mesh.prototype);
+}
+
+bool Scene::set_instance_transforms(const float* rows, size_t n) {
+    if (!committed_ || !fast_build_ || n != instances_.size()) return false;
+    std::vector<Transform> transforms(n);
+    for (size_t i = 0; i < n; ++i) {
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c) transforms[i].m[r][c] = rows[12 * i + 4 * r + c];
+        if (instances_[i].light_base >= 0 || !transforms[i].is_finite() || !invertible_in_float(transforms[i]))
+            return false;  // triangle lights are in world space; bad matrices are refused as in add_instance
+    }
+    for (size_t i = 0; i < n; ++i) {
+        instances_[i].to_world = transforms[i];
+        RTCGeometry geom = rtcGetGeometry(scene_, static_cast<unsigned>(i));  // geometry id = instance index
+        rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &transforms[i].m[0][0]);
+        rtcCommitGeometry(geom);
+    }
+    rtcCommitScene(scene_);  // rebuilds the top level only
+    return embree_error_.empty();
+}
+
+bool Scene::replace_mesh(uint32_t id, const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
+                         const float* corner_normals, const int32_t* material_index,
+                         const std::vector<uint32_t>& slot_materials, const float* corner_uvs) {
+    if (!committed_ || !fast_build_ || id >= meshes_.size() || !meshes_[id].prototype) return false;
+    Mesh mesh = make_mesh(vertices, nv, triangles, nt, corner_normals, material_index, slot_materials, corner_uvs);
+    if (mesh.indices.empty() || emissive(mesh) || emissive(meshes_[id])) return false;
+    mesh.users = meshes_[id].users;
+    build_prototype(mesh);
+    for (size_t i = 0; i < instances_.size(); ++i) {
+        if (instances_[i].mesh != id) continue;
+        RTCGeometry geom = rtcGetGeometry(scene_, static_cast<unsigned>(i));
+        rtcSetGeometryInstancedScene(geom, mesh.prototype);
+        rtcCommitGeometry(geom);
+    }
+    rtcReleaseScene(meshes_[id].prototype);
+    stats_.triangles += (mesh.indices.size() / 3 - meshes_[id].indices.size() / 3) * mesh.users;
+    meshes_[id] = std::move(mesh);
+    rtcCommitScene(scene_);
+    return embree_error_.empty();
 }
 
 uint32_t Scene::mesh_dropped(uint32_t mesh) const { return mesh < meshes_.size() ? meshes_[mesh].dropped : 0; }
 
-void Scene::add_instance(uint32_t mesh, const Transform& to_world) {
+uint32_t Scene::add_texture(std::shared_ptr<const Texture> texture) {
+    if (committed_) throw std::logic_error("scene already committed");
+    if (!texture) throw std::invalid_argument("null texture");
+    textures_.push_back(std::move(texture));
+    return static_cast<uint32_t>(textures_.size() - 1);
+}
+
+std::shared_ptr<const Texture> Scene::texture(uint32_t id) const {
+    if (id >= textures_.size()) throw std::invalid_argument("unknown texture id");
+    return textures_[id];
+}
+
+void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color) {
     if (committed_) throw std::logic_error("scene already committed");
     if (mesh >= meshes_.size()) throw std::invalid_argument("instance of an unknown mesh");
     if (!to_world.is_finite() || !invertible_in_float(to_world))
         throw std::invalid_argument("instance transform is not finite or is singular");
     if (meshes_[mesh].indices.empty()) return;
-    instances_.push_back({mesh, to_world, false, -1});
+    instances_.push_back({mesh, to_world, false, -1, is_finite(object_color) ? vmax(object_color, Color(0.0f)) : Color(1.0f)});
     meshes_[mesh].users++;
 }
 
@@ -214,9 +299,52 @@ void Scene::build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id) {
                                3 * sizeof(float), nv);
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
                                3 * sizeof(uint32_t), nt);
+    bool cutout = false;
+    for (uint32_t m : mesh.materials) cutout = cutout || materials_[m].cutout();
+    if (cutout) {  // only meshes with cut-out materials pay for the filter calls
+        mesh.owner = this;
+        rtcSetGeometryUserData(geom, &mesh);
+        rtcSetGeometryIntersectFilterFunction(geom, cutout_filter);
+        rtcSetGeometryOccludedFilterFunction(geom, cutout_filter);
+    }
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(target, geom, id);
     rtcReleaseGeometry(geom);
+}
+
+// Alpha cut-outs: a hit on a surface of alpha a is kept with probability a, chosen by a hash of
+// the ray and the triangle. Different rays decide independently, so camera, bounce and shadow rays
+// see the surface with frequency a (Cycles' stochastic transparency, in expectation), while the
+// same ray always decides the same way: images stay identical for any thread count. A hit the
+// filter rejects is simply not there; the ray goes on to the next surface.
+void Scene::cutout_filter(const RTCFilterFunctionNArguments* args) {
+    const Mesh& mesh = *static_cast<const Mesh*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+        const Material& mat = mesh.owner->materials_[mesh.materials[prim]];
+        if (!mat.cutout()) continue;
+        Point2 uv;
+        if (!mesh.uvs.empty()) {
+            float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i), w = 1.0f - u - v;
+            const Point2* t = &mesh.uvs[3 * prim];
+            uv = {t[0].x * w + t[1].x * u + t[2].x * v, t[0].y * w + t[1].y * u + t[2].y * v};
+        }
+        float alpha = mat.alpha_at(uv);
+        if (alpha >= 1.0f) continue;
+        auto bits = [](float f) { uint32_t b; std::memcpy(&b, &f, 4); return uint64_t(b); };
+        const RTCRayN* r = args->ray;
+        unsigned n = args->N;
+        uint64_t h = mix64(bits(RTCRayN_org_x(const_cast<RTCRayN*>(r), n, i)) << 32 |
+                           bits(RTCRayN_org_y(const_cast<RTCRayN*>(r), n, i)));
+        h = mix64(h ^ (bits(RTCRayN_org_z(const_cast<RTCRayN*>(r), n, i)) << 32 |
+                       bits(RTCRayN_dir_x(const_cast<RTCRayN*>(r), n, i))));
+        h = mix64(h ^ (bits(RTCRayN_dir_y(const_cast<RTCRayN*>(r), n, i)) << 32 |
+                       bits(RTCRayN_dir_z(const_cast<RTCRayN*>(r), n, i))));
+        h = mix64(h ^ (uint64_t(prim) << 32 | RTCHitN_instID(args->hit, n, i, 0)));
+        float u01 = static_cast<float>(h >> 40) * 0x1p-24f;
+        if (!(u01 < alpha)) args->valid[i] = 0;
+    }
 }
 
 void Scene::add_triangle_lights(Instance& inst) {
@@ -243,18 +371,13 @@ void Scene::commit() {
     scene_ = rtcNewScene(device_);
     // ROBUST: watertight traversal, so rays do not leak through edges shared by two triangles.
     rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(scene_, build_quality());
 
     // Meshes used once are flattened into world space (one BVH level, as Cycles does for unique
     // objects); meshes used several times become one Embree prototype shared by Embree instances.
-    for (Mesh& mesh : meshes_) {
-        if (mesh.users < 2) continue;
-        mesh.prototype = rtcNewScene(device_);
-        rtcSetSceneFlags(mesh.prototype, RTC_SCENE_FLAG_ROBUST);
-        rtcSetSceneBuildQuality(mesh.prototype, RTC_BUILD_QUALITY_HIGH);
-        build_mesh_geometry(mesh.prototype, mesh, 0);
-        rtcCommitScene(mesh.prototype);
-    }
+    // Fast-build (viewport) scenes keep every used mesh a prototype, for in-place updates.
+    for (Mesh& mesh : meshes_)
+        if (mesh.users >= (fast_build_ ? 1u : 2u)) build_prototype(mesh);
     emissive_local_.assign(meshes_.size(), {});
     for (size_t m = 0; m < meshes_.size(); ++m) {
         const Mesh& mesh = meshes_[m];
@@ -378,11 +501,45 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
     hit->ng = ng;
     hit->ns = ns;
     hit->material = mesh.materials[prim];
+    hit->attr.object_color = inst.object_color;
+    if (!mesh.uvs.empty()) {
+        const Point2* uv = &mesh.uvs[3 * prim];
+        hit->attr.uv = {uv[0].x * w + uv[1].x * u + uv[2].x * v, uv[0].y * w + uv[1].y * u + uv[2].y * v};
+        const Material& mat = materials_[hit->material];
+        if (mat.normal_map) hit->ns = apply_normal_map(mat, mesh, inst, prim, ns, ng, hit->attr.uv);
+    }
     hit->light = -1;
     if (inst.light_base >= 0) {
         int32_t local = emissive_local_[inst.mesh][prim];
         if (local >= 0) hit->light = inst.light_base + local;
     }
+}
+
+// Blender's Normal Map node in tangent space: the tangent follows the UV map's u direction on the
+// triangle, the bitangent its v direction (sign from the UV winding), blended by Strength as Cycles
+// does: N = normalize(N + (N_map - N) * strength).
+Vec3 Scene::apply_normal_map(const Material& mat, const Mesh& mesh, const Instance& inst, uint32_t prim,
+                             const Vec3& ns, const Vec3& ng, Point2 uv) const {
+    const uint32_t* idx = &mesh.indices[3 * prim];
+    Vec3 a = load3(&mesh.positions[3 * idx[0]]), b = load3(&mesh.positions[3 * idx[1]]),
+         c = load3(&mesh.positions[3 * idx[2]]);
+    const Point2* t = &mesh.uvs[3 * prim];
+    float du1 = t[1].x - t[0].x, dv1 = t[1].y - t[0].y, du2 = t[2].x - t[0].x, dv2 = t[2].y - t[0].y;
+    float det = du1 * dv2 - du2 * dv1;
+    if (!(std::fabs(det) > 1e-20f)) return ns;  // degenerate UVs: no tangent frame
+    Vec3 dpdu = ((b - a) * dv2 - (c - a) * dv1) / det;
+    if (!inst.identity) dpdu = inst.to_world.vector(dpdu);
+    Vec3 tangent = dpdu - ns * dot(ns, dpdu);
+    if (!(length_sq(tangent) > 0.0f)) return ns;
+    tangent = normalize(tangent);
+    // Mirrored UVs (negative det) and mirroring transforms flip the bitangent.
+    float sign = (det < 0.0f ? -1.0f : 1.0f) * (inst.to_world.determinant3() < 0.0f && !inst.identity ? -1.0f : 1.0f);
+    Vec3 bitangent = cross(ns, tangent) * sign;
+    Color m = mat.normal_map->lookup(uv).rgb * 2.0f - Color(1.0f);
+    Vec3 mapped = normalize(tangent * m.x + bitangent * m.y + ns * m.z);
+    Vec3 n = normalize(ns + (mapped - ns) * std::max(mat.normal_strength, 0.0f));
+    if (!is_finite(n)) return ns;
+    return dot(n, ng) < 0.0f ? ns : n;  // never below the surface (as fill_hit's own rule)
 }
 
 bool Scene::occluded(const Vec3& origin, const Vec3& dir, float tmax) const {

@@ -23,6 +23,7 @@ struct SurfaceHit {
     Vec3 ns;              // unit shading normal, on the same side as ng
     uint32_t material = 0;
     int32_t light = -1;   // index into Scene::lights() when the triangle emits, else -1
+    SurfaceAttribs attr;  // UV and object colour, for textured materials
 };
 
 struct SceneStats {
@@ -47,14 +48,18 @@ public:
 
     // --- building ---------------------------------------------------------------------------------
     uint32_t add_material(Material material);
+    // Image textures, referenced by materials through Material::inputs / normal_map.
+    uint32_t add_texture(std::shared_ptr<const Texture> texture);
+    std::shared_ptr<const Texture> texture(uint32_t id) const;
     // vertices: nv x 3, triangles: nt x 3 indices, corner_normals: nt x 3 x 3 or null, material_index: nt
-    // (slot numbers) or null, slot_materials: engine material per slot. Degenerate triangles, triangles
+    // (slot numbers) or null, slot_materials: engine material per slot, corner_uvs: nt x 3 x 2 or null
+    // (only textured materials need them). Degenerate triangles, triangles
     // with out-of-range indices and non-finite vertices are dropped and counted (mesh_dropped()).
     uint32_t add_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
                       const float* corner_normals, const int32_t* material_index,
-                      const std::vector<uint32_t>& slot_materials);
+                      const std::vector<uint32_t>& slot_materials, const float* corner_uvs = nullptr);
     uint32_t mesh_dropped(uint32_t mesh) const;
-    void add_instance(uint32_t mesh, const Transform& to_world);
+    void add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color = Color(1.0f));
     uint32_t add_light(const LightDesc& desc);  // throws std::invalid_argument for unusable lights
     void set_world(const Color& radiance);
     // Homogeneous media, referenced by Material::medium and by the world (-1: no world volume).
@@ -64,6 +69,20 @@ public:
     void set_camera(const CameraDesc& desc);
     bool has_camera() const { return has_camera_; }
     void commit();  // builds the BVH and the light-selection table; throws if no camera was set
+    // The interactive viewport rebuilds the scene after every edit: a faster, lower-quality BVH
+    // build pays off there (Embree's LOW quality: no spatial splits; slower rays).
+    void set_fast_build(bool fast) { fast_build_ = fast; }
+
+    // --- interactive updates (fast-build scenes, after commit; nothing may be rendering) -------
+    // Fast-build scenes keep every mesh in its own Embree prototype, so the viewport can move
+    // instances and replace one mesh without rebuilding the others. Both return false, changing
+    // nothing, when the scene cannot be updated in place (instance count differs, emissive
+    // geometry, all triangles dropped): the caller then builds a new scene.
+    // rows: n x 3 x 4 floats, the first three rows of each instance's matrix, in add_instance order.
+    bool set_instance_transforms(const float* rows, size_t n);
+    bool replace_mesh(uint32_t mesh, const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
+                      const float* corner_normals, const int32_t* material_index,
+                      const std::vector<uint32_t>& slot_materials, const float* corner_uvs = nullptr);
 
     // --- queries (thread-safe after commit) --------------------------------------------------------
     bool intersect(const Ray& ray, SurfaceHit* hit) const;
@@ -78,6 +97,8 @@ public:
     }
     const Camera& camera() const { return camera_; }
     const Material& material(uint32_t id) const { return materials_[id]; }
+    // Some material's lobes vary over surfaces (textures, object colour): hits' SurfaceAttribs matter.
+    bool has_varying_materials() const { return varying_materials_; }
     const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
     const Light& light(uint32_t i) const { return *lights_[i]; }
     const DiscreteDistribution& light_selection() const { return light_selection_; }
@@ -113,17 +134,29 @@ private:
         std::vector<uint32_t> indices;       // 3 per triangle
         std::vector<Vec3> corner_normals;    // 3 per triangle, or empty for flat shading
         std::vector<uint32_t> materials;     // per triangle, engine material id
+        std::vector<Point2> uvs;             // 3 per triangle, or empty
         uint32_t dropped = 0;
         uint32_t users = 0;
         RTCScene prototype = nullptr;        // when instanced more than once
+        const Scene* owner = nullptr;        // for the cut-out filter, which gets only the mesh
     };
+    static void cutout_filter(const struct RTCFilterFunctionNArguments* args);
     struct Instance {
         uint32_t mesh;
         Transform to_world;
         bool identity;         // flattened into world space
         int32_t light_base;    // first triangle light of this instance, -1 if none emit
+        Color object_color;
     };
+    Vec3 apply_normal_map(const Material& mat, const Mesh& mesh, const Instance& inst, uint32_t prim,
+                          const Vec3& ns, const Vec3& ng, Point2 uv) const;
     void build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id);
+    Mesh make_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt, const float* corner_normals,
+                   const int32_t* material_index, const std::vector<uint32_t>& slot_materials,
+                   const float* corner_uvs) const;
+    void build_prototype(Mesh& mesh);
+    bool emissive(const Mesh& mesh) const;
+    RTCBuildQuality build_quality() const { return fast_build_ ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_HIGH; }
     void add_triangle_lights(Instance& inst);
     void fill_hit(const Ray& ray, const struct RTCRayHit& rh, SurfaceHit* hit) const;
 
@@ -131,6 +164,7 @@ private:
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
     std::vector<Material> materials_;
+    std::vector<std::shared_ptr<const Texture>> textures_;
     std::vector<Mesh> meshes_;
     std::vector<Instance> instances_;
     std::vector<uint32_t> geom_to_instance_;       // top-level geometry id -> instance
@@ -141,7 +175,7 @@ private:
     std::vector<uint32_t> hittable_lights_, infinite_lights_;
     DiscreteDistribution light_selection_;
     Camera camera_;
-    bool has_camera_ = false, committed_ = false;
+    bool has_camera_ = false, committed_ = false, fast_build_ = false, varying_materials_ = false;
     Color world_{0.0f};
     std::vector<Medium> media_;
     int32_t world_medium_ = -1, camera_medium_ = -1;

@@ -2,6 +2,9 @@
 // the camera frames the image the way Blender does.
 #include <gtest/gtest.h>
 
+#include <memory>
+
+#include "core/rng.h"
 #include "scene/scene.h"
 
 using namespace smis;
@@ -148,4 +151,45 @@ TEST(Scene, RejectsUnusableLights) {
     flat.size = 0.0f;
     EXPECT_THROW(s.add_light(flat), std::invalid_argument);
     EXPECT_THROW((void)s.commit(), std::invalid_argument);  // no camera
+}
+
+TEST(Scene, InPlaceViewportUpdatesEqualAFreshScene) {
+    // A fast-build (viewport) scene moved and edited in place answers rays exactly like a scene
+    // built from scratch in the final state.
+    const float tri[] = {-1, -1, 0, 1, -1, 0, 0, 1, 0};
+    const int32_t one[] = {0, 1, 2};
+    auto build = [&](const float* verts, const Transform& a, const Transform& b, bool fast) {
+        auto s = std::make_unique<Scene>();
+        s->set_fast_build(fast);
+        uint32_t quad = s->add_mesh(kQuad, 4, kQuadTris, 2, nullptr, nullptr, {});
+        uint32_t other = s->add_mesh(verts, 3, one, 1, nullptr, nullptr, {});
+        s->add_instance(quad, a);
+        s->add_instance(other, b);
+        s->set_camera(looking_down_minus_z(8, 8));
+        s->commit();
+        return s;
+    };
+    const float moved_tri[] = {-1, -1, 0, 1, -1, 0, 0, 1, 0.5f};
+    Transform a0 = translation(0, 0, -3), a1 = translation(0.5f, 0, -2), b = translation(3, 0, -4);
+    auto updated = build(tri, a0, b, true);
+    float rows[24];
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) rows[4 * r + c] = a1.m[r][c], rows[12 + 4 * r + c] = b.m[r][c];
+    ASSERT_TRUE(updated->set_instance_transforms(rows, 2));
+    ASSERT_TRUE(updated->replace_mesh(1, moved_tri, 3, one, 1, nullptr, nullptr, {}));
+    EXPECT_FALSE(updated->set_instance_transforms(rows, 1));  // instance count differs: rebuild
+    auto fresh = build(moved_tri, a1, b, false);
+    Rng rng(2, 0);
+    int hits = 0;
+    for (int i = 0; i < 2000; ++i) {
+        Ray r{Vec3(0, 0, 0), normalize(Vec3(rng.next_float() * 8 - 4, rng.next_float() * 2 - 1, -1)), 0, kInf};
+        SurfaceHit h1, h2;
+        bool f1 = updated->intersect(r, &h1), f2 = fresh->intersect(r, &h2);
+        ASSERT_EQ(f1, f2) << i;
+        if (!f1) continue;
+        ++hits;
+        EXPECT_NEAR(h1.t, h2.t, 1e-4f);
+        EXPECT_NEAR(length(h1.ng - h2.ng), 0.0f, 1e-4f);
+    }
+    EXPECT_GT(hits, 100);
 }

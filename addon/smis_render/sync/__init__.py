@@ -24,16 +24,23 @@ class Export:
     counts: instances.ExportCounts
     stats: dict = field(default_factory=dict)   # scene.stats() after commit
     seconds: float = 0.0
+    commit_seconds: float = 0.0   # of `seconds`: the engine's BVH build and light tables
+    materials: object = None       # the MaterialCache (engine material ids of this scene)
 
 
-def export_depsgraph(native, depsgraph, reporter, engine=None):
-    """Build and commit an engine scene. Raises ExportError, or Cancelled on test_break."""
+def export_depsgraph(native, depsgraph, reporter, engine=None, view_camera=None, cache=None):
+    """Build and commit an engine scene. Raises ExportError, or Cancelled on test_break.
+
+    The interactive viewport passes the 3D view's camera dict (`view_camera`) and a
+    GeometryCache (`cache`) that keeps meshes between updates."""
     t0 = time.perf_counter()
     scene = native.Scene()
+    if cache is not None:
+        scene.set_fast_build(True)  # the viewport rebuilds after every edit
     bl_scene = depsgraph.scene
 
     try:
-        cam = camera.export_camera(engine, depsgraph, reporter.warning)
+        cam = view_camera or camera.export_camera(engine, depsgraph, reporter.warning)
         scene.set_camera(cam)
     except (CameraError, ValueError) as exc:
         raise ExportError(str(exc)) from exc
@@ -42,18 +49,20 @@ def export_depsgraph(native, depsgraph, reporter, engine=None):
 
     test_break = engine.break_requested if engine is not None else None
     mats = materials.MaterialCache(scene, reporter)
-    counts = instances.export_instances(depsgraph, scene, mats, reporter, test_break)
+    counts = instances.export_instances(depsgraph, scene, mats, reporter, test_break, cache)
 
     if counts.instances == 0 and counts.lights == 0:
         reporter.warning("The scene is empty (no renderable objects or lights); "
                          "rendering the world background only")
+    t_commit = time.perf_counter()
     try:
         scene.commit()
     except ValueError as exc:
         raise ExportError("The engine refused the scene: %s" % exc) from exc
 
+    done = time.perf_counter()
     return Export(scene=scene, camera=cam, counts=counts, stats=dict(scene.stats()),
-                  seconds=time.perf_counter() - t0)
+                  seconds=done - t0, commit_seconds=done - t_commit, materials=mats)
 
 
 __all__ = ["Export", "ExportError", "Cancelled", "export_depsgraph"]

@@ -3,12 +3,14 @@
 The engine has no shader nodes: a material is a flat, weighted list of
 closures plus an emission colour. The Surface input of the material's output
 node is evaluated here once, on constants only: Mix Shader factors and Add
-Shader sums are folded into the closure weights. Only unlinked input values
-(`default_value`) are read; textures and other non-shader links are ignored
-with a warning, unsupported shader nodes become a neutral diffuse.
+Shader sums are folded into the closure weights. Colour inputs fed by an Image
+Texture or Object Info, and Normal inputs fed by a tangent-space Normal Map on an
+Image Texture, become per-hit engine inputs (textures.py); other links are
+ignored with one warning per node, unsupported shader nodes become a neutral
+diffuse.
 """
 
-from . import nodes
+from . import nodes, textures as tex
 from ..spectral_properties import material_spectral
 from .volumes import translate_volume
 
@@ -17,10 +19,11 @@ BLACK = (0.0, 0.0, 0.0)
 DEFAULT_MATERIAL_NAME = "SMIS default grey"
 
 
-def closure(kind, weight, roughness=0.0, ior=1.5, fresnel="none", f0=BLACK):
-    """One engine closure; every key is always present so the engine can be strict."""
+def closure(kind, weight, roughness=0.0, ior=1.5, fresnel="none", f0=BLACK, **inputs):
+    """One engine closure; every key is always present so the engine can be strict.
+    `inputs`: texture / object_color / to_f0 (textures.ColorInput.closure_keys)."""
     return {"kind": kind, "fresnel": fresnel, "weight": tuple(weight), "f0": tuple(f0),
-            "roughness": float(roughness), "ior": float(ior)}
+            "roughness": float(roughness), "ior": float(ior), **inputs}
 
 
 def default_material(name=DEFAULT_MATERIAL_NAME):
@@ -49,12 +52,17 @@ def _is_zero(w):
 class _Translation:
     """State of one material's translation: collected closures, emission, warnings."""
 
-    def __init__(self, material, warn):
+    def __init__(self, material, warn, textures=None):
         self.material = material
         self.warn = warn
+        self.textures = textures
         self.closures = []
         self.emission = BLACK
+        self.uv_map = None        # UV map the textures read ('' = active render), None = no UVs
+        self.normal_map = None
+        self.alpha = None         # {"value": a, "texture": id?} for cut-outs
         self._checked_nodes = set()
+        self._translated_links = set()  # (node name, input name) handled by textures.py
 
     # -- helpers -----------------------------------------------------------------
 
@@ -69,10 +77,60 @@ class _Translation:
         if node.name in self._checked_nodes:
             return
         self._checked_nodes.add(node.name)
-        linked = nodes.linked_inputs(node)
+        linked = ["%s <- %s" % (name, self._node_label(nodes.linked_output(node.inputs[name]).node))
+                  for name in nodes.linked_inputs(node) if (node.name, name) not in self._translated_links]
         if linked:
-            self._warn_node(node, "has linked inputs (%s); textures and other node inputs are "
-                                  "not supported, using the inputs' own values" % ", ".join(linked))
+            self._warn_node(node, "has linked inputs the engine cannot translate (%s); using the "
+                                  "inputs' own values" % ", ".join(linked))
+
+    def _color(self, node, name):
+        """A colour input as a textures.ColorInput (constant, texture or object colour)."""
+        socket = node.inputs[name]
+        ci = tex.color_input(socket, self.textures, self._warn_node)
+        if ci is None:  # untranslatable link: its own value, and _check_links warns
+            return tex.ColorInput(constant=_rgb(socket.default_value))
+        if socket.is_linked:
+            self._translated_links.add((node.name, name))
+        if ci.uv_map is not None:
+            self._use_uv_map(ci.uv_map)
+        return ci
+
+    def _use_uv_map(self, name):
+        if self.uv_map is not None and self.uv_map != name:
+            self.warn("Material '%s': textures read different UV maps (%s, %s); using %s for all"
+                      % (self.material.name, self.uv_map or "default", name or "default",
+                         self.uv_map or "default"))
+            return
+        self.uv_map = name
+
+    def _normal(self, node):
+        """Tangent-space normal map feeding the node's Normal input (one per material)."""
+        if "Normal" not in node.inputs:
+            return
+        found = tex.normal_map(node.inputs["Normal"], self.textures, self._warn_node)
+        if found is None or found[0] is None:
+            return  # unlinked, or not translatable: _check_links names it
+        self._set_per_material(node, "Normal", "normal_map", *found)
+
+    def _alpha(self, node):
+        """Principled Alpha: a constant below 1 or an Image Texture's Alpha makes the material a
+        stochastic cut-out (one alpha per material)."""
+        found = tex.alpha_input(node.inputs["Alpha"], self.textures)
+        if found is not None:  # else opaque, or an untranslatable link (_check_links names it)
+            self._set_per_material(node, "Alpha", "alpha", *found)
+
+    def _set_per_material(self, node, input_name, attr, desc, uv_map):
+        """Record a per-material input (normal map, alpha) translated from node's input; a second,
+        different one is warned about and ignored."""
+        if node.inputs[input_name].is_linked:
+            self._translated_links.add((node.name, input_name))
+        current = getattr(self, attr)
+        if current is not None and current != desc:
+            self._warn_node(node, "has a second, different %s; using the first" % input_name)
+            return
+        setattr(self, attr, desc)
+        if uv_map is not None:
+            self._use_uv_map(uv_map)
 
     def _value(self, node, name):
         value = node.inputs[name].default_value
@@ -101,8 +159,9 @@ class _Translation:
             # Also catches a colour/float output plugged into a shader socket.
             self._fallback(node, w)
             return
-        self._check_links(node)
         handler(self, node, w)
+        self._normal(node)
+        self._check_links(node)
 
     def _shader_input(self, socket, w):
         src = nodes.linked_output(socket)
@@ -122,7 +181,7 @@ class _Translation:
         if self._value(node, "Roughness") > 0.0:
             self._warn_node(node, "has Roughness > 0 (Oren-Nayar), which is not supported; "
                                   "using Lambert")
-        self._add(closure("diffuse", _scale(w, self._value(node, "Color"))))
+        self._add(_colored("diffuse", w, self._color(node, "Color")))
 
     def _roughness(self, node, supported):
         """Roughness of a Glossy/Glass node; other distributions approximated by GGX."""
@@ -136,13 +195,13 @@ class _Translation:
     def glossy(self, node, w):
         # Cycles' Glossy BSDF has no Fresnel term: the colour is the reflectance.
         rough = self._roughness(node, {'GGX'})
-        self._add(closure("microfacet", _scale(w, self._value(node, "Color")), roughness=rough,
-                          fresnel="none"))
+        self._add(_colored("microfacet", w, self._color(node, "Color"), roughness=rough,
+                           fresnel="none"))
 
     def glass(self, node, w):
         rough = self._roughness(node, {'GGX'})
-        self._add(closure("dielectric", _scale(w, self._value(node, "Color")), roughness=rough,
-                          ior=self._value(node, "IOR")))
+        self._add(_colored("dielectric", w, self._color(node, "Color"), roughness=rough,
+                           ior=self._value(node, "IOR")))
 
     def emission(self, node, w):
         strength = self._value(node, "Strength")
@@ -162,36 +221,43 @@ class _Translation:
         # Ignored (with one warning if not at their neutral values): subsurface, specular
         # tint, anisotropy, sheen, clearcoat, alpha, transmission roughness, multiscatter.
         v = lambda name: self._value(node, name)  # noqa: E731
-        base = v("Base Color")
+        base_in = self._color(node, "Base Color")
         m = _clamp01(v("Metallic"))
         t = _clamp01(v("Transmission")) * (1.0 - m)
         rough = _clamp01(v("Roughness"))
         specular = max(v("Specular"), 0.0)
         self._warn_principled_extras(node, t)
+        self._alpha(node)
 
         dielectric_w = (1.0 - m) * (1.0 - t)
-        self._add(closure("diffuse", _scale(w, _scale(base, dielectric_w))))
+        self._add(_colored("diffuse", _scale(w, dielectric_w), base_in))
         f0 = min(0.08 * specular, 0.99)
         if f0 > 0.0:
             spec_ior = 2.0 / (1.0 - f0 ** 0.5) - 1.0
             self._add(closure("microfacet", _scale(w, dielectric_w), roughness=rough,
                               fresnel="dielectric", ior=spec_ior, f0=(f0, f0, f0)))
-        self._add(closure("microfacet", _scale(w, m), roughness=rough, fresnel="schlick", f0=base))
-        self._add(closure("dielectric", _scale(w, _scale(base, t)), roughness=rough, ior=v("IOR")))
+        self._add(closure("microfacet", _scale(w, m), roughness=rough, fresnel="schlick",
+                          f0=base_in.constant or (1.0, 1.0, 1.0), **base_in.closure_keys(to_f0=True)))
+        self._add(_colored("dielectric", _scale(w, t), base_in, roughness=rough, ior=v("IOR")))
         self._add_emission(_scale(_scale(w, v("Emission")), v("Emission Strength")))
 
     def _warn_principled_extras(self, node, t):
         v = lambda name: self._value(node, name)  # noqa: E731
         ignored = [name for name in ("Subsurface", "Specular Tint", "Anisotropic", "Sheen",
                                      "Clearcoat") if v(name) > 0.0]
-        if v("Alpha") < 1.0:
-            ignored.append("Alpha")
         if t > 0.0 and v("Transmission Roughness") > 0.0:
             ignored.append("Transmission Roughness")
         if node.distribution != 'GGX':
             ignored.append("Multiscatter GGX (using GGX)")
         if ignored:
             self._warn_node(node, "uses %s, not supported and ignored" % ", ".join(ignored))
+
+
+def _colored(kind, w, color_in, **kwargs):
+    """A closure whose colour is a textures.ColorInput: constants fold into the weight, textures
+    and the object colour are per-hit inputs multiplying it."""
+    weight = _scale(w, color_in.constant) if color_in.constant is not None else w
+    return closure(kind, weight, **kwargs, **color_in.closure_keys())
 
 
 _HANDLERS = {
@@ -205,15 +271,18 @@ _HANDLERS = {
 }
 
 
-def translate(material, warn):
-    """Engine material dict for a Blender material. `warn(msg)` receives warnings."""
+def translate(material, warn, textures=None):
+    """Engine material dict for a Blender material. `warn(msg)` receives warnings; `textures`
+    (a textures.TextureCache) adds images to the engine, without it texture links are ignored.
+    The dict's "uv_map" names the UV map its textures read ('' the active render map, None
+    when it needs no UVs)."""
     name = material.name_full
     if not material.use_nodes or material.node_tree is None:
         # What Cycles renders for a material without nodes.
         return dict({"name": name, "closures": [closure("diffuse", _rgb(material.diffuse_color))],
                      "emission": BLACK}, **material_spectral(material))
 
-    tr = _Translation(material, warn)
+    tr = _Translation(material, warn, textures)
     output = nodes.output_node(material.node_tree)
     volume = None
     pass_through = False
@@ -228,8 +297,13 @@ def translate(material, warn):
         # An unlinked Surface renders black, as in Cycles, unless the material has a volume: then
         # the mesh is only the boundary of the medium and rays pass straight through it.
         pass_through = surface is None and volume is not None
-    return dict({"name": name, "closures": tr.closures, "emission": tr.emission, "volume": volume,
-                 "pass_through": pass_through}, **material_spectral(material))
+    desc = dict({"name": name, "closures": tr.closures, "emission": tr.emission, "uv_map": tr.uv_map,
+                 "volume": volume, "pass_through": pass_through}, **material_spectral(material))
+    if tr.normal_map is not None:
+        desc["normal_map"] = tr.normal_map
+    if tr.alpha is not None:
+        desc["alpha"] = tr.alpha
+    return desc
 
 
 class MaterialCache:
@@ -239,6 +313,8 @@ class MaterialCache:
         self._scene = scene
         self._reporter = reporter
         self._ids = {}
+        self._uv_maps = {}  # engine id -> UV map its textures read ('' = active render)
+        self._textures = tex.TextureCache(scene, reporter.warning)
 
     def id_for(self, material):
         """Engine material id for a Blender material, or for the default grey if None."""
@@ -252,13 +328,26 @@ class MaterialCache:
     def _add(self, material):
         if material is None:
             return self._scene.add_material(default_material())
-        desc = translate(material, self._reporter.warning)
+        desc = translate(material, self._reporter.warning, self._textures)
         try:
-            return self._scene.add_material(desc)
+            mat_id = self._scene.add_material(desc)
+            if desc.get("uv_map") is not None:
+                self._uv_maps[mat_id] = desc["uv_map"]
+            return mat_id
         except ValueError as exc:
             self._reporter.warning("Material '%s' was refused by the engine (%s); using a "
                                    "neutral diffuse" % (material.name, exc))
             return self._scene.add_material(default_material(desc["name"]))
+
+    def warning(self, message):
+        self._reporter.warning(message)
+
+    def uv_map_for(self, mat_ids):
+        """The UV map a mesh with these engine materials must export, or None if none reads UVs."""
+        for mat_id in mat_ids:
+            if mat_id in self._uv_maps:
+                return self._uv_maps[mat_id]
+        return None
 
     def __len__(self):
         return len(self._ids)

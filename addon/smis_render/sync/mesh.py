@@ -19,6 +19,7 @@ class MeshBuffers:
     triangles: np.ndarray                  # (M, 3) int32, indices into vertices
     corner_normals: Optional[np.ndarray]   # (M, 3, 3) float32, or None: flat shading
     material_index: Optional[np.ndarray]   # (M,) int32 slot per triangle, or None: slot 0
+    corner_uvs: Optional[np.ndarray] = None  # (M, 3, 2) float32, only for textured materials
 
     @property
     def triangle_count(self):
@@ -42,11 +43,29 @@ def _needs_corner_normals(mesh):
     return bool(smooth.any())
 
 
-def mesh_buffers(mesh, slot_count):
+def _corner_uvs(mesh, tris, uv_map):
+    """UVs of every triangle corner from the named UV map ('' = the active render map), or
+    None when the mesh has no such map."""
+    layers = mesh.uv_layers
+    layer = layers.get(uv_map) if uv_map else None
+    if layer is None:
+        layer = next((l for l in layers if l.active_render), None)
+    if layer is None:
+        return None
+    uv = np.empty(len(mesh.loops) * 2, dtype=np.float32)
+    layer.data.foreach_get("uv", uv)
+    loops = np.empty(len(tris) * 3, dtype=np.int32)
+    tris.foreach_get("loops", loops)
+    return uv.reshape(-1, 2)[loops].reshape(len(tris), 3, 2)
+
+
+def mesh_buffers(mesh, slot_count, uv_map=None):
     """Triangulated buffers of a (temporary, evaluated) mesh.
 
     `slot_count` is the number of material slots the triangles' material
     indices refer to; out-of-range indices are clamped as Blender does.
+    `uv_map`: the UV map textured materials read ('' = active render map), None
+    when no material needs UVs (then none are exported).
     """
     mesh.calc_loop_triangles()
     tris = mesh.loop_triangles
@@ -72,5 +91,7 @@ def mesh_buffers(mesh, slot_count):
         tris.foreach_get("material_index", material_index)
         np.clip(material_index, 0, slot_count - 1, out=material_index)
 
+    corner_uvs = _corner_uvs(mesh, tris, uv_map) if uv_map is not None and n_tris else None
+
     return MeshBuffers(vertices.reshape(n_verts, 3), triangles.reshape(n_tris, 3),
-                       corner_normals, material_index)
+                       corner_normals, material_index, corner_uvs)

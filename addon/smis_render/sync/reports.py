@@ -12,8 +12,13 @@ class Reporter:
     def __init__(self, engine):
         self._engine = engine
         self._seen = set()
+        # Material previews render Blender's own preview scene, whose materials (checker floor)
+        # would warn on every thumbnail: they give no warnings.
+        self.quiet = False
 
     def _report(self, kind, message):
+        if self.quiet and kind == 'WARNING':
+            return
         key = (kind, message)
         if key in self._seen:
             return
