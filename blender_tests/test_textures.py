@@ -174,3 +174,28 @@ def test_transparent_surface_changes_nothing_and_half_alpha_shades():
     transparent, absent, half = (r.image for r in runs)
     assert np.array_equal(transparent, absent)
     assert not np.array_equal(half, absent)
+
+
+def test_spectral_rendering_uses_the_texture_colours():
+    """A D65 light makes the scene spectral (AUTO -> SMIS): the textured lobes are upsampled per
+    hit, so every quadrant keeps the colour the RGB render gives it (within 10%: the noise and the
+    coefficient table's round-trip error, about 7% for this saturated blue), instead of the node's
+    unlinked default colour (0.8 grey, 3 to 60 times off here)."""
+    setup = f"""
+tex = image_node("Quadrants", {QUADRANTS}, 'sRGB')
+nt.links.new(tex.outputs["Color"], diffuse.inputs["Color"])
+scene.smis.samples = 64
+scene.smis.spectral = '{{mode}}'
+bpy.data.lights['Light'].smis.spectrum = 'D65'
+"""
+    means = {}
+    for mode in ("AUTO", "RGB"):
+        run = render(setup=PLANE + setup.format(mode=mode))
+        assert run.returncode == 0, run.output[-3000:]
+        ch = _smis.read_exr_channels(run.image_path)
+        img = np.stack([ch[f"ViewLayer.Combined.{c}"] for c in "RGB"], axis=-1)[2:-2, 2:-2]
+        means[mode] = np.array([img[2:12, 2:12].mean((0, 1)), img[2:12, 16:26].mean((0, 1)),
+                                img[16:26, 2:12].mean((0, 1)), img[16:26, 16:26].mean((0, 1))])
+    spec, rgb = means["AUTO"], means["RGB"]
+    scale = rgb.max(axis=1, keepdims=True)
+    assert np.all(np.abs(spec - rgb) < 0.1 * scale), (spec, rgb)

@@ -23,6 +23,17 @@ float spectral_fresnel(const Lobe& lobe, const SpectralLobe& s, float lambda, fl
     return 1.0f;
 }
 
+// The spectral data of a hit's lobe: the material's, upsampled once per render, or for a textured
+// lobe (Image Texture, Object Info colour) the hit's own colour, upsampled here from the table.
+const SpectralLobe& hit_lobe(const Lobe& lobe, const SpectralMaterial& sm, SpectralLobe* scratch) {
+    const SpectralLobe& s = sm.lobes[lobe.index];
+    if (!s.varies) return s;
+    *scratch = s;
+    scratch->weight = rgb_spectrum_table(lobe.weight);
+    if (lobe.fresnel == FresnelMode::Schlick) scratch->f0 = rgb_spectrum_table(lobe.f0);
+    return *scratch;
+}
+
 // The state of one path across its n wavelengths.
 struct SpectralPath {
     WavelengthSet ws;
@@ -78,7 +89,8 @@ bool eval_spectral(const ShadingPoint& sp, const SpectralMaterial& sm, const Spe
         if (!(terms[l].geom > 0.0f)) continue;
         any = true;
         const Lobe& lobe = sp.bsdf.lobe(l);
-        const SpectralLobe& s = sm.lobes[lobe.index];
+        SpectralLobe scratch;
+        const SpectralLobe& s = hit_lobe(lobe, sm, &scratch);
         for (int i = 0; i < p.n; ++i) {
             float lambda = p.ws.lambda[i];
             f[i] += s.weight(lambda) * spectral_fresnel(lobe, s, lambda, terms[l].cos_d) * terms[l].geom;
@@ -106,7 +118,8 @@ Bsdf dispersed_bsdf(const ShadingPoint& sp, const SpectralMaterial& sm, float la
 // the wavelength, so r_j picks up F_j / F_c. Returns false when no wavelength survives.
 bool delta_event(const ShadingPoint& sp, const SpectralMaterial& sm, const BsdfSample& bs, SpectralPath& p) {
     const Lobe& lobe = sp.bsdf.lobe(bs.lobe);
-    const SpectralLobe& s = sm.lobes[lobe.index];
+    SpectralLobe scratch;
+    const SpectralLobe& s = hit_lobe(lobe, sm, &scratch);
     float prob = sp.bsdf.fix_wo(sp.wo).probs[bs.lobe];
     if (!(prob > 0.0f)) return false;
     float cos_o = sp.bsdf.frame().to_local(sp.wo).z;

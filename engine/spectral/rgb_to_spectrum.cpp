@@ -59,17 +59,25 @@ SigmoidPolynomial rgb_to_sigmoid(const Color& rgb_in) {
     return {float(c[0]), float(c[1]), float(c[2])};
 }
 
-RgbSpectrum rgb_spectrum(const Color& rgb_in) {
+namespace {
+
+template <class Fit>
+RgbSpectrum scaled_spectrum(const Color& rgb_in, Fit&& fit) {
     Color rgb = vmax(is_finite(rgb_in) ? rgb_in : Color(0.0f), Color(0.0f));
     float m = max_component(rgb);
     RgbSpectrum s;
     if (m <= 1.0f) {
-        s.poly = rgb_to_sigmoid(rgb);
+        s.poly = fit(rgb);
     } else {
         s.scale = 2.0f * m;
-        s.poly = rgb_to_sigmoid(rgb / s.scale);
+        s.poly = fit(rgb / s.scale);
     }
     return s;
 }
+
+}  // namespace
+
+RgbSpectrum rgb_spectrum(const Color& rgb) { return scaled_spectrum(rgb, rgb_to_sigmoid); }
+RgbSpectrum rgb_spectrum_table(const Color& rgb) { return scaled_spectrum(rgb, rgb_to_sigmoid_table); }
 
 }  // namespace smis::spectral

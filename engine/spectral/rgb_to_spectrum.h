@@ -21,5 +21,8 @@ struct RgbSpectrum {
     float operator()(float lambda) const { return scale * poly(lambda); }
 };
 RgbSpectrum rgb_spectrum(const Color& rgb);
+// The same from the table alone, cheap enough per hit (textured colours); not refined, so its round
+// trip error is the table's (up to a few 1e-2 for saturated colours).
+RgbSpectrum rgb_spectrum_table(const Color& rgb);
 
 }  // namespace smis::spectral

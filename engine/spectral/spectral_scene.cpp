@@ -10,9 +10,11 @@ namespace {
 SpectralMaterial make_material(const Material& m) {
     SpectralMaterial out;
     const tables::MetalTable* metal = m.spectral.metal == "NONE" ? nullptr : find_metal(m.spectral.metal);
-    for (const Lobe& lobe : m.lobes) {
+    for (size_t i = 0; i < m.lobes.size(); ++i) {
+        const Lobe& lobe = m.lobes[i];
         SpectralLobe s;
         s.weight = rgb_spectrum(lobe.weight);
+        s.varies = i < m.inputs.size() && m.inputs[i].varies();
         if (lobe.fresnel == FresnelMode::Schlick) s.f0 = rgb_spectrum(lobe.f0);
         if (lobe.kind == LobeKind::Microfacet && lobe.fresnel != FresnelMode::Dielectric) s.metal = metal;
         // Only Dirac refraction disperses: a rough lobe's sampling density would depend on the

@@ -15,6 +15,7 @@ struct SpectralLobe {
     RgbSpectrum weight, f0;                   // the lobe's RGB weight and Schlick f0 as spectra
     const tables::MetalTable* metal = nullptr;  // replaces the Fresnel of metal-like Microfacet lobes
     Dispersion dispersion;                    // smooth Dielectric lobes of a dispersive material only
+    bool varies = false;                      // textured / object colour: weight and f0 come per hit
 };
 
 struct SpectralMaterial {
