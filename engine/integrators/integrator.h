@@ -17,6 +17,14 @@
 
 namespace smis {
 
+enum class DirectLightStrategy { Nee, Ris, Restir };
+// How reservoirs of different pixels are combined (ReSTIR supplement, Alg. 1 and 2).
+enum class RestirMis {
+    Seed,    // Alg. 1: one MIS weight for the selected sample, k pdf evaluations
+    Talbot,  // Alg. 2: a weight for every input sample, k^2 pdf evaluations
+    None,    // 1/sum(M): biased wherever the neighbours' supports differ
+};
+
 struct RenderSettings {
     uint32_t samples = 64;
     int max_bounces = 8;          // Cycles' meaning: 0 = direct lighting only
@@ -33,6 +41,16 @@ struct RenderSettings {
     int psf_max_neighbors = 16;        // techniques gathered per pixel (random subset beyond this)
     float psf_keller_normal_cos = 0.9f;    // Keller et al. 2014 acceptance: normals within ~26 degrees
     float psf_keller_plane = 0.1f;     // ... and within 0.1 radius of the query's tangent plane
+    // Many-light direct illumination at the camera path's first non-specular vertex (PATH only;
+    // deeper vertices keep NEE). RESTIR makes PATH a multi-stage integrator (integrators/restir.h).
+    DirectLightStrategy direct_light = DirectLightStrategy::Nee;
+    int ris_candidates = 32;           // M: light candidates per pixel and iteration
+    int restir_neighbors = 5;          // k: spatial neighbours per pixel
+    float restir_radius_px = 30.0f;    // neighbours drawn uniformly from this disk (screen pixels)
+    int restir_history_cap = 20;       // the previous iteration's reservoir counts at most cap x M
+    RestirMis restir_mis = RestirMis::Seed;
+    bool restir_unbiased = true;           // visibility of every neighbour in the MIS pdfs
+    bool restir_visibility_reuse = true;   // occluded initial samples are dropped (Bitterli et al. Alg. 5, l. 7-9)
 };
 
 // Counters reported to the user (stats line) and checked by the stress tests.

@@ -8,6 +8,7 @@ Color PathIntegrator::Li(const Scene& scene, const RenderSettings& settings, Ray
                          LocalCounters& counters) const {
     PathState camera;
     camera.prev_p = ray.o;
+    camera.first_vertex_ahead = true;
     return trace_path(scene, settings, ray, camera, rng, counters);
 }
 

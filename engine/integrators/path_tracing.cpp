@@ -1,5 +1,7 @@
 #include "integrators/path_tracing.h"
 
+#include "integrators/direct_lighting.h"
+
 namespace smis {
 
 ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const Vec3& ray_dir) {
@@ -87,8 +89,17 @@ Color trace_path(const Scene& scene, const RenderSettings& settings, Ray ray, Pa
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
         if (sp.bsdf.empty()) break;
 
-        DirectSample ds = sample_direct(scene, settings, sp, rng, counters);
-        if (ds.valid) L += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
+        bool resample = false;
+        if (state.first_vertex_ahead && !sp.bsdf.is_delta()) {
+            state.first_vertex_ahead = false;
+            resample = settings.direct_light == DirectLightStrategy::Ris;
+        }
+        if (resample) {
+            L += beta * ris_direct(scene, settings, sp, rng);
+        } else {
+            DirectSample ds = sample_direct(scene, settings, sp, rng, counters);
+            if (ds.valid) L += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
+        }
 
         float u_lobe = rng.next_float();
         Point2 u{rng.next_float(), rng.next_float()};

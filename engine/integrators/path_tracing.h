@@ -26,6 +26,8 @@ struct PathState {
     bool prev_delta = true;  // camera rays and Dirac bounces: emission is not MIS-weighted
     float prev_pdf = 0.0f;   // solid-angle pdf of the BSDF sample that produced the ray
     Vec3 prev_p;             // where that ray started (for the triangle lights' pdf)
+    // A camera path before its first non-specular vertex, where settings.direct_light applies.
+    bool first_vertex_ahead = false;
 };
 
 // Next-event estimation at a shading point: one light chosen by power, one point on it.

@@ -6,6 +6,7 @@
 #include "integrators/integrator.h"
 #include "integrators/path.h"
 #include "integrators/path_space_filtering.h"
+#include "integrators/restir.h"
 
 namespace smis {
 
@@ -19,6 +20,9 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings) {
         {"PSF_SMIS_UNBIASED",
          [] { return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::SmisUnbiased); }},
     };
+    // ReSTIR turns the path tracer into a multi-stage integrator (per-pixel reservoirs are reused).
+    if (settings.integrator == "PATH" && settings.direct_light == DirectLightStrategy::Restir)
+        return std::make_unique<RestirIntegrator>();
     auto it = factories.find(settings.integrator);
     if (it == factories.end()) throw std::invalid_argument("unknown integrator '" + settings.integrator + "'");
     return it->second();

@@ -130,3 +130,49 @@ inline std::shared_ptr<Scene> small_room(int w, int h) {
 }
 
 }  // namespace smis::testing
+
+namespace smis::testing {
+
+// Many small emitters over a floor with occluders, seen from above: a grid of small area lights
+// (one-sided, facing down) and a grid of emissive quads (two-sided mesh emission), of varied colours
+// and powers, above boxes and bars that cast many shadows; a glossy strip so that light sampling is
+// MIS-combined with BSDF sampling. The many-light direct-illumination case of ReSTIR.
+inline std::shared_ptr<Scene> many_lights(int w, int h, int grid = 10) {
+    auto s = std::make_shared<Scene>();
+    uint32_t white = s->add_material(diffuse(Color(0.7f)));
+    uint32_t shiny = s->add_material(glossy(Color(0.8f, 0.8f, 0.8f), 0.25f));
+    add_box(*s, {-3.0f, -3.0f, -0.1f}, {3.0f, 3.0f, 0.0f}, white);       // floor
+    add_box(*s, {-3.0f, 0.8f, 0.0f}, {3.0f, 1.3f, 0.002f}, shiny);       // glossy strip on it
+    add_box(*s, {-1.2f, -1.0f, 0.0f}, {-0.6f, -0.4f, 0.6f}, white);      // occluder boxes
+    add_box(*s, {0.4f, -0.3f, 0.0f}, {1.1f, 0.2f, 0.4f}, white);
+    for (int b = 0; b < 4; ++b) {                                        // bars casting thin shadows
+        float y = -1.5f + 0.9f * b;
+        add_box(*s, {-2.0f, y, 0.9f}, {2.0f, y + 0.12f, 0.98f}, white);
+    }
+    auto colour = [](int i) {
+        return Color(0.4f + 0.6f * ((i * 37) % 11) / 10.0f, 0.4f + 0.6f * ((i * 53) % 7) / 6.0f,
+                     0.4f + 0.6f * ((i * 29) % 5) / 4.0f);
+    };
+    const float extent = 2.2f;
+    for (int i = 0; i < grid * grid; ++i) {
+        float fx = -extent + 2.0f * extent * (i % grid + 0.5f) / grid, fy = -extent + 2.0f * extent * (i / grid + 0.5f) / grid;
+        LightDesc light;
+        light.type = "AREA";
+        light.shape = "SQUARE";
+        light.size = 0.06f;
+        light.color = colour(i);
+        light.power = 0.5f + 2.5f * float((i * 7919) % 13) / 12.0f;
+        light.to_world.m[0][3] = fx, light.to_world.m[1][3] = fy, light.to_world.m[2][3] = 1.6f + 0.2f * float(i % 3);
+        s->add_light(light);
+        // An emissive quad halfway between each pair of lights, lower (between the bars and the floor).
+        uint32_t emitter = s->add_material(diffuse(Color(0.0f), colour(i + 5) * (2.0f + float(i % 4))));
+        float ex = fx + extent / grid, ey = fy + extent / grid, r = 0.04f;
+        if (ex > extent || ey > extent) continue;
+        add_box(*s, {ex - r, ey - r, 0.7f}, {ex + r, ey + r, 0.7f + 0.02f}, emitter);
+    }
+    s->set_camera(camera_at({0.0f, 0.0f, 6.0f}, w, h));
+    s->commit();
+    return s;
+}
+
+}  // namespace smis::testing
