@@ -24,12 +24,12 @@
 #include "core/rng.h"
 #include "render/session.h"
 #include "scene/scene.h"
+#include "test_scenes.h"
 
 using namespace smis;
 
 namespace {
 
-const char* const kIntegrators[] = {"PATH", "PSF_PATH", "PSF_KELLER", "PSF_SMIS", "PSF_SMIS_UNBIASED"};
 
 double env_double(const char* name, double fallback) {
     const char* v = std::getenv(name);
@@ -246,7 +246,8 @@ void fuzz_one(Fuzz& f, Totals& totals, uint64_t seed, uint64_t iteration) {
     RenderSettings rs;
     rs.samples = uint32_t(f.range(1, 2));
     rs.max_bounces = f.range(0, 6);
-    rs.integrator = kIntegrators[f.range(0, 4)];
+    const std::string& integrator = smis::testing::all_integrators()[f.range(0, int(smis::testing::all_integrators().size()) - 1)];
+    smis::testing::select_integrator(rs, integrator);
     rs.mis = f.chance(0.5f) ? MisHeuristic::Power : MisHeuristic::Balance;
     rs.seed = f.u32();
     rs.threads = 1;
@@ -256,7 +257,7 @@ void fuzz_one(Fuzz& f, Totals& totals, uint64_t seed, uint64_t iteration) {
     std::vector<float> px = session.pixels();
     for (size_t i = 0; i < px.size(); ++i)
         ASSERT_TRUE(std::isfinite(px[i])) << "non-finite pixel value " << px[i] << " at " << i << " with "
-                                          << rs.integrator << "; seed " << seed << " iteration " << iteration;
+                                          << integrator << "; seed " << seed << " iteration " << iteration;
     totals.pixels += px.size() / 4;
     uint64_t nan = session.progress().nan_caught;
     totals.nan_caught += nan;

@@ -138,3 +138,14 @@ TEST(Restir, BiasedVariantsAreRejected) {
     EXPECT_LT(none.image_p_value, 1e-3);
     EXPECT_LT(seed_biased.image_p_value, 1e-3);
 }
+
+TEST(Restir, SameSeedSameImageForAnyThreadCount) {
+    for (RestirMis mis : {RestirMis::Seed, RestirMis::Talbot}) {
+        RenderSettings st = restir(mis);
+        st.samples = 3;  // temporal reuse included
+        st.threads = 1;
+        auto one = render(scene(), st);
+        st.threads = 2;
+        EXPECT_EQ(one, render(scene(), st));
+    }
+}

@@ -64,6 +64,24 @@ inline std::vector<float> render(const std::shared_ptr<Scene>& scene, RenderSett
     return session.pixels();
 }
 
+// The integrators of the stress and fuzz suites: the registry's names, plus the path tracer's
+// many-light direct-light strategies, named PATH+RIS and PATH+RESTIR_<mis> (unbiased, visibility reuse).
+inline const std::vector<std::string>& all_integrators() {
+    static const std::vector<std::string> names = {"PATH", "PSF_PATH", "PSF_KELLER", "PSF_SMIS", "PSF_SMIS_UNBIASED",
+                                                   "PATH+RIS", "PATH+RESTIR_SEED", "PATH+RESTIR_TALBOT",
+                                                   "PATH+RESTIR_NONE"};
+    return names;
+}
+inline void select_integrator(RenderSettings& rs, const std::string& name) {
+    rs.integrator = name.substr(0, name.find('+'));
+    if (name == "PATH+RIS") rs.direct_light = DirectLightStrategy::Ris;
+    if (name.rfind("PATH+RESTIR_", 0) == 0) {
+        rs.direct_light = DirectLightStrategy::Restir;
+        const std::string mis = name.substr(12);
+        rs.restir_mis = mis == "TALBOT" ? RestirMis::Talbot : mis == "NONE" ? RestirMis::None : RestirMis::Seed;
+    }
+}
+
 // Mean (with its standard error) of one channel over the pixels of an image (pixels independent).
 inline stats::MeanEstimator channel_mean(const std::vector<float>& rgba, int c) {
     stats::MeanEstimator m;
