@@ -122,7 +122,7 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
         description="Light candidates per pixel and sample (M) for RIS and ReSTIR. More candidates "
                     "follow the unshadowed contribution more closely, at the cost of one light "
                     "sample and BSDF evaluation each (no shadow ray)",
-        default=32, min=1, soft_max=256,
+        default=16, min=1, soft_max=256,
     )
     restir_neighbors: IntProperty(
         name="Neighbours",
@@ -133,14 +133,16 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
     restir_radius_px: FloatProperty(
         name="Neighbour Radius",
         description="Neighbours are drawn uniformly from a disk of this radius around the pixel, "
-                    "among pixels whose surface is similar (normals, distance)",
-        default=30.0, min=1.0, soft_max=100.0, subtype='PIXEL',
+                    "among pixels whose surface is similar (normals, distance). A few pixels work "
+                    "best at small resolutions; Bitterli et al. use 30 at 1920x1080",
+        default=5.0, min=1.0, soft_max=100.0, subtype='PIXEL',
     )
     restir_history_cap: IntProperty(
         name="History Cap",
         description="The previous sample's reservoir of the same pixel counts as at most this many "
-                    "times M candidates (the offline analogue of temporal reuse); 0 disables that reuse",
-        default=20, min=0, soft_max=100,
+                    "times M candidates (the offline analogue of temporal reuse); 0 disables that reuse. "
+                    "Keep it small: the samples are averaged, and a long history correlates them",
+        default=2, min=0, soft_max=100,
     )
     restir_mis: EnumProperty(
         name="Reuse MIS",

@@ -41,21 +41,17 @@ Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidat
     return r;
 }
 
-Color reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
-                             const Reservoir& r) {
+Color reservoir_contribution(const Scene& scene, const ShadingPoint& sp, const Reservoir& r) {
     if (!r.has_sample()) return Color(0.0f);
     CandidateEval e = evaluate_candidate(scene, sp, r.y);
     if (!(e.target > 0.0f) || !candidate_visible(scene, sp, e)) return Color(0.0f);
-    float w_light = 1.0f;
-    if (!e.ls.delta)
-        w_light = mis_weight(settings.mis, scene.light_pmf(r.y.light) * e.ls.pdf, sp.bsdf.pdf(sp.wo, e.ls.wi));
-    return e.g * (w_light * r.W);
+    return e.g * r.W;
 }
 
 Color ris_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng) {
     // No visibility reuse: the one shadow ray is traced for the contribution itself.
     Reservoir r = ris_reservoir(scene, sp, settings.ris_candidates, false, rng);
-    return reservoir_contribution(scene, settings, sp, r);
+    return reservoir_contribution(scene, sp, r);
 }
 
 }  // namespace smis

@@ -57,14 +57,15 @@ struct Reservoir {
 Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng,
                         CandidateEval* selected = nullptr);
 
-// The direct-light contribution of a reservoir at its shading point: g(y) V(y) W times the weight of
-// light sampling against BSDF sampling. Why that weight is right: the resampled estimator only has to
-// estimate int w_light(y) g(y) V(y) for SOME weights with w_light + w_bsdf = 1 (the MIS weights need
-// not come from the actual sampling densities; shared/papers/001, sec. 3); w_light is the path
-// tracer's NEE weight, so the emission that the BSDF sample finds keeps its usual weight w_bsdf in
-// emission_along and the two still sum to one.
-Color reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
-                             const Reservoir& r);
+// The direct-light contribution of a reservoir at its shading point: g(y) V(y) W, one shadow ray.
+// No MIS with BSDF sampling: the resampled estimator takes ALL of the direct light (the caller sets
+// PathState::light_sampling_only, so the emission that the vertex's BSDF sample finds gets weight 0;
+// weights 1 and 0 sum to one, shared/papers/001 sec. 3). Why: the target p^ already contains the
+// BSDF, so resampling follows glossy lobes, while the path tracer's MIS weight (from the power-based
+// NEE pdf, far below the resampled density for small lights) gave the BSDF-sampled hits of small
+// emitters almost full weight and made them the fireflies of glossy surfaces. Dirac lobes, which
+// light sampling cannot reach, keep their emission (weight 1, prev_delta).
+Color reservoir_contribution(const Scene& scene, const ShadingPoint& sp, const Reservoir& r);
 
 // The RIS strategy of the path tracer: ris_reservoir + reservoir_contribution.
 Color ris_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng);

@@ -28,6 +28,9 @@ struct PathState {
     Vec3 prev_p;             // where that ray started (for the triangle lights' pdf)
     // A camera path before its first non-specular vertex, where settings.direct_light applies.
     bool first_vertex_ahead = false;
+    // The previous vertex estimated all of its direct light by resampled light sampling (RIS,
+    // ReSTIR), without MIS: the emission its (non-Dirac) BSDF sample finds is not counted again.
+    bool light_sampling_only = false;
 };
 
 // Next-event estimation at a shading point: one light chosen by power, one point on it.

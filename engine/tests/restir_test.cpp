@@ -4,8 +4,6 @@
 // test rejects the biased variants (1/M normalisation; visibility left out of the MIS pdfs).
 #include <gtest/gtest.h>
 
-#include <functional>
-
 #include "stats.h"
 #include "test_scenes.h"
 
@@ -16,11 +14,6 @@ namespace {
 
 constexpr int kW = 24, kH = 24;
 
-struct PixelStats {
-    std::vector<double> mean, var;      // per pixel (green channel), over renders
-    smis::stats::MeanEstimator image;   // the image mean, one value per render
-};
-
 RenderSettings base_settings(DirectLightStrategy strategy) {
     RenderSettings st;
     st.max_bounces = 1;  // direct light plus one bounce: the indirect part is not under test
@@ -29,38 +22,6 @@ RenderSettings base_settings(DirectLightStrategy strategy) {
     st.restir_neighbors = 4;
     st.restir_radius_px = 6.0f;
     return st;
-}
-
-// Independent renders (different seeds): pixels of one render are correlated by the reuse, and so
-// are the iterations of one render (temporal reuse); renders are not.
-PixelStats across_renders(const std::shared_ptr<Scene>& scene, RenderSettings st, int renders, uint32_t spp,
-                          uint32_t seed0) {
-    std::vector<smis::stats::MeanEstimator> est(kW * kH);
-    PixelStats ps;
-    st.samples = spp;
-    for (int r = 0; r < renders; ++r) {
-        st.seed = seed0 + r;
-        auto img = render(scene, st);
-        for (int i = 0; i < kW * kH; ++i) est[i].add(img[4 * i + 1]);
-        ps.image.add(channel_mean(img, 1).mean());
-    }
-    for (auto& e : est) {
-        ps.mean.push_back(e.mean());
-        ps.var.push_back(e.variance() / e.count());
-    }
-    return ps;
-}
-
-// Fraction of pixels whose mean agrees with the reference at the Šidák-corrected level.
-double accepted_fraction(const PixelStats& a, const PixelStats& ref) {
-    const int n = static_cast<int>(a.mean.size());
-    const double alpha = smis::stats::sidak_significance(0.05, n);
-    int ok = 0;
-    for (int i = 0; i < n; ++i) {
-        auto t = smis::stats::z_test(a.mean[i], ref.mean[i], std::sqrt(a.var[i] + ref.var[i]), 1e-6);
-        ok += t.p_value >= alpha;
-    }
-    return double(ok) / n;
 }
 
 // The image means, compared by a z-test: one test with much more power than any single pixel's.

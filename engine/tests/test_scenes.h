@@ -89,6 +89,41 @@ inline stats::MeanEstimator channel_mean(const std::vector<float>& rgba, int c) 
     return m;
 }
 
+// Per-pixel statistics of the green channel over independent renders (different seeds). Estimators
+// that reuse samples across pixels (or across the iterations of one render) correlate the pixels of
+// one render, but not renders: per-pixel statistics must come from across renders.
+struct PixelStats {
+    std::vector<double> mean, var;  // per pixel: mean over renders and the variance of that mean
+    stats::MeanEstimator image;     // the image mean, one value per render
+};
+inline PixelStats across_renders(const std::shared_ptr<Scene>& scene, RenderSettings st, int renders, uint32_t spp,
+                                 uint32_t seed0) {
+    const size_t n = size_t(scene->camera().window_width()) * scene->camera().window_height();
+    std::vector<stats::MeanEstimator> est(n);
+    PixelStats ps;
+    st.samples = spp;
+    for (int r = 0; r < renders; ++r) {
+        st.seed = seed0 + r;
+        auto img = render(scene, st);
+        for (size_t i = 0; i < n; ++i) est[i].add(img[4 * i + 1]);
+        ps.image.add(channel_mean(img, 1).mean());
+    }
+    for (auto& e : est) {
+        ps.mean.push_back(e.mean());
+        ps.var.push_back(e.variance() / e.count());
+    }
+    return ps;
+}
+// Fraction of pixels whose mean agrees with the reference's at the Šidák-corrected 5% level.
+inline double accepted_fraction(const PixelStats& a, const PixelStats& ref) {
+    const int n = static_cast<int>(a.mean.size());
+    const double alpha = stats::sidak_significance(0.05, n);
+    int ok = 0;
+    for (int i = 0; i < n; ++i)
+        ok += stats::z_test(a.mean[i], ref.mean[i], std::sqrt(a.var[i] + ref.var[i]), 1e-6).p_value >= alpha;
+    return double(ok) / n;
+}
+
 }  // namespace smis::testing
 
 namespace smis::testing {
