@@ -65,7 +65,9 @@ def integrator_stats(output):
 
 
 def settings_of(estimator, **extra):
-    return dict(ET.COMMON, **SUITE["estimators"][estimator], **extra)
+    settings = dict(ET.COMMON, **SUITE["estimators"][estimator])
+    settings.update(extra)
+    return settings
 
 
 def measure_cost(blend, args):

@@ -19,8 +19,7 @@ bool candidate_visible(const Scene& scene, const ShadingPoint& sp, const Candida
     return !scene.occluded(spawn_origin(sp, e.ls.wi), e.ls.wi, tmax);
 }
 
-Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng,
-                        CandidateEval* selected) {
+Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng) {
     Reservoir r;
     const DiscreteDistribution& selection = scene.light_selection();
     r.M = float(std::max(1, candidates));
@@ -37,21 +36,26 @@ Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidat
     }
     if (chosen.target > 0.0f && !(visibility_reuse && !candidate_visible(scene, sp, chosen)))
         r.W = r.w_sum / (r.M * chosen.target);
-    if (selected) *selected = chosen;
     return r;
 }
 
-Color reservoir_contribution(const Scene& scene, const ShadingPoint& sp, const Reservoir& r) {
+Color reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                             const Reservoir& r) {
     if (!r.has_sample()) return Color(0.0f);
     CandidateEval e = evaluate_candidate(scene, sp, r.y);
     if (!(e.target > 0.0f) || !candidate_visible(scene, sp, e)) return Color(0.0f);
-    return e.g * r.W;
+    float w_light = 1.0f;
+    if (!e.ls.delta) {
+        float light_pdf = resampled_light_pdf_scale(settings) * scene.light_pmf(r.y.light) * e.ls.pdf;
+        w_light = mis_weight(settings.mis, light_pdf, sp.bsdf.pdf(sp.wo, e.ls.wi));
+    }
+    return e.g * (w_light * r.W);
 }
 
 Color ris_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng) {
     // No visibility reuse: the one shadow ray is traced for the contribution itself.
     Reservoir r = ris_reservoir(scene, sp, settings.ris_candidates, false, rng);
-    return reservoir_contribution(scene, sp, r);
+    return reservoir_contribution(scene, settings, sp, r);
 }
 
 }  // namespace smis

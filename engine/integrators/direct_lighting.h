@@ -53,19 +53,23 @@ struct Reservoir {
 // RIS at one shading point: M candidates from the light selection, resampled by p^/p (Talbot et al.
 // 2005 eq. 4), W = w_sum / (M p^(y)). With `visibility_reuse`, an occluded y gets W = 0 (one shadow
 // ray; Bitterli et al. 2020 Alg. 5 lines 7-9), which makes the reservoir's support the visible set.
-// `selected` receives the chosen sample's evaluation (its target, for the caller's bookkeeping).
-Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng,
-                        CandidateEval* selected = nullptr);
+Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng);
 
-// The direct-light contribution of a reservoir at its shading point: g(y) V(y) W, one shadow ray.
-// No MIS with BSDF sampling: the resampled estimator takes ALL of the direct light (the caller sets
-// PathState::light_sampling_only, so the emission that the vertex's BSDF sample finds gets weight 0;
-// weights 1 and 0 sum to one, shared/papers/001 sec. 3). Why: the target p^ already contains the
-// BSDF, so resampling follows glossy lobes, while the path tracer's MIS weight (from the power-based
-// NEE pdf, far below the resampled density for small lights) gave the BSDF-sampled hits of small
-// emitters almost full weight and made them the fireflies of glossy surfaces. Dirac lobes, which
-// light sampling cannot reach, keep their emission (weight 1, prev_delta).
-Color reservoir_contribution(const Scene& scene, const ShadingPoint& sp, const Reservoir& r);
+// The direct-light contribution of a reservoir at its shading point: g(y) V(y) W (one shadow ray)
+// times w_light(y), its MIS weight against the vertex's BSDF sample, whose emission gets
+// w_bsdf = 1 - w_light in emission_along. The weights may come from any densities as long as both
+// places use the same ones (shared/papers/001, sec. 3): the resampled strategy's density is
+// unknown and is approximated by M times the NEE density pmf(i) pdf_i(y), M the candidates (a
+// light is about M times likelier to be among the candidates than to be NEE's one sample). The NEE
+// density itself (scale 1) gave small emitters' BSDF hits almost full weight, the fireflies of
+// glossy surfaces; no BSDF sampling at all (weight 0) left the near field of emitters to light
+// sampling's 1/d^2 tail (measured 1.5% low at 256 spp on scenes/many_lights.blend).
+Color reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                             const Reservoir& r);
+// The multiple of the NEE density used for resampled light sampling in the MIS weights (above).
+inline float resampled_light_pdf_scale(const RenderSettings& settings) {
+    return float(std::max(1, settings.ris_candidates));
+}
 
 // The RIS strategy of the path tracer: ris_reservoir + reservoir_contribution.
 Color ris_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng);

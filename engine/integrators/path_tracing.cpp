@@ -44,8 +44,8 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
 Color emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
                      const SurfaceHit& hit, const PathState& state) {
     auto weight = [&](float light_pmf, float light_pdf) {
-        if (state.prev_delta) return 1.0f;
-        return state.light_sampling_only ? 0.0f : mis_weight(settings.mis, state.prev_pdf, light_pmf * light_pdf);
+        return state.prev_delta ? 1.0f
+                                : mis_weight(settings.mis, state.prev_pdf, state.light_pdf_scale * light_pmf * light_pdf);
     };
     Color L(0.0f);
     Ray to_hit = ray;
@@ -95,7 +95,7 @@ Color trace_path(const Scene& scene, const RenderSettings& settings, Ray ray, Pa
             state.first_vertex_ahead = false;
             resample = settings.direct_light == DirectLightStrategy::Ris;
         }
-        state.light_sampling_only = resample;
+        state.light_pdf_scale = resample ? resampled_light_pdf_scale(settings) : 1.0f;
         if (resample) {
             L += beta * ris_direct(scene, settings, sp, rng);
         } else {

@@ -28,9 +28,9 @@ struct PathState {
     Vec3 prev_p;             // where that ray started (for the triangle lights' pdf)
     // A camera path before its first non-specular vertex, where settings.direct_light applies.
     bool first_vertex_ahead = false;
-    // The previous vertex estimated all of its direct light by resampled light sampling (RIS,
-    // ReSTIR), without MIS: the emission its (non-Dirac) BSDF sample finds is not counted again.
-    bool light_sampling_only = false;
+    // The previous vertex's light-sampling density, for MIS, as a multiple of the NEE density
+    // (pmf x light pdf): M for resampled light sampling (RIS, ReSTIR), see reservoir_contribution.
+    float light_pdf_scale = 1.0f;
 };
 
 // Next-event estimation at a shading point: one light chosen by power, one point on it.

@@ -15,8 +15,8 @@
 //   Seed (Alg. 1):   w_i = p^_q(X_i) W_i M_i, and only the selected Y = X_s is weighted:
 //                    W = w_sum p_s(Y) / (p^_q(Y) sum_j M_j p_j(Y)),   k+1 evaluations.
 //                    (E[f W] = sum_i E[M_i W_i f(X_i) p_i / sum_j M_j p_j] = int f: the same m_i.)
-//                    With equal M_i this is Alg. 1 line 9-10, whose W carries the 1/M of the
-//                    paper's reservoir convention.
+//                    With equal M_i this is Alg. 1 with a 1/M in line 10 that the printed
+//                    algorithm lacks (with k = 1 it would return W = M W_1; Alg. 2's line 10 has it).
 //   None:            w_i = p^_q(X_i) W_i M_i, W = w_sum / (p^_q(Y) sum_i M_i): the 1/M of the
 //                    original RIS. Biased where some input cannot produce Y (occluded from q_i, or
 //                    behind q_i's surface): it darkens.

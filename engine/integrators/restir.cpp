@@ -10,9 +10,9 @@
 //      so they select techniques without biasing them);
 //   4. shade: the final reservoir's sample with one shadow ray, plus `fixed`, to the film; the final
 //      reservoirs become the next iteration's history.
-// Only the direct light at x1 is resampled, all of it (the emission found by x1's BSDF sample is
-// not counted, see reservoir_contribution); emission along the prefix and everything after x1 is
-// the path tracer's, so the image converges to the path tracer's.
+// Only the direct light at x1 is resampled (MIS-combined with x1's BSDF sample, see
+// reservoir_contribution); emission along the prefix and everything after x1 is the path
+// tracer's, so the image converges to the path tracer's.
 #include "integrators/restir.h"
 
 #include <chrono>
@@ -62,7 +62,7 @@ RestirPixel trace_pixel(const Scene& scene, const RenderSettings& settings, Ray 
         beta *= bs.value / bs.pdf;
         if (bs.transmission) eta_scale *= sqr(bs.eta);
         st.prev_delta = bs.delta;
-        st.light_sampling_only = first;
+        st.light_pdf_scale = first ? resampled_light_pdf_scale(settings) : 1.0f;
         st.prev_pdf = bs.pdf;
         st.prev_p = hit.p;
         ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
@@ -173,7 +173,7 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         Color L = me.fixed;
         if (me.has_vertex) {
             me.r = final_reservoirs[i];
-            L += me.beta * reservoir_contribution(scene, me.sp, me.r);
+            L += me.beta * reservoir_contribution(scene, settings, me.sp, me.r);
         }
         ctx.film.add(x, y, guard_sample(L, local));
     });

@@ -223,6 +223,7 @@ inline std::shared_ptr<Scene> many_lights(int w, int h, int grid = 10) {
         if (ex > extent || ey > extent) continue;
         add_box(*s, {ex - r, ey - r, 0.7f}, {ex + r, ey + r, 0.7f + 0.02f}, emitter);
     }
+    s->set_world(Color(0.3f, 0.35f, 0.4f));
     s->set_camera(camera_at({0.0f, 0.0f, 6.0f}, w, h));
     s->commit();
     return s;
