@@ -15,16 +15,11 @@
 // tracer's, so the image converges to the path tracer's.
 #include "integrators/restir.h"
 
-#include <chrono>
-
 #include "integrators/reservoir_reuse.h"
 #include "integrators/tiles.h"
 
 namespace smis {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Stream offsets of the reuse stages, distinct from the camera sample's stream.
 constexpr uint32_t kTemporalStream = 0x7e3a91c5u, kSpatialStream = 0x2b8d4f17u;
@@ -109,7 +104,7 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         shadow_rays += c.shadow_rays;
     };
 
-    auto t0 = Clock::now();
+    auto t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
@@ -119,7 +114,7 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     if (ctx.should_stop()) return;  // a partial iteration never reaches the film
     trace_seconds_ += seconds_since(t0);
 
-    t0 = Clock::now();
+    t0 = StageClock::now();
     if (prev_.size() == n_pixels && history_cap > 0.0f) {
         for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters&) {
             RestirPixel& me = cur[size_t(y) * w + x];
@@ -138,7 +133,7 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     }
     temporal_seconds_ += seconds_since(t0);
 
-    t0 = Clock::now();
+    t0 = StageClock::now();
     std::vector<Reservoir> final_reservoirs(n_pixels);
     const float radius = std::max(1.0f, settings.restir_radius_px);
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters&) {
@@ -166,7 +161,7 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     if (ctx.should_stop()) return;
     spatial_seconds_ += seconds_since(t0);
 
-    t0 = Clock::now();
+    t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         const size_t i = size_t(y) * w + x;
         RestirPixel& me = cur[i];
