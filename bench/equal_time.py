@@ -7,6 +7,7 @@
 Suites (SUITES below) group scenes with the estimators that apply to them:
   surfaces  cornell, cornell_diffuse          PATH, CYCLES
   psf       psf_glossy, psf_room              PATH, PSF_KELLER, PSF_SMIS, CYCLES  (West et al. Figs. 4-5)
+  restir    many_lights                       NEE, RIS, RESTIR_* (bench/restir_bench.py runs it)
 An estimator is a label with the scene.smis settings that select it; CYCLES is Blender's Cycles with
 the unbiased settings of scenes/cycles_settings.py (same resolution, bounces and pixel filter, no
 denoising, no clamping), a peer wherever it renders the same image.
@@ -58,6 +59,10 @@ import metrics as M  # noqa: E402
 from render import RenderError, parse_value, remove, render_cycles, render_smis  # noqa: E402
 
 CYCLES = "CYCLES"
+# Many-light direct illumination (issue 8): direct light only (max_bounces 0, as the ReSTIR
+# supplement's Fig. 1), the add-on's default M, k, radius and history cap, stated explicitly.
+RESTIR_COMMON = {"integrator": "PATH", "max_bounces": 0, "ris_candidates": 16, "restir_neighbors": 5,
+                 "restir_radius_px": 5.0, "restir_history_cap": 2}
 SUITES = {
     "surfaces": {
         "scenes": ["cornell", "cornell_diffuse"],
@@ -69,6 +74,24 @@ SUITES = {
         "estimators": {"PATH": {"integrator": "PATH"}, "PSF_KELLER": {"integrator": "PSF_KELLER"},
                        "PSF_SMIS": {"integrator": "PSF_SMIS"}, CYCLES: None},
         "baseline": "PATH", "pair": ("PSF_SMIS", "PSF_KELLER"), "equal_spp": 8,
+    },
+    # Many-light direct illumination (issue 8): the direct light at the first non-specular vertex by
+    # NEE, RIS or ReSTIR; _NOVIS without visibility reuse (unbiased, no shadow rays in the MIS);
+    # RESTIR_NONE and RESTIR_SEED_BIASED are the biased variants (1/M; no visibility in the MIS).
+    "restir": {
+        "scenes": ["many_lights"],
+        "estimators": {name: dict(RESTIR_COMMON, **s) for name, s in (
+            ("NEE", {"direct_light": "NEE"}),
+            ("RIS", {"direct_light": "RIS"}),
+            ("RESTIR_SEED", {"direct_light": "RESTIR", "restir_mis": "SEED"}),
+            ("RESTIR_TALBOT", {"direct_light": "RESTIR", "restir_mis": "TALBOT"}),
+            ("RESTIR_SEED_NOVIS", {"direct_light": "RESTIR", "restir_mis": "SEED", "restir_visibility_reuse": False}),
+            ("RESTIR_TALBOT_NOVIS", {"direct_light": "RESTIR", "restir_mis": "TALBOT",
+                                     "restir_visibility_reuse": False}),
+            ("RESTIR_NONE", {"direct_light": "RESTIR", "restir_mis": "NONE"}),
+            ("RESTIR_SEED_BIASED", {"direct_light": "RESTIR", "restir_mis": "SEED", "restir_unbiased": False}))},
+        "reference": dict(RESTIR_COMMON, direct_light="NEE"),
+        "baseline": "NEE", "pair": ("RESTIR_SEED", "RESTIR_TALBOT"), "equal_spp": 16,
     },
 }
 BUDGETS = [2.0, 4.0, 8.0, 16.0, 32.0]
@@ -311,7 +334,14 @@ def write_scene(name, suite, estimators, suffix, ref_rec, runs, failed, args, lo
 
 
 STYLES = {"PATH": ("k", "o"), "PSF_KELLER": ("tab:orange", "s"), "PSF_SMIS": ("tab:blue", "^"),
-          "PSF_SMIS_UNBIASED": ("tab:green", "v"), "PSF_PATH": ("tab:gray", "x"), CYCLES: ("tab:red", "D")}
+          "PSF_SMIS_UNBIASED": ("tab:green", "v"), "PSF_PATH": ("tab:gray", "x"), CYCLES: ("tab:red", "D"),
+          "NEE": ("k", "o"), "RIS": ("tab:purple", "s"), "RESTIR_SEED": ("tab:blue", "^"),
+          "RESTIR_TALBOT": ("tab:orange", "v"), "RESTIR_SEED_NOVIS": ("tab:blue", "^"),
+          "RESTIR_TALBOT_NOVIS": ("tab:orange", "v"), "RESTIR_NONE": ("tab:gray", "x"),
+          "RESTIR_SEED_BIASED": ("tab:cyan", "x")}
+# Variants of one estimator share its colour: without visibility reuse dashed, biased dotted.
+LINESTYLES = {"RESTIR_SEED_NOVIS": "--", "RESTIR_TALBOT_NOVIS": "--", "RESTIR_NONE": ":",
+              "RESTIR_SEED_BIASED": ":"}
 
 
 def plot(path, name, doc):
@@ -331,7 +361,7 @@ def plot(path, name, doc):
                 continue
             x, y, lo, hi = (np.array(v) for v in zip(*pts))
             color, marker = STYLES.get(est, (None, "d"))
-            ax.plot(x, y, marker=marker, color=color, label=est)
+            ax.plot(x, y, marker=marker, color=color, linestyle=LINESTYLES.get(est, "-"), label=est)
             if len(doc["seeds"]) > 1:
                 ax.fill_between(x, lo, hi, color=color, alpha=0.15, linewidth=0)
         if key == "relmse" and doc["relmse_eps"] == ref_rec["estimated_noise"]["relmse_eps"]:

@@ -18,6 +18,11 @@ OUTDIR defaults to the folder holding this script (scenes/). Writes:
                          a Principled plastic and a Mix Shader sphere) on a diffuse
                          floor before a diffuse back wall; 3 area lights (invisible to
                          the camera), dim world. 256x256.
+  many_lights.blend      Many-light direct illumination (ReSTIR, issue 8): a courtyard
+                         floor with pillars under a slatted pergola, 144 small area
+                         lights above the slats and 160 small emissive quads (320
+                         emitting triangles) among the pillars and on the walls, in
+                         varied colours and powers, dim world. 128x128.
   psf_room.blend         Path-space filtering comparison, mostly diffuse (after Fig. 5):
                          a closed room seen from inside, a box table with a glossy
                          (Principled) top, diffuse cabinet/stool/vase/ball, a picture,
@@ -518,6 +523,89 @@ def build_psf_room(path):
     save(path)
 
 
+def emission(name, color, strength):
+    m, nt, out = _node_material(name)
+    em = _bsdf_node(nt, 'ShaderNodeEmission', {"Color": color, "Strength": strength}, (-250, 0))
+    nt.links.new(em.outputs[0], out.inputs["Surface"])
+    return m
+
+
+def quads_object(sc, name, mat, quads):
+    """One mesh of many flat quads, each given by its 4 corners (counter-clockwise seen from the front)."""
+    me = bpy.data.meshes.new(name)
+    verts = [v for q in quads for v in q]
+    faces = [(4 * i, 4 * i + 1, 4 * i + 2, 4 * i + 3) for i in range(len(quads))]
+    me.from_pydata(verts, [], faces)
+    me.update()
+    me.materials.append(mat)
+    return link(sc, bpy.data.objects.new(name, me))
+
+
+MANY_LIGHTS_GRID = 12        # 12 x 12 area lights above the pergola
+MANY_LIGHTS_QUADS = 160      # emissive quads below it and on the walls
+
+
+def build_many_lights(path):
+    """Hundreds of small emitters with occluders: the many-light case of RIS/ReSTIR."""
+    import random
+    rng = random.Random(8)
+    sc = new_scene(128, 128, samples=1024)
+    set_world(sc, (0.02, 0.025, 0.035), 1.0)
+    floor = diffuse("Floor", (0.6, 0.58, 0.55))
+    stone = diffuse("Stone", (0.7, 0.7, 0.68))
+    tiles = glossy_ggx("GlossyTiles", (0.8, 0.8, 0.8), 0.2)
+    t = 0.1
+    box_object(sc, "Floor", (-4.0, -4.0, -t), (4.0, 4.0, 0.0), floor)
+    box_object(sc, "GlossyPath", (-0.5, -4.0, 0.0), (0.5, 4.0, 0.005), tiles)
+    box_object(sc, "BackWall", (-4.0, 3.0, 0.0), (4.0, 3.0 + t, 2.6), stone)
+    box_object(sc, "LeftWall", (-3.0 - t, -4.0, 0.0), (-3.0, 3.0, 2.6), stone)
+    box_object(sc, "RightWall", (3.0, -4.0, 0.0), (3.0 + t, 3.0, 2.6), stone)
+    for i, x in enumerate((-2.0, -1.0, 1.0, 2.0)):          # pillars
+        for j, y in enumerate((-1.5, 0.5, 2.2)):
+            box_object(sc, "Pillar%d%d" % (i, j), (x - 0.12, y - 0.12, 0.0), (x + 0.12, y + 0.12, 2.4), stone)
+    for k in range(14):                                     # pergola slats
+        y = -3.0 + 0.45 * k
+        box_object(sc, "Slat%d" % k, (-3.0, y, 2.4), (3.0, y + 0.2, 2.5), stone)
+
+    def colour():
+        h = rng.random()
+        r, g, b = (0.5 + 0.5 * math.cos(2 * math.pi * (h + o)) for o in (0.0, 1 / 3, 2 / 3))
+        return (0.35 + 0.65 * r, 0.35 + 0.65 * g, 0.35 + 0.65 * b)
+
+    n = MANY_LIGHTS_GRID
+    for i in range(n * n):
+        x = -2.8 + 5.6 * (i % n + rng.random()) / n
+        y = -3.0 + 6.0 * (i // n + rng.random()) / n
+        add_light(sc, "Lamp%03d" % i, 'AREA', (x, y, 2.7 + 0.5 * rng.random()), shape='SQUARE', size=0.12,
+                  energy=0.4 + 2.0 * rng.random() ** 2, color=colour())
+
+    # Emissive quads: lanterns floating among the pillars (horizontal, both sides emit) and tiles on
+    # the walls, in 8 materials of different colours and strengths.
+    materials = [emission("Glow%d" % m, colour(), 1.0 + 3.0 * rng.random()) for m in range(8)]
+    buckets = [[] for _ in materials]
+    for q in range(MANY_LIGHTS_QUADS):
+        r = 0.05 + 0.05 * rng.random()
+        if q % 2 == 0:
+            x, y, z = rng.uniform(-2.8, 2.8), rng.uniform(-3.5, 2.9), rng.uniform(0.4, 2.2)
+            quad = [(x - r, y - r, z), (x + r, y - r, z), (x + r, y + r, z), (x - r, y + r, z)]
+        else:
+            wall = rng.choice(("back", "left", "right"))
+            a, z = rng.uniform(-2.8, 2.8), rng.uniform(0.3, 2.3)
+            if wall == "back":
+                yy = 3.0 - 0.002
+                quad = [(a - r, yy, z - r), (a - r, yy, z + r), (a + r, yy, z + r), (a + r, yy, z - r)]
+            else:
+                xx = -3.0 + 0.002 if wall == "left" else 3.0 - 0.002
+                a = rng.uniform(-3.5, 2.9)
+                quad = [(xx, a - r, z - r), (xx, a + r, z - r), (xx, a + r, z + r), (xx, a - r, z + r)]
+        buckets[q % len(materials)].append(quad)
+    for m, (mat, quads) in enumerate(zip(materials, buckets)):
+        quads_object(sc, "Glow%d" % m, mat, quads)
+
+    cam = add_camera(sc, (0.3, -3.9, 1.7), (0.0, 0.0, 0.0), lens=20.0)  # under the pergola
+    aim(cam, (0.0, 1.0, 0.5))
+    save(path)
+
 
 def _spectral_properties():
     """Register light.smis / material.smis from the add-on source (it needs only bpy), so the
@@ -674,6 +762,7 @@ SCENE_NAMES = {
     "spectral_gold": build_spectral_gold,
     "spectral_glass": build_spectral_glass,
     "volume_planes": build_volume_planes,
+    "many_lights": build_many_lights,
 }
 
 

@@ -170,6 +170,79 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
                     "with 2 the partner plane is perpendicular and only weighted",
         default=2, min=1, max=64,
     )
+    # Many-light direct illumination (integrator PATH), at the camera path's first non-specular vertex.
+    direct_light: EnumProperty(
+        name="Direct Light",
+        description="How the path tracer samples the direct light at the first non-specular surface "
+                    "seen from the camera (deeper bounces always use next event estimation)",
+        items=[
+            ('NEE', "Next Event Estimation",
+             "One light chosen by power, one point on it, MIS with BSDF sampling"),
+            ('RIS', "Resampled (RIS)",
+             "Resampled importance sampling: M light candidates, one chosen by its unshadowed "
+             "contribution, one shadow ray. Unbiased"),
+            ('RESTIR', "ReSTIR",
+             "RIS, then reuse of reservoirs from neighbouring pixels and from the previous sample of "
+             "the same pixel (Bitterli et al. 2020). Each sample is a whole-image pass"),
+        ],
+        default='NEE',
+    )
+    ris_candidates: IntProperty(
+        name="Candidates",
+        description="Light candidates per pixel and sample (M) for RIS and ReSTIR. More candidates "
+                    "follow the unshadowed contribution more closely, at the cost of one light "
+                    "sample and BSDF evaluation each (no shadow ray)",
+        default=16, min=1, soft_max=256,
+    )
+    restir_neighbors: IntProperty(
+        name="Neighbours",
+        description="Pixels whose reservoirs are reused per pixel (k). The MIS weights cost k "
+                    "pdf evaluations with Seed MIS and k squared with Talbot MIS",
+        default=5, min=0, soft_max=32,
+    )
+    restir_radius_px: FloatProperty(
+        name="Neighbour Radius",
+        description="Neighbours are drawn uniformly from a disk of this radius around the pixel, "
+                    "among pixels whose surface is similar (normals, distance). A few pixels work "
+                    "best at small resolutions; Bitterli et al. use 30 at 1920x1080",
+        default=5.0, min=1.0, soft_max=100.0, subtype='PIXEL',
+    )
+    restir_history_cap: IntProperty(
+        name="History Cap",
+        description="The previous sample's reservoir of the same pixel counts as at most this many "
+                    "times M candidates (the offline analogue of temporal reuse); 0 disables that reuse. "
+                    "Keep it small: the samples are averaged, and a long history correlates them",
+        default=2, min=0, soft_max=100,
+    )
+    restir_mis: EnumProperty(
+        name="Reuse MIS",
+        description="How reservoirs from different pixels are weighted against each other",
+        items=[
+            ('SEED', "Seed MIS",
+             "One MIS weight for the selected sample: k pdf evaluations (ReSTIR supplement, Alg. 1)"),
+            ('TALBOT', "Talbot MIS",
+             "An MIS weight for every reused sample: k squared pdf evaluations (Alg. 2)"),
+            ('NONE', "None (1/M, biased)",
+             "Plain normalisation by the candidate count: cheapest, biased (darker) where neighbours "
+             "cannot produce the sample, e.g. near shadows"),
+        ],
+        default='SEED',
+    )
+    restir_unbiased: BoolProperty(
+        name="Unbiased",
+        description="Trace the visibility of the selected sample from each neighbour for the MIS "
+                    "weights, so neighbours that cannot see it get zero weight. Off skips those "
+                    "shadow rays: faster, but biased (darker) near shadows. Only matters with "
+                    "Visibility Reuse",
+        default=True,
+    )
+    restir_visibility_reuse: BoolProperty(
+        name="Visibility Reuse",
+        description="Drop each pixel's initial sample when it is occluded (one shadow ray) before "
+                    "reuse, so neighbours share only visible samples. Off keeps occluded samples: "
+                    "then the MIS weights need no visibility and stay unbiased",
+        default=True,
+    )
 
     filter_type: EnumProperty(
         name="Pixel Filter",
@@ -216,6 +289,14 @@ def session_settings(scene):
         "volume_estimator": s.volume_estimator,
         "photon_planes": s.photon_planes,
         "smis_planes": s.smis_planes,
+        "direct_light": s.direct_light,
+        "ris_candidates": s.ris_candidates,
+        "restir_neighbors": s.restir_neighbors,
+        "restir_radius_px": float(s.restir_radius_px),
+        "restir_history_cap": s.restir_history_cap,
+        "restir_mis": s.restir_mis,
+        "restir_unbiased": bool(s.restir_unbiased),
+        "restir_visibility_reuse": bool(s.restir_visibility_reuse),
     }
 
 

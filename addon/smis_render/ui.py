@@ -112,6 +112,40 @@ class SMIS_RENDER_PT_volumes(SMISButtonsPanel, bpy.types.Panel):
             col.prop(settings, "smis_planes")
 
 
+class SMIS_RENDER_PT_direct_light(SMISButtonsPanel, bpy.types.Panel):
+    """Many-light direct illumination of the path tracer, with only the settings that apply."""
+    bl_label = "Direct Light"
+    bl_parent_id = "SMIS_RENDER_PT_light_paths"
+
+    @classmethod
+    def poll(cls, context):
+        return super().poll(context) and context.scene.smis.integrator == 'PATH'
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.smis
+        col = layout.column()
+        col.prop(settings, "direct_light")
+        if settings.direct_light == 'NEE':
+            return
+        col.prop(settings, "ris_candidates")
+        if settings.direct_light != 'RESTIR':
+            return
+        col = layout.column()
+        col.prop(settings, "restir_mis")
+        col.prop(settings, "restir_neighbors")
+        col.prop(settings, "restir_radius_px")
+        col.prop(settings, "restir_history_cap")
+        col.prop(settings, "restir_visibility_reuse")
+        sub = col.column()
+        sub.active = settings.restir_visibility_reuse and settings.restir_mis != 'NONE'
+        sub.prop(settings, "restir_unbiased")
+        if settings.restir_mis == 'NONE' or (settings.restir_visibility_reuse and not settings.restir_unbiased):
+            col.label(text="Biased: darker near shadows", icon='ERROR')
+
+
 class SMIS_RENDER_PT_performance(SMISButtonsPanel, bpy.types.Panel):
     bl_label = "Performance"
     bl_options = {'DEFAULT_CLOSED'}
@@ -317,6 +351,7 @@ classes = (
     SMIS_RENDER_PT_light_paths,
     SMIS_RENDER_PT_path_space_filtering,
     SMIS_RENDER_PT_volumes,
+    SMIS_RENDER_PT_direct_light,
     SMIS_RENDER_PT_performance,
     SMIS_VIEWLAYER_PT_passes,
     SMIS_LIGHT_PT_light,

@@ -9,6 +9,7 @@ Color PathIntegrator::Li(const Scene& scene, const RenderSettings& settings, Ray
                          LocalCounters& counters) const {
     PathState camera;
     camera.prev_p = ray.o;
+    camera.first_vertex_ahead = true;
     camera.medium = scene.camera_medium();
     if (settings.camera_volume_only) {  // benchmarks: the camera ray's single scattering alone
         if (!scene.has_media()) return Color(0.0f);

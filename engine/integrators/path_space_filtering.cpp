@@ -25,9 +25,6 @@
 namespace smis {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
 // Everything stage 2 needs about one pixel's path. Shading state is stored, not the Bsdf, and
 // rebuilt on demand from the material (cheap, and keeps the record small).
 struct PathRecord {
@@ -253,7 +250,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     auto x1_attr = [&](size_t k) { return attribs.empty() ? SurfaceAttribs{} : attribs[k].x1; };
 
     // Stage 1: one full path per pixel.
-    auto t0 = Clock::now();
+    auto t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
@@ -278,7 +275,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         radii.push_back(records[i].radius);
     }
 
-    t0 = Clock::now();
+    t0 = StageClock::now();
     HashGrid grid;
     if (weighting_ != PsfWeighting::Path && !stored.empty()) {
         // Cells the size of the typical radius: a query visits 2-3 cells per axis (measured faster
@@ -289,7 +286,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     grid_seconds_ += seconds_since(t0);
 
     // Stage 2: every prefix combines the suffixes gathered around its x1.
-    t0 = Clock::now();
+    t0 = StageClock::now();
     std::atomic<uint64_t> gathered{0}, accepted{0};
     const int max_n = std::max(1, settings.psf_max_neighbors);
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {

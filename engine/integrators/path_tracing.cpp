@@ -1,6 +1,7 @@
 #include "integrators/path_tracing.h"
 
 #include "integrators/volume.h"
+#include "integrators/direct_lighting.h"
 
 namespace smis {
 
@@ -91,8 +92,18 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
         if (sp.bsdf.empty()) break;
 
-        DirectSample ds = sample_direct(scene, settings, sp, rng, counters, state.medium);
-        if (ds.valid) L += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
+        bool resample = false;
+        if (state.first_vertex_ahead && !sp.bsdf.is_delta()) {
+            state.first_vertex_ahead = false;
+            resample = settings.direct_light == DirectLightStrategy::Ris;
+        }
+        state.light_pdf_scale = resample ? resampled_light_pdf_scale(settings) : 1.0f;
+        if (resample) {
+            L += beta * ris_direct(scene, settings, sp, rng);
+        } else {
+            DirectSample ds = sample_direct(scene, settings, sp, rng, counters, state.medium);
+            if (ds.valid) L += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
+        }
 
         float u_lobe = rng.next_float();
         Point2 u{rng.next_float(), rng.next_float()};

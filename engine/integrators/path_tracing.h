@@ -30,6 +30,11 @@ struct PathState {
     // photon planes estimate the camera ray's single scattering from rectangular lights.
     int32_t medium = -1;
     bool planes_on_camera_ray = false;
+    // A camera path before its first non-specular vertex, where settings.direct_light applies.
+    bool first_vertex_ahead = false;
+    // The previous vertex's light-sampling density, for MIS, as a multiple of the NEE density
+    // (pmf x light pdf): M for resampled light sampling (RIS, ReSTIR), see reservoir_contribution.
+    float light_pdf_scale = 1.0f;
 };
 struct RayMedia;
 // Transmittance along a ray's media up to t / to its end (defined with RayMedia in volume.cpp).
@@ -58,7 +63,8 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
                              const SurfaceHit& hit, const PathState& state, Add&& add,
                              const RayMedia* media = nullptr) {
     auto weight = [&](float light_pmf, float light_pdf) {
-        return state.prev_delta ? 1.0f : mis_weight(settings.mis, state.prev_pdf, light_pmf * light_pdf);
+        return state.prev_delta ? 1.0f
+                                : mis_weight(settings.mis, state.prev_pdf, state.light_pdf_scale * light_pmf * light_pdf);
     };
     Ray to_hit = ray;
     to_hit.tmax = found ? hit.t : kInf;

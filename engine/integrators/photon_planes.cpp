@@ -28,8 +28,7 @@
 namespace smis {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+using Clock = StageClock;
 
 struct PlaneLights {
     std::vector<PlaneLight> lights;

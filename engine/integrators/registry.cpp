@@ -8,6 +8,7 @@
 #include "integrators/path_space_filtering.h"
 #include "integrators/photon_planes.h"
 #include "integrators/spectral_path.h"
+#include "integrators/restir.h"
 
 namespace smis {
 
@@ -49,6 +50,11 @@ std::unique_ptr<Integrator> make_volume_integrator(const RenderSettings& setting
 
 std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, const Scene& scene) {
     std::string spectral = resolve_spectral_mode(settings, scene);
+    // RIS / ReSTIR live in the RGB surface path tracer: their resampling knows neither transmittance
+    // nor spectra, so those combinations are refused rather than rendered wrong.
+    if (settings.direct_light != DirectLightStrategy::Nee && (scene.has_media() || spectral != "RGB"))
+        throw std::invalid_argument("RIS/ReSTIR direct lighting does not support participating media or spectral "
+                                    "rendering yet: use NEE (or set Spectral to RGB)");
     if (settings.volume_estimator != "PATH") return make_volume_integrator(settings);
     if (settings.integrator == "PATH" && spectral != "RGB") {
         spectral::SpectralMode mode;
@@ -64,6 +70,9 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, cons
         {"PSF_SMIS_UNBIASED",
          [] { return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::SmisUnbiased); }},
     };
+    // ReSTIR turns the path tracer into a multi-stage integrator (per-pixel reservoirs are reused).
+    if (settings.integrator == "PATH" && settings.direct_light == DirectLightStrategy::Restir)
+        return std::make_unique<RestirIntegrator>();
     auto it = factories.find(settings.integrator);
     if (it == factories.end()) throw std::invalid_argument("unknown integrator '" + settings.integrator + "'");
     if (settings.integrator != "PATH" && scene.has_media())

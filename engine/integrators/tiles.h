@@ -3,6 +3,8 @@
 // computed per pixel is independent of the thread count.
 #pragma once
 #include <tbb/blocked_range.h>
+
+#include <chrono>
 #include <tbb/parallel_for.h>
 
 #include "core/float_mode.h"
@@ -42,6 +44,12 @@ inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s, Rng* r
     if (!cam.has_aperture()) return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y);
     Point2 u_lens{rng->next_float(), rng->next_float()};
     return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y, u_lens);
+}
+
+// Stage timings of the multi-stage integrators (reported through Integrator::stats()).
+using StageClock = std::chrono::steady_clock;
+inline double seconds_since(StageClock::time_point t0) {
+    return std::chrono::duration<double>(StageClock::now() - t0).count();
 }
 
 // Non-finite radiance never reaches the film: the sample counts as black and is reported.

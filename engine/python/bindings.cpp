@@ -1,6 +1,8 @@
 // The Python module `smis_render._smis`: a thin layer that converts numpy arrays and dicts from the
 // add-on's sync code into engine calls. No light transport here, and the GIL is released whenever
 // native code runs for long.
+#include <map>
+
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -97,6 +99,18 @@ const float* image_data(const py::array_t<float, py::array::c_style | py::array:
     return a.data();
 }
 
+// An enum setting given by name; unknown names are a ValueError listing the valid ones.
+template <class E>
+E parse_enum(const py::dict& d, const char* key, E fallback, const std::map<std::string, E>& names) {
+    if (!d.contains(key)) return fallback;
+    auto name = d[key].cast<std::string>();
+    auto it = names.find(name);
+    if (it != names.end()) return it->second;
+    std::string valid;
+    for (auto& kv : names) valid += (valid.empty() ? "" : ", ") + kv.first;
+    throw py::value_error(std::string(key) + " must be one of " + valid + ", not '" + name + "'");
+}
+
 RenderSettings parse_settings(const py::dict& d) {
     RenderSettings s;
     s.samples = get<uint32_t>(d, "samples", s.samples);
@@ -123,6 +137,19 @@ RenderSettings parse_settings(const py::dict& d) {
     s.photon_planes = get<uint32_t>(d, "photon_planes", s.photon_planes);
     s.smis_planes = get<int>(d, "smis_planes", s.smis_planes);
     s.camera_volume_only = get<bool>(d, "camera_volume_only", s.camera_volume_only);
+    s.direct_light = parse_enum<DirectLightStrategy>(
+        d, "direct_light", s.direct_light,
+        {{"NEE", DirectLightStrategy::Nee}, {"RIS", DirectLightStrategy::Ris}, {"RESTIR", DirectLightStrategy::Restir}});
+    s.restir_mis = parse_enum<RestirMis>(d, "restir_mis", s.restir_mis,
+                                         {{"SEED", RestirMis::Seed}, {"TALBOT", RestirMis::Talbot}, {"NONE", RestirMis::None}});
+    s.ris_candidates = get<int>(d, "ris_candidates", s.ris_candidates);
+    s.restir_neighbors = get<int>(d, "restir_neighbors", s.restir_neighbors);
+    s.restir_radius_px = get<float>(d, "restir_radius_px", s.restir_radius_px);
+    s.restir_history_cap = get<int>(d, "restir_history_cap", s.restir_history_cap);
+    s.restir_unbiased = get<bool>(d, "restir_unbiased", s.restir_unbiased);
+    s.restir_visibility_reuse = get<bool>(d, "restir_visibility_reuse", s.restir_visibility_reuse);
+    if (s.ris_candidates < 1 || s.restir_neighbors < 0 || s.restir_history_cap < 0 || !(s.restir_radius_px > 0.0f))
+        throw py::value_error("ReSTIR settings: candidates >= 1, neighbours >= 0, history cap >= 0, radius > 0");
     return s;
 }
 

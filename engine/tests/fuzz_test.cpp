@@ -17,6 +17,8 @@
 #include <cstdlib>
 #include <iterator>
 #include <limits>
+#include <memory>
+#include <stdexcept>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -24,12 +26,12 @@
 #include "core/rng.h"
 #include "render/session.h"
 #include "scene/scene.h"
+#include "test_scenes.h"
 
 using namespace smis;
 
 namespace {
 
-const char* const kIntegrators[] = {"PATH", "PSF_PATH", "PSF_KELLER", "PSF_SMIS", "PSF_SMIS_UNBIASED"};
 // Spectral settings; the last entry of each list is invalid on purpose.
 const char* const kSpectra[] = {"RGB", "BLACKBODY", "D65", "A", "F2", "F10", "F11", "F99"};
 const char* const kMetals[] = {"NONE", "Au", "Ag", "Cu", "Al", "Xx"};
@@ -264,19 +266,30 @@ void fuzz_one(Fuzz& f, Totals& totals, uint64_t seed, uint64_t iteration) {
     RenderSettings rs;
     rs.samples = uint32_t(f.range(1, 2));
     rs.max_bounces = f.range(0, 6);
-    rs.integrator = kIntegrators[f.range(0, 4)];
+    const std::string& integrator = smis::testing::all_integrators()[f.range(0, int(smis::testing::all_integrators().size()) - 1)];
+    smis::testing::select_integrator(rs, integrator);
     rs.mis = f.chance(0.5f) ? MisHeuristic::Power : MisHeuristic::Balance;
     rs.seed = f.u32();
-    rs.spectral = kSpectralModes[f.range(0, 7)];
+    // RIS/ReSTIR refuse spectral modes: mostly RGB for them, so their scenes still get rendered.
+    rs.spectral = rs.direct_light != DirectLightStrategy::Nee && f.chance(0.8f) ? "RGB" : kSpectralModes[f.range(0, 7)];
     rs.wavelengths = f.range(1, 8);
     rs.threads = 1;
-    RenderSession session(scene, rs);
+    // Settings the engine does not support together (e.g. ReSTIR with spectral rendering) must be
+    // refused with a clear error, which counts as a rejected input.
+    std::unique_ptr<RenderSession> made;
+    try {
+        made = std::make_unique<RenderSession>(scene, rs);
+    } catch (const std::invalid_argument&) {
+        ++totals.rejected;
+        return;
+    }
+    RenderSession& session = *made;
     session.run();
     ASSERT_TRUE(session.error().empty()) << session.error() << "; seed " << seed << " iteration " << iteration;
     std::vector<float> px = session.pixels();
     for (size_t i = 0; i < px.size(); ++i)
         ASSERT_TRUE(std::isfinite(px[i])) << "non-finite pixel value " << px[i] << " at " << i << " with "
-                                          << rs.integrator << "; seed " << seed << " iteration " << iteration;
+                                          << integrator << "; seed " << seed << " iteration " << iteration;
     totals.pixels += px.size() / 4;
     uint64_t nan = session.progress().nan_caught;
     totals.nan_caught += nan;

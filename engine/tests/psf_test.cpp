@@ -13,54 +13,25 @@ namespace {
 
 constexpr int kW = 24, kH = 24;
 
-struct PixelStats {
-    std::vector<double> mean, var;  // per pixel (luminance-free: the green channel), over renders
-};
-
-// K independent renders (different seeds): pixels of one render are correlated by the reuse, renders
-// are not, so per-pixel statistics must come from across renders.
-PixelStats across_renders(const std::shared_ptr<Scene>& scene, const std::string& integrator, int renders,
-                          uint32_t spp, uint32_t seed0, float radius_px = 12.0f) {
-    std::vector<smis::stats::MeanEstimator> est(kW * kH);
-    for (int r = 0; r < renders; ++r) {
-        RenderSettings st;
-        st.integrator = integrator;
-        st.samples = spp;
-        st.seed = seed0 + r;
-        st.max_bounces = 4;
-        st.psf_radius_px = radius_px;  // large, so any bias of the reuse would show
-        st.psf_max_neighbors = 32;     // much reuse, for the same reason
-        st.psf_radius_alpha = 1.0f;    // fixed radius: the comparison is about the weights
-        auto img = render(scene, st);
-        for (int i = 0; i < kW * kH; ++i) est[i].add(img[4 * i + 1]);
-    }
-    PixelStats ps;
-    for (auto& e : est) {
-        ps.mean.push_back(e.mean());
-        ps.var.push_back(e.variance() / e.count());  // variance of the mean
-    }
-    return ps;
-}
-
-// Fraction of pixels whose mean agrees with the reference at the Šidák-corrected level.
-double accepted_fraction(const PixelStats& a, const PixelStats& ref) {
-    const int n = static_cast<int>(a.mean.size());
-    const double alpha = smis::stats::sidak_significance(0.05, n);
-    int ok = 0;
-    for (int i = 0; i < n; ++i) {
-        double se = std::sqrt(a.var[i] + ref.var[i]);
-        auto t = smis::stats::z_test(a.mean[i], ref.mean[i], se, 1e-6);
-        ok += t.p_value >= alpha;
-    }
-    return double(ok) / n;
+// K independent renders (different seeds) of one integrator with settings that make any bias of
+// the reuse visible.
+PixelStats psf_renders(const std::shared_ptr<Scene>& scene, const std::string& integrator, int renders,
+                       uint32_t spp, uint32_t seed0, float radius_px = 12.0f) {
+    RenderSettings st;
+    st.integrator = integrator;
+    st.max_bounces = 4;
+    st.psf_radius_px = radius_px;  // large, so any bias of the reuse would show
+    st.psf_max_neighbors = 32;     // much reuse, for the same reason
+    st.psf_radius_alpha = 1.0f;    // fixed radius: the comparison is about the weights
+    return across_renders(scene, st, renders, spp, seed0);
 }
 
 }  // namespace
 
 TEST(PathSpaceFiltering, UnbiasedSmisConvergesToThePathTracer) {
     auto scene = small_room(kW, kH);
-    PixelStats ref = across_renders(scene, "PATH", 16, 64, 1000);
-    PixelStats unbiased = across_renders(scene, "PSF_SMIS_UNBIASED", 32, 4, 2000);
+    PixelStats ref = psf_renders(scene, "PATH", 16, 64, 1000);
+    PixelStats unbiased = psf_renders(scene, "PSF_SMIS_UNBIASED", 32, 4, 2000);
     double acc = accepted_fraction(unbiased, ref);
     std::printf("PSF_SMIS_UNBIASED: %.4f of pixels agree with PATH\n", acc);
     EXPECT_GE(acc, 0.99);
@@ -71,9 +42,9 @@ TEST(PathSpaceFiltering, BiasedVariantsAreDetectablyBiased) {
     // in the weights, reused scattering at z1) at a large radius: otherwise the test above proves
     // nothing.
     auto scene = small_room(kW, kH);
-    PixelStats ref = across_renders(scene, "PATH", 16, 64, 1000);
+    PixelStats ref = psf_renders(scene, "PATH", 16, 64, 1000);
     auto biased = [&](const std::string& name) {
-        return accepted_fraction(across_renders(scene, name, 32, 4, 3000), ref);
+        return accepted_fraction(psf_renders(scene, name, 32, 4, 3000), ref);
     };
     double smis = biased("PSF_SMIS"), keller = biased("PSF_KELLER");
     std::printf("accepted fraction at radius 12 px: PSF_SMIS %.4f, PSF_KELLER %.4f\n", smis, keller);
@@ -84,7 +55,7 @@ TEST(PathSpaceFiltering, PsfPathIsThePathTracer) {
     // PSF_PATH renders the stage-1 paths without reuse: it is the path tracer, pixel for pixel in
     // expectation (not in value: the random streams are consumed differently).
     auto scene = small_room(kW, kH);
-    PixelStats ref = across_renders(scene, "PATH", 16, 64, 1000);
-    PixelStats psf_path = across_renders(scene, "PSF_PATH", 16, 64, 5000);
+    PixelStats ref = psf_renders(scene, "PATH", 16, 64, 1000);
+    PixelStats psf_path = psf_renders(scene, "PSF_PATH", 16, 64, 5000);
     EXPECT_GE(accepted_fraction(psf_path, ref), 0.99);
 }

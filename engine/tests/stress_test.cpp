@@ -17,7 +17,6 @@ using namespace smis::testing;
 
 namespace {
 
-const char* const kIntegrators[] = {"PATH", "PSF_PATH", "PSF_KELLER", "PSF_SMIS", "PSF_SMIS_UNBIASED"};
 const MisHeuristic kHeuristics[] = {MisHeuristic::Balance, MisHeuristic::Power};
 constexpr int kRes = 16;
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
@@ -91,12 +90,12 @@ struct CaseResult {
 // Renders the committed scene with every integrator x heuristic; prints and checks the counters.
 CaseResult run_case(const char* name, const std::shared_ptr<Scene>& scene, bool expect_no_nan) {
     CaseResult total;
-    for (const char* integ : kIntegrators)
+    for (const std::string& integ : all_integrators())
         for (MisHeuristic mis : kHeuristics) {
             RenderSettings rs;
             rs.samples = 4;
             rs.max_bounces = 4;
-            rs.integrator = integ;
+            select_integrator(rs, integ);
             rs.mis = mis;
             rs.threads = 2;
             RenderSession session(scene, rs);
@@ -113,7 +112,7 @@ CaseResult run_case(const char* name, const std::shared_ptr<Scene>& scene, bool 
             double mean = px.empty() ? 0.0 : sum / (0.75 * double(px.size()));
             RenderProgress p = session.progress();
             std::printf("[stress] %-28s %-18s %-7s nan_caught=%llu samples_rejected=%llu nonfinite_px=%zu mean=%.3g\n", name,
-                        integ, mis == MisHeuristic::Power ? "power" : "balance",
+                        integ.c_str(), mis == MisHeuristic::Power ? "power" : "balance",
                         static_cast<unsigned long long>(p.nan_caught),
                         static_cast<unsigned long long>(p.samples_rejected), bad, mean);
             EXPECT_EQ(bad, 0u) << name << " " << integ << ": non-finite pixels";

@@ -64,11 +64,64 @@ inline std::vector<float> render(const std::shared_ptr<Scene>& scene, RenderSett
     return session.pixels();
 }
 
+// The integrators of the stress and fuzz suites: the registry's names, plus the path tracer's
+// many-light direct-light strategies, named PATH+RIS and PATH+RESTIR_<mis> (unbiased, visibility reuse).
+inline const std::vector<std::string>& all_integrators() {
+    static const std::vector<std::string> names = {"PATH", "PSF_PATH", "PSF_KELLER", "PSF_SMIS", "PSF_SMIS_UNBIASED",
+                                                   "PATH+RIS", "PATH+RESTIR_SEED", "PATH+RESTIR_TALBOT",
+                                                   "PATH+RESTIR_NONE"};
+    return names;
+}
+inline void select_integrator(RenderSettings& rs, const std::string& name) {
+    rs.integrator = name.substr(0, name.find('+'));
+    if (name == "PATH+RIS") rs.direct_light = DirectLightStrategy::Ris;
+    if (name.rfind("PATH+RESTIR_", 0) == 0) {
+        rs.direct_light = DirectLightStrategy::Restir;
+        const std::string mis = name.substr(12);
+        rs.restir_mis = mis == "TALBOT" ? RestirMis::Talbot : mis == "NONE" ? RestirMis::None : RestirMis::Seed;
+    }
+}
+
 // Mean (with its standard error) of one channel over the pixels of an image (pixels independent).
 inline stats::MeanEstimator channel_mean(const std::vector<float>& rgba, int c) {
     stats::MeanEstimator m;
     for (size_t i = 0; i < rgba.size() / 4; ++i) m.add(rgba[4 * i + c]);
     return m;
+}
+
+// Per-pixel statistics of the green channel over independent renders (different seeds). Estimators
+// that reuse samples across pixels (or across the iterations of one render) correlate the pixels of
+// one render, but not renders: per-pixel statistics must come from across renders.
+struct PixelStats {
+    std::vector<double> mean, var;  // per pixel: mean over renders and the variance of that mean
+    stats::MeanEstimator image;     // the image mean, one value per render
+};
+inline PixelStats across_renders(const std::shared_ptr<Scene>& scene, RenderSettings st, int renders, uint32_t spp,
+                                 uint32_t seed0) {
+    const size_t n = size_t(scene->camera().window_width()) * scene->camera().window_height();
+    std::vector<stats::MeanEstimator> est(n);
+    PixelStats ps;
+    st.samples = spp;
+    for (int r = 0; r < renders; ++r) {
+        st.seed = seed0 + r;
+        auto img = render(scene, st);
+        for (size_t i = 0; i < n; ++i) est[i].add(img[4 * i + 1]);
+        ps.image.add(channel_mean(img, 1).mean());
+    }
+    for (auto& e : est) {
+        ps.mean.push_back(e.mean());
+        ps.var.push_back(e.variance() / e.count());
+    }
+    return ps;
+}
+// Fraction of pixels whose mean agrees with the reference's at the Šidák-corrected 5% level.
+inline double accepted_fraction(const PixelStats& a, const PixelStats& ref) {
+    const int n = static_cast<int>(a.mean.size());
+    const double alpha = stats::sidak_significance(0.05, n);
+    int ok = 0;
+    for (int i = 0; i < n; ++i)
+        ok += stats::z_test(a.mean[i], ref.mean[i], std::sqrt(a.var[i] + ref.var[i]), 1e-6).p_value >= alpha;
+    return double(ok) / n;
 }
 
 }  // namespace smis::testing
@@ -130,6 +183,53 @@ inline std::shared_ptr<Scene> small_room(int w, int h) {
     s->add_light(light);
     CameraDesc c = camera_along_y({0.0f, -2.9f, 1.0f}, w, h, 22.0f);
     s->set_camera(c);
+    s->commit();
+    return s;
+}
+
+}  // namespace smis::testing
+
+namespace smis::testing {
+
+// Many small emitters over a floor with occluders, seen from above: a grid of small area lights
+// (one-sided, facing down) and a grid of emissive quads (two-sided mesh emission), of varied colours
+// and powers, above boxes and bars that cast many shadows; a glossy strip so that light sampling is
+// MIS-combined with BSDF sampling. The many-light direct-illumination case of ReSTIR.
+inline std::shared_ptr<Scene> many_lights(int w, int h, int grid = 10) {
+    auto s = std::make_shared<Scene>();
+    uint32_t white = s->add_material(diffuse(Color(0.7f)));
+    uint32_t shiny = s->add_material(glossy(Color(0.8f, 0.8f, 0.8f), 0.25f));
+    add_box(*s, {-3.0f, -3.0f, -0.1f}, {3.0f, 3.0f, 0.0f}, white);       // floor
+    add_box(*s, {-3.0f, 0.8f, 0.0f}, {3.0f, 1.3f, 0.002f}, shiny);       // glossy strip on it
+    add_box(*s, {-1.2f, -1.0f, 0.0f}, {-0.6f, -0.4f, 0.6f}, white);      // occluder boxes
+    add_box(*s, {0.4f, -0.3f, 0.0f}, {1.1f, 0.2f, 0.4f}, white);
+    for (int b = 0; b < 4; ++b) {                                        // bars casting thin shadows
+        float y = -1.5f + 0.9f * b;
+        add_box(*s, {-2.0f, y, 0.9f}, {2.0f, y + 0.12f, 0.98f}, white);
+    }
+    auto colour = [](int i) {
+        return Color(0.4f + 0.6f * ((i * 37) % 11) / 10.0f, 0.4f + 0.6f * ((i * 53) % 7) / 6.0f,
+                     0.4f + 0.6f * ((i * 29) % 5) / 4.0f);
+    };
+    const float extent = 2.2f;
+    for (int i = 0; i < grid * grid; ++i) {
+        float fx = -extent + 2.0f * extent * (i % grid + 0.5f) / grid, fy = -extent + 2.0f * extent * (i / grid + 0.5f) / grid;
+        LightDesc light;
+        light.type = "AREA";
+        light.shape = "SQUARE";
+        light.size = 0.06f;
+        light.color = colour(i);
+        light.power = 0.5f + 2.5f * float((i * 7919) % 13) / 12.0f;
+        light.to_world.m[0][3] = fx, light.to_world.m[1][3] = fy, light.to_world.m[2][3] = 1.6f + 0.2f * float(i % 3);
+        s->add_light(light);
+        // An emissive quad halfway between each pair of lights, lower (between the bars and the floor).
+        uint32_t emitter = s->add_material(diffuse(Color(0.0f), colour(i + 5) * (2.0f + float(i % 4))));
+        float ex = fx + extent / grid, ey = fy + extent / grid, r = 0.04f;
+        if (ex > extent || ey > extent) continue;
+        add_box(*s, {ex - r, ey - r, 0.7f}, {ex + r, ey + r, 0.7f + 0.02f}, emitter);
+    }
+    s->set_world(Color(0.3f, 0.35f, 0.4f));
+    s->set_camera(camera_at({0.0f, 0.0f, 6.0f}, w, h));
     s->commit();
     return s;
 }

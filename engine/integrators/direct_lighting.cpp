@@ -1,0 +1,61 @@
+#include "integrators/direct_lighting.h"
+
+namespace smis {
+
+CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, const LightCandidate& x) {
+    CandidateEval e;
+    e.ls = scene.light(x.light).sample(sp.hit.p, x.u);
+    if (!e.ls.valid()) return e;
+    Color f = sp.bsdf.eval(sp.wo, e.ls.wi);
+    e.g = f * e.ls.L / e.ls.pdf;
+    // Colours are non-negative, so the luminance is positive wherever g is not black.
+    e.target = luminance(e.g);
+    if (!std::isfinite(e.target) || !(e.target > 0.0f)) e.target = 0.0f;
+    return e;
+}
+
+bool candidate_visible(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e) {
+    float tmax = std::isinf(e.ls.dist) ? kInf : e.ls.dist * (1.0f - 1e-4f);
+    return !scene.occluded(spawn_origin(sp, e.ls.wi), e.ls.wi, tmax);
+}
+
+Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng) {
+    Reservoir r;
+    const DiscreteDistribution& selection = scene.light_selection();
+    r.M = float(std::max(1, candidates));
+    if (sp.bsdf.is_delta() || selection.empty()) return r;
+    CandidateEval chosen;
+    for (int j = 0; j < candidates; ++j) {
+        LightCandidate x;
+        x.light = static_cast<uint32_t>(selection.sample(rng.next_float()));
+        x.u = {rng.next_float(), rng.next_float()};
+        float u_pick = rng.next_float();
+        CandidateEval e = evaluate_candidate(scene, sp, x);
+        // Resampling weight p^(x) / p(x), p(x) = pmf(i) (u is uniform).
+        if (r.update(x, e.target / selection.pmf(x.light), u_pick)) chosen = e;
+    }
+    if (chosen.target > 0.0f && !(visibility_reuse && !candidate_visible(scene, sp, chosen)))
+        r.W = r.w_sum / (r.M * chosen.target);
+    return r;
+}
+
+Color reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                             const Reservoir& r) {
+    if (!r.has_sample()) return Color(0.0f);
+    CandidateEval e = evaluate_candidate(scene, sp, r.y);
+    if (!(e.target > 0.0f) || !candidate_visible(scene, sp, e)) return Color(0.0f);
+    float w_light = 1.0f;
+    if (!e.ls.delta) {
+        float light_pdf = resampled_light_pdf_scale(settings) * scene.light_pmf(r.y.light) * e.ls.pdf;
+        w_light = mis_weight(settings.mis, light_pdf, sp.bsdf.pdf(sp.wo, e.ls.wi));
+    }
+    return e.g * (w_light * r.W);
+}
+
+Color ris_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng) {
+    // No visibility reuse: the one shadow ray is traced for the contribution itself.
+    Reservoir r = ris_reservoir(scene, sp, settings.ris_candidates, false, rng);
+    return reservoir_contribution(scene, settings, sp, r);
+}
+
+}  // namespace smis

@@ -1,0 +1,34 @@
+// ReSTIR direct lighting (Bitterli et al. 2020) at the camera path's first non-specular vertex, as
+// a progressive multi-stage integrator: the path tracer with settings.direct_light = RESTIR.
+#pragma once
+#include <vector>
+
+#include "integrators/direct_lighting.h"
+
+namespace smis {
+
+// One pixel's first vertex and its reservoir, kept for the neighbours and for the next iteration.
+struct RestirPixel {
+    bool has_vertex = false;
+    ShadingPoint sp;
+    Color beta{0.0f};      // camera prefix throughput up to the vertex
+    Color fixed{0.0f};     // everything but the direct light at the vertex (path-traced)
+    float distance = 0.0f; // camera-to-vertex path length, for the neighbour similarity test
+    Reservoir r;
+};
+
+class RestirIntegrator : public Integrator {
+public:
+    void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) override;
+    uint32_t max_pass_samples() const override { return 1; }
+    std::map<std::string, double> stats() const override;
+
+private:
+    void iteration(RenderContext& ctx, uint32_t s);
+    std::vector<RestirPixel> prev_;  // the last finished iteration (empty before the first)
+    // Measurements, summed over iterations.
+    double trace_seconds_ = 0, temporal_seconds_ = 0, spatial_seconds_ = 0, shade_seconds_ = 0;
+    uint64_t iterations_ = 0, vertices_ = 0, neighbours_ = 0, pdf_evaluations_ = 0, mis_shadow_rays_ = 0;
+};
+
+}  // namespace smis
