@@ -1,7 +1,7 @@
 // The integrator interface. An integrator renders a range of sample indices for every pixel of the
 // film window ("a pass"); the session calls it repeatedly for progressive rendering. Per-pixel
 // estimators derive from PixelIntegrator, which parallelises over tiles; multi-stage estimators
-// (path-space filtering, photon planes) implement render_pass themselves.
+// (path-space filtering, photon planes, ReSTIR) derive from IterativeIntegrator (whole-image iterations).
 #pragma once
 #include <atomic>
 #include <chrono>
@@ -113,6 +113,19 @@ public:
     virtual std::map<std::string, double> stats() const { return {}; }
     // Work this integrator leaves out for these settings, for the stats line ("skipped: ...").
     virtual void add_skipped(const RenderSettings& settings, std::vector<std::string>* skipped) const {}
+};
+
+// Multi-stage integrators (path-space filtering, photon planes, ReSTIR) render whole-image
+// iterations of one sample per pixel; a pass runs iterations [s0, s1), one pass per iteration.
+class IterativeIntegrator : public Integrator {
+public:
+    void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) final {
+        for (uint32_t s = s0; s < s1 && !ctx.should_stop(); ++s) iteration(ctx, s);
+    }
+    uint32_t max_pass_samples() const final { return 1; }
+
+protected:
+    virtual void iteration(RenderContext& ctx, uint32_t s) = 0;
 };
 
 class PixelIntegrator : public Integrator {

@@ -237,10 +237,6 @@ private:
 
 }  // namespace
 
-void PathSpaceFilteringIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) {
-    for (uint32_t s = s0; s < s1 && !ctx.should_stop(); ++s) iteration(ctx, s);
-}
-
 void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     const Scene& scene = ctx.scene;
     const RenderSettings& settings = ctx.settings;

@@ -14,18 +14,16 @@ enum class PsfWeighting {
     SmisUnbiased,  // eq. (17) with every connection and density evaluated exactly (§4.2)
 };
 
-class PathSpaceFilteringIntegrator : public Integrator {
+class PathSpaceFilteringIntegrator : public IterativeIntegrator {
 public:
     explicit PathSpaceFilteringIntegrator(PsfWeighting weighting) : weighting_(weighting) {}
-    void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) override;
     std::map<std::string, double> stats() const override;
-    uint32_t max_pass_samples() const override { return 1; }
     void add_skipped(const RenderSettings&, std::vector<std::string>* skipped) const override {
         if (weighting_ == PsfWeighting::Path) skipped->push_back("filtering");  // no grid, no gather
     }
 
 private:
-    void iteration(RenderContext& ctx, uint32_t s);
+    void iteration(RenderContext& ctx, uint32_t s) override;
     PsfWeighting weighting_;
     // Measurements, summed over iterations.
     double stage1_seconds_ = 0, grid_seconds_ = 0, gather_seconds_ = 0;

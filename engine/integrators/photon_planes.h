@@ -16,15 +16,13 @@ enum class PlaneWeighting {
     SmisExact,   // eq. 27 with the exact densities of eq. 25, chord length included (SMIS_w.)
 };
 
-class PhotonPlanesIntegrator : public Integrator {
+class PhotonPlanesIntegrator : public IterativeIntegrator {
 public:
     explicit PhotonPlanesIntegrator(PlaneWeighting weighting) : weighting_(weighting) {}
-    void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) override;
-    uint32_t max_pass_samples() const override { return 1; }
     std::map<std::string, double> stats() const override;
 
 private:
-    void iteration(RenderContext& ctx, uint32_t s);
+    void iteration(RenderContext& ctx, uint32_t s) override;
     PlaneWeighting weighting_;
     // Measurements, summed over iterations.
     double build_seconds_ = 0, render_seconds_ = 0;

@@ -83,10 +83,6 @@ Rng stage_rng(const RenderContext& ctx, int x, int y, uint32_t s, uint32_t strea
 
 }  // namespace
 
-void RestirIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) {
-    for (uint32_t s = s0; s < s1 && !ctx.should_stop(); ++s) iteration(ctx, s);
-}
-
 void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     const Scene& scene = ctx.scene;
     const RenderSettings& settings = ctx.settings;

@@ -17,14 +17,12 @@ struct RestirPixel {
     Reservoir r;
 };
 
-class RestirIntegrator : public Integrator {
+class RestirIntegrator : public IterativeIntegrator {
 public:
-    void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) override;
-    uint32_t max_pass_samples() const override { return 1; }
     std::map<std::string, double> stats() const override;
 
 private:
-    void iteration(RenderContext& ctx, uint32_t s);
+    void iteration(RenderContext& ctx, uint32_t s) override;
     std::vector<RestirPixel> prev_;  // the last finished iteration (empty before the first)
     // Measurements, summed over iterations.
     double trace_seconds_ = 0, temporal_seconds_ = 0, spatial_seconds_ = 0, shade_seconds_ = 0;
