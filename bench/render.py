@@ -11,7 +11,7 @@ SMIS: `blender -b --factory-startup --addons smis_render SCENE -E SMIS -o DIR/ou
 samples, seed, integrator, time_limit, max_bounces, filter_type, filter_width, psf_radius_px, ...);
 a property or enum value the add-on does not have makes Blender exit 1 before rendering (it is never
 silently ignored) and raises RenderError. The time is parsed from our engine's final stats line,
-`... | Done · 64/64 samples · 1.9 s · export 0.01 s · ...`: render seconds (printed with 0.1 s
+`... | Done · 64/64 samples · 1.93 s · export 0.01 s · ...`: render seconds (printed with 0.01 s
 resolution), samples done/total. Export time is reported separately (`export_seconds`).
 
 Cycles (peer curves): the scene gets Cycles' unbiased settings (scenes/cycles_settings.py), the given

@@ -213,7 +213,7 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         skipped = list(session.skipped())
         parts = ["Cancelled" if p.get("cancelled") or self.break_requested() else "Done",
                  "%d/%d samples" % (p["samples_done"], p["samples_total"]),
-                 "%.1f s" % p["elapsed"],
+                 "%.2f s" % p["elapsed"],
                  "export %.2f s" % export.seconds,
                  "%d tris, %d meshes, %d instances, %d lights"
                  % (export.stats.get("triangles", 0), export.counts.meshes,
