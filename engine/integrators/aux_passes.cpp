@@ -37,8 +37,7 @@ AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng) {
             a.albedo = throughput * albedo(sp.bsdf);
             break;
         }
-        float u_lobe = rng.next_float();
-        BsdfSample bs = sp.bsdf.sample(sp.wo, {rng.next_float(), rng.next_float()}, u_lobe);
+        BsdfSample bs = sample_bsdf(sp, rng);
         if (!bs.valid()) break;
         throughput *= bs.value / bs.pdf;
         ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};

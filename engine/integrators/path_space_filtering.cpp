@@ -75,12 +75,8 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         prefix_length += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
         if (sp.bsdf.empty()) return rec;
-        float u_lobe = 0.0f;
-        Point2 u;
         if (sp.bsdf.is_delta()) {  // still in the prefix: follow the Dirac bounce
-            u_lobe = rng.next_float();
-            u = {rng.next_float(), rng.next_float()};
-            BsdfSample bs = sp.bsdf.sample(sp.wo, u, u_lobe);
+            BsdfSample bs = sample_bsdf(sp, rng);
             if (!bs.valid()) return rec;
             beta *= bs.value / bs.pdf;
             if (bs.transmission) eta_scale *= sqr(bs.eta);
@@ -105,9 +101,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         rec.radius = settings.psf_radius_px * camera.pixel_footprint(prefix_length);
         DirectSample ds = sample_direct(scene, settings, sp, rng, counters);
         if (ds.valid) rec.fixed += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
-        u_lobe = rng.next_float();
-        u = {rng.next_float(), rng.next_float()};
-        BsdfSample bs = sp.bsdf.sample(sp.wo, u, u_lobe);
+        BsdfSample bs = sample_bsdf(sp, rng);
         if (!bs.valid()) {
             ++counters.samples_rejected;
             return rec;
@@ -136,9 +130,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
             rec.nee_weighted = ds1.weighted;
             L_out += sp1.bsdf.eval(sp1.wo, ds1.wi) * ds1.weighted;
         }
-        float u1_lobe = rng.next_float();
-        Point2 u1{rng.next_float(), rng.next_float()};
-        BsdfSample bs1 = sp1.bsdf.sample(sp1.wo, u1, u1_lobe);
+        BsdfSample bs1 = sample_bsdf(sp1, rng);
         if (bs1.valid()) {
             PathState st2{st1.depth + 1, bs1.delta, bs1.pdf, h1.p};
             Color L_in = trace_path(scene, settings, Ray{spawn_origin(sp1, bs1.wi), bs1.wi, 0.0f, kInf}, st2, rng,

@@ -105,9 +105,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
             if (ds.valid) L += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
         }
 
-        float u_lobe = rng.next_float();
-        Point2 u{rng.next_float(), rng.next_float()};
-        BsdfSample bs = sp.bsdf.sample(sp.wo, u, u_lobe);
+        BsdfSample bs = sample_bsdf(sp, rng);
         if (!bs.valid()) {
             ++counters.samples_rejected;
             break;

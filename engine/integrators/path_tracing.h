@@ -102,6 +102,14 @@ Color trace_path(const Scene& scene, const RenderSettings& settings, Ray ray, Pa
 
 // Russian roulette after a few bounces on the largest throughput component max_beta: returns the
 // probability with which the path survives (divide the throughput by it), or 0 to stop the path.
+// A BSDF sample at sp from the path's own stream: the lobe choice first, then the 2D point (one
+// order everywhere, so every integrator consumes the stream the same way).
+inline BsdfSample sample_bsdf(const ShadingPoint& sp, Rng& rng) {
+    float u_lobe = rng.next_float();
+    Point2 u{rng.next_float(), rng.next_float()};
+    return sp.bsdf.sample(sp.wo, u, u_lobe);
+}
+
 float russian_roulette_survival(int depth, float max_beta, float eta_scale, Rng& rng);
 // The same for an RGB throughput: returns false to stop, else rescales beta.
 inline bool russian_roulette(int depth, Color& beta, float eta_scale, Rng& rng) {

@@ -47,9 +47,7 @@ RestirPixel trace_pixel(const Scene& scene, const RenderSettings& settings, Ray 
             px.beta = beta;
             px.r = ris_reservoir(scene, sp, settings.ris_candidates, settings.restir_visibility_reuse, rng);
         }
-        float u_lobe = rng.next_float();
-        Point2 u{rng.next_float(), rng.next_float()};
-        BsdfSample bs = sp.bsdf.sample(sp.wo, u, u_lobe);
+        BsdfSample bs = sample_bsdf(sp, rng);
         if (!bs.valid()) {
             ++counters.samples_rejected;
             return px;

@@ -194,9 +194,7 @@ Color SpectralPathIntegrator::Li(const Scene& scene, const RenderSettings& setti
             if (lum > 0.0f) L += p.emission(spectral_.emitter(ds.light), lum, f);
         }
 
-        float u_lobe = rng.next_float();
-        Point2 u{rng.next_float(), rng.next_float()};
-        BsdfSample bs = sp.bsdf.sample(sp.wo, u, u_lobe);
+        BsdfSample bs = sample_bsdf(sp, rng);
         if (!bs.valid()) {
             ++counters.samples_rejected;
             break;
