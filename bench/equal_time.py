@@ -7,7 +7,8 @@
 Suites (SUITES below) group scenes with the estimators that apply to them:
   surfaces  cornell, cornell_diffuse          PATH, CYCLES
   psf       psf_glossy, psf_room              PATH, PSF_KELLER, PSF_SMIS, CYCLES  (West et al. Figs. 4-5)
-  restir    many_lights                       NEE, RIS, RESTIR_* (bench/restir_bench.py runs it)
+  restir    many_lights                       NEE, RIS, RESTIR_*, CYCLES (bench/restir_bench.py runs it)
+  volume    volume_planes                     PATH, PLANES_UNWEIGHTED/CMIS/SMIS_EXACT, CYCLES
 An estimator is a label with the scene.smis settings that select it; CYCLES is Blender's Cycles with
 the unbiased settings of scenes/cycles_settings.py (same resolution, bounces and pixel filter, no
 denoising, no clamping), a peer wherever it renders the same image.
@@ -63,6 +64,7 @@ CYCLES = "CYCLES"
 # supplement's Fig. 1), the add-on's default M, k, radius and history cap, stated explicitly.
 RESTIR_COMMON = {"integrator": "PATH", "max_bounces": 0, "ris_candidates": 16, "restir_neighbors": 5,
                  "restir_radius_px": 5.0, "restir_history_cap": 2}
+VOLUME_COMMON = {"integrator": "PATH", "max_bounces": 1}
 SUITES = {
     "surfaces": {
         "scenes": ["cornell", "cornell_diffuse"],
@@ -80,7 +82,7 @@ SUITES = {
     # RESTIR_NONE and RESTIR_SEED_BIASED are the biased variants (1/M; no visibility in the MIS).
     "restir": {
         "scenes": ["many_lights"],
-        "estimators": {name: dict(RESTIR_COMMON, **s) for name, s in (
+        "estimators": dict({name: dict(RESTIR_COMMON, **s) for name, s in (
             ("NEE", {"direct_light": "NEE"}),
             ("RIS", {"direct_light": "RIS"}),
             ("RESTIR_SEED", {"direct_light": "RESTIR", "restir_mis": "SEED"}),
@@ -90,8 +92,21 @@ SUITES = {
                                      "restir_visibility_reuse": False}),
             ("RESTIR_NONE", {"direct_light": "RESTIR", "restir_mis": "NONE"}),
             ("RESTIR_SEED_BIASED", {"direct_light": "RESTIR", "restir_mis": "SEED", "restir_unbiased": False}))},
+            # Cycles 3.4 has no light tree (3.5 added one): it samples the lights by power.
+            **{CYCLES: None}),
         "reference": dict(RESTIR_COMMON, direct_light="NEE"),
         "baseline": "NEE", "pair": ("RESTIR_SEED", "RESTIR_TALBOT"), "equal_spp": 16,
+    },
+    # Single scattering in a fog box (issue 5, West et al. Sec. 6): the path tracer (distance and
+    # equiangular sampling, NEE) against photon planes with the three weightings; max_bounces 1 and
+    # Cycles with volume bounces 0 (the scene's smis_volume_bounces) render the same single scattering.
+    "volume": {
+        "scenes": ["volume_planes"],
+        "estimators": dict({name: dict(VOLUME_COMMON, volume_estimator=est) for name, est in (
+            ("PATH", "PATH"), ("PLANES_UNWEIGHTED", "PLANES_UNWEIGHTED"), ("PLANES_CMIS", "PLANES_CMIS"),
+            ("PLANES_SMIS_EXACT", "PLANES_SMIS_EXACT"))}, **{CYCLES: None}),
+        "reference": dict(VOLUME_COMMON, volume_estimator="PATH"),
+        "baseline": "PATH", "pair": ("PLANES_SMIS_EXACT", "PLANES_CMIS"), "equal_spp": 16,
     },
 }
 BUDGETS = [2.0, 4.0, 8.0, 16.0, 32.0]
@@ -212,8 +227,10 @@ def render_one(blend, suite, estimator, seed, args, budget=None, spp=None):
     """One render of `estimator`: time-limited (budget seconds) or sample-limited (spp)."""
     if estimator == CYCLES:
         samples = spp if spp else MAX_SAMPLES
+        # Cycles gets the bounce limit our renders of the suite use (0 for direct light only).
+        ours = dict(COMMON, **suite.get("reference", suite["estimators"][suite["baseline"]]))
         run = render_cycles(blend, samples=samples, seed=seed, time_limit=float(budget or 0.0),
-                            max_bounces=COMMON["max_bounces"], threads=args.threads,
+                            max_bounces=ours["max_bounces"], threads=args.threads,
                             timeout=max(600, 20 * (budget or 30)))
         found = _CYCLES_SAMPLE.findall(run.output)
         run.samples_done = max(int(d) for d, _ in found) if found else (spp or -1)

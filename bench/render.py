@@ -184,16 +184,17 @@ _HEADER = ["import bpy", "scene = bpy.context.scene",
 
 
 def render_smis(blend, settings=None, out_dir=None, threads=0, timeout=3600, frame=1, retries=3,
-                addon_scripts=None):
+                addon_scripts=None, wrapper=None):
     """Render `blend` with our engine; `settings` are applied to scene.smis. Returns a RenderRun.
 
     `addon_scripts`: a Blender user-scripts folder whose addons/smis_render is the add-on to use
-    (another build of the engine, for side-by-side comparisons); default: the installed one."""
+    (another build of the engine, for side-by-side comparisons); default: the installed one.
+    `wrapper`: a command Blender runs under (e.g. valgrind and its options)."""
     settings = dict(settings or {})
     out_dir = out_dir or tempfile.mkdtemp(prefix="smis_bench_")
     os.makedirs(out_dir, exist_ok=True)
     code = _HEADER + _settings_code("scene.smis", settings)
-    cmd = _command(blend, "SMIS", out_dir, code, threads, frame)
+    cmd = list(wrapper or []) + _command(blend, "SMIS", out_dir, code, threads, frame)
     env = dict(os.environ, BLENDER_USER_SCRIPTS=addon_scripts) if addon_scripts else None
     path, wall, output = _run(cmd, out_dir, frame, timeout, retries,
                               check=lambda out: parse_smis_stats(out) is not None, env=env)

@@ -43,8 +43,9 @@ else
     "${BL[@]}" --python bench/planes_bench.py
     step "many lights (ReSTIR)"
     $PY bench/restir_bench.py
-    step "unused features"
+    step "unused features (time, then instruction counts)"
     $PY bench/skip_bench.py
+    $PY bench/skip_bench.py --instructions
     step "paths per second against Cycles"
     "${BL[@]}" --python bench/path_speed.py -- scenes/cornell.blend 256
     step "export speed"

@@ -1,6 +1,7 @@
 """What an unused feature costs: this build against a build of the engine without the feature.
 
     /usr/bin/python3 bench/skip_bench.py [--baseline REV] [--repeats 5] [--quick]
+    /usr/bin/python3 bench/skip_bench.py --instructions     # load-independent: callgrind counts
 
 The engine analyses each scene before rendering and switches off what the scene does not use
 (media tracking without media, spectral sampling without spectral content in AUTO mode, the
@@ -14,12 +15,20 @@ measurable cost"). Writes bench/results/skip_bench.{json,csv,md}.
 
 Render times are the engine's own (from its stats line, 0.01 s resolution): the sample counts are
 chosen so that each render takes several seconds (the baseline build prints 0.1 s).
+
+--instructions counts instead the instructions the render executes (valgrind's callgrind, collecting
+only inside RenderSession::render_loop, one thread so that the count does not depend on scheduling):
+repeatable to a few parts per million and independent of the machine's load, which timing on a
+shared machine is not. Both builds trace the same rays (the random streams are the same), so the
+difference is the cost of the code around them. Instructions are not time (a cache miss costs more
+than an add), so both measures are reported. Writes bench/results/skip_bench_instructions.{json,csv,md}.
 """
 import argparse
 import csv
 import datetime
 import json
 import os
+import re
 import subprocess
 import sys
 import time
@@ -39,6 +48,16 @@ CASES = [
     ("psf_glossy", {"integrator": "PSF_SMIS", "samples": 64}, "no media, no spectral content (filtering on)"),
 ]
 COMMON = {"max_bounces": 8, "filter_type": "BOX", "filter_width": 1.0, "seed": 1}
+# --instructions: the same scenes at sample counts valgrind runs in about a minute each, plus the
+# many-light scene with plain NEE (RIS/ReSTIR present but unused).
+INSTRUCTION_CASES = [
+    ("cornell", {"integrator": "PATH", "samples": 8}, "no media, no spectral content"),
+    ("psf_room", {"integrator": "PATH", "samples": 2}, "no media, no spectral content"),
+    ("psf_glossy", {"integrator": "PSF_SMIS", "samples": 2}, "no media, no spectral content (filtering on)"),
+    ("many_lights", {"integrator": "PATH", "samples": 4}, "no media, no spectral content, NEE (no RIS/ReSTIR)"),
+]
+CALLGRIND = ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", "--collect-atstart=no",
+             "--toggle-collect=smis::RenderSession::render_loop*"]
 
 
 def log(msg):
@@ -83,13 +102,73 @@ def current_scripts():
     return scripts
 
 
+def count_instructions(blend, settings, scripts):
+    """Instructions executed by the engine's render loop (callgrind, one thread)."""
+    run = render_smis(blend, settings, threads=1, addon_scripts=scripts, wrapper=CALLGRIND, retries=0)
+    remove(run)
+    found = re.findall(r"Collected\s*:\s*(\d+)", run.output)
+    if not found:
+        raise RuntimeError("no callgrind total in Blender's output:\n" + run.output[-2000:])
+    return int(found[-1]), run
+
+
+def instructions_main(args):
+    commit, base_scripts = build_baseline(args.baseline)
+    builds = {"baseline": base_scripts, "this": current_scripts()}
+    rows = []
+    for scene, settings, unused in INSTRUCTION_CASES:
+        blend = os.path.join(ROOT, "scenes", scene + ".blend")
+        s = dict(COMMON, **settings)
+        counts, skipped_line = {}, ""
+        for name, scripts in builds.items():
+            counts[name], run = count_instructions(blend, s, scripts)
+            if name == "this":
+                skipped_line = next((ln.strip() for ln in run.output.splitlines() if "skipped" in ln), "")
+        cost = counts["this"] / counts["baseline"] - 1.0
+        rows.append({"scene": scene, "settings": s, "unused": unused, "baseline_instructions": counts["baseline"],
+                     "this_instructions": counts["this"], "cost_percent": 100.0 * cost,
+                     "stats_line_skipped": skipped_line})
+        log("%s (%s): baseline %d, this %d instructions: %+.2f%%" % (scene, unused, counts["baseline"],
+                                                                      counts["this"], 100.0 * cost))
+    doc = {"baseline": commit, "this": git("rev-parse", "--short", "HEAD"), "measure": "callgrind Ir, 1 thread",
+           "written": datetime.datetime.now().isoformat(timespec="seconds"), "cases": rows}
+    out = os.path.join(HERE, "results")
+    os.makedirs(out, exist_ok=True)
+    with open(os.path.join(out, "skip_bench_instructions.json"), "w") as f:
+        json.dump(doc, f, indent=2)
+    with open(os.path.join(out, "skip_bench_instructions.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["scene", "unused", "baseline_instructions", "this_instructions",
+                                          "cost_percent"], extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
+    lines = ["# Cost of present-but-unused features, in instructions", "",
+             "Generated by `bench/skip_bench.py --instructions` on %s: instructions executed by the render "
+             "loop (callgrind, 1 thread) of this build (%s) against the baseline build %s (before spectral "
+             "rendering, media, ReSTIR, textures, depth of field and passes existed), same scenes, settings "
+             "and seed." % (doc["written"], doc["this"], commit), "",
+             "| scene | integrator, spp | unused here | baseline instructions | this | cost | stats line |",
+             "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append("| %s | %s, %d | %s | %d | %d | %+.2f%% | %s |"
+                     % (r["scene"], r["settings"]["integrator"], r["settings"]["samples"], r["unused"],
+                        r["baseline_instructions"], r["this_instructions"], r["cost_percent"],
+                        r["stats_line_skipped"].replace("|", "/")[:160] or "-"))
+    with open(os.path.join(out, "skip_bench_instructions.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    log("wrote bench/results/skip_bench_instructions.{json,csv,md}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--baseline", default=BASELINE, help="git revision without the features (default %(default)s)")
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--quick", action="store_true", help="2 repeats, quarter sample counts")
     ap.add_argument("--threads", type=int, default=0)
+    ap.add_argument("--instructions", action="store_true",
+                    help="count instructions with callgrind instead of timing (load-independent)")
     args = ap.parse_args()
+    if args.instructions:
+        return instructions_main(args)
     repeats = 2 if args.quick else args.repeats
     commit, base_scripts = build_baseline(args.baseline)
     builds = {"baseline": base_scripts, "this": current_scripts()}

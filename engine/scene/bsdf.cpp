@@ -23,10 +23,6 @@ namespace {
 // Alpha floor inside the GGX helpers: alpha^4 stays a normal float, so D never overflows to inf.
 // Lobes with alpha < kDeltaAlpha never reach the helpers; this only protects direct callers.
 constexpr float kMinAlpha = 1e-6f;
-// A rough dielectric whose |eta - 1| is below this is an index-matched interface: the transmission
-// lobe collapses onto -wo whatever the roughness and the Walter Jacobian becomes singular
-// (the generalised half vector wo + eta wi vanishes), so it is treated as the smooth (delta) case.
-constexpr float kIndexMatchedEps = 1e-3f;
 // Below this squared length a half vector is considered undefined (its direction is noise).
 constexpr float kMinHalfLenSq = 1e-24f;
 // Largest float below 1, to keep remapped random numbers in [0, 1).
@@ -42,16 +38,6 @@ struct EvalPdf {
 inline float sanitize_alpha(float alpha) { return std::fmax(alpha, kMinAlpha); }  // also maps NaN
 
 }  // namespace
-
-bool lobe_is_delta(const Lobe& lobe) {
-    switch (lobe.kind) {
-        case LobeKind::Diffuse: return false;
-        case LobeKind::Microfacet: return !(lobe.alpha >= kDeltaAlpha);
-        case LobeKind::Dielectric:
-            return !(lobe.alpha >= kDeltaAlpha) || !(std::fabs(lobe.eta - 1.0f) >= kIndexMatchedEps);
-    }
-    return false;
-}
 
 namespace {
 
@@ -392,14 +378,8 @@ void Bsdf::add(const Lobe& lobe) {
     // Keep the lobe routines' inputs sane (Cycles clamps the IOR the same way).
     l.alpha = std::isfinite(l.alpha) ? std::max(l.alpha, 0.0f) : 0.0f;
     l.eta = std::isfinite(l.eta) ? std::fmax(l.eta, 1e-5f) : 1.0f;
+    if (lobe_is_delta(l)) ++delta_count_;
     lobes_[count_++] = l;
-}
-
-bool Bsdf::is_delta() const {
-    if (count_ == 0) return false;  // nothing scatters; "specular" would be misleading
-    for (int i = 0; i < count_; ++i)
-        if (!lobe_is_delta(lobes_[i])) return false;
-    return true;
 }
 
 Color Bsdf::albedo_weight() const {

@@ -71,7 +71,21 @@ struct LobeTerms {
     float geom = 0.0f, cos_d = 1.0f, pdf = 0.0f;
 };
 LobeTerms lobe_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
-bool lobe_is_delta(const Lobe& lobe);
+
+// A rough dielectric whose |eta - 1| is below this is an index-matched interface: the transmission
+// lobe collapses onto -wo whatever the roughness and the Walter Jacobian becomes singular
+// (the generalised half vector wo + eta wi vanishes), so it is treated as the smooth (delta) case.
+constexpr float kIndexMatchedEps = 1e-3f;
+// Inline: the path tracer asks at every vertex (through Bsdf::is_delta and the pdf routines).
+inline bool lobe_is_delta(const Lobe& lobe) {
+    switch (lobe.kind) {
+        case LobeKind::Diffuse: return false;
+        case LobeKind::Microfacet: return !(lobe.alpha >= kDeltaAlpha);
+        case LobeKind::Dielectric:
+            return !(lobe.alpha >= kDeltaAlpha) || !(std::fabs(lobe.eta - 1.0f) >= kIndexMatchedEps);
+    }
+    return false;
+}
 
 // Rough scalar estimate of the lobe's albedo, only used to choose which lobe to sample.
 float lobe_sample_weight(const Lobe& lobe, const Vec3& wo);
@@ -88,12 +102,18 @@ public:
     static constexpr int kMaxLobes = 8;
     Bsdf() = default;
     Bsdf(const Frame& shading, const Vec3& ng) : frame_(shading), ng_(ng) {}
+    // The lobes of `lobes` (already added, so already sanitised) at another shading frame.
+    Bsdf(const Frame& shading, const Vec3& ng, const Bsdf& lobes)
+        : frame_(shading), ng_(ng), count_(lobes.count_), delta_count_(lobes.delta_count_) {
+        for (int i = 0; i < count_; ++i) lobes_[i] = lobes.lobes_[i];
+    }
     void add(const Lobe& lobe);
     int lobe_count() const { return count_; }
     const Lobe& lobe(int i) const { return lobes_[i]; }
     bool empty() const { return count_ == 0; }
-    // True when every lobe is a Dirac: NEE is pointless there.
-    bool is_delta() const;
+    // True when every lobe is a Dirac: NEE is pointless there. Counted in add(), since every
+    // vertex of every path asks.
+    bool is_delta() const { return count_ > 0 && delta_count_ == count_; }
 
     // World-space interface; wo, wi point away from the surface.
     Color eval(const Vec3& wo, const Vec3& wi) const;
@@ -124,6 +144,7 @@ private:
     Vec3 ng_{0, 0, 1};
     Lobe lobes_[kMaxLobes];
     int count_ = 0;
+    int delta_count_ = 0;
 };
 
 }  // namespace smis

@@ -74,6 +74,24 @@ struct Material {
     // The BSDF at a hit. `frame` faces the incoming direction (Cycles flips the normal of back-facing
     // hits); a back-facing hit on glass means the ray is leaving the medium, so eta is inverted.
     Bsdf make_bsdf(const Frame& frame, const Vec3& ng, bool backfacing, const SurfaceAttribs& attr = {}) const {
+        if (prepared_) return Bsdf(frame, ng, backfacing ? back_ : front_);
+        return build_bsdf(frame, ng, backfacing, attr);
+    }
+
+    // Called once the lobes are final (Scene::add_material): when no lobe varies per hit, the two
+    // lobe lists (front and back side) are built here once, so that make_bsdf() at every vertex of
+    // every path only copies them instead of re-running Bsdf::add's checks.
+    void prepare() {
+        prepared_ = false;
+        for (const LobeInput& in : inputs)
+            if (in.varies()) return;
+        front_ = build_bsdf(Frame(), Vec3(0, 0, 1), false, {});
+        back_ = build_bsdf(Frame(), Vec3(0, 0, 1), true, {});
+        prepared_ = true;
+    }
+
+private:
+    Bsdf build_bsdf(const Frame& frame, const Vec3& ng, bool backfacing, const SurfaceAttribs& attr) const {
         Bsdf bsdf(frame, ng);
         for (size_t i = 0; i < lobes.size(); ++i) {
             Lobe lobe = lobes[i];
@@ -90,6 +108,8 @@ struct Material {
         }
         return bsdf;
     }
+    bool prepared_ = false;
+    Bsdf front_, back_;
 };
 
 }  // namespace smis

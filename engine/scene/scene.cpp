@@ -112,6 +112,7 @@ uint32_t Scene::add_material(Material material) {
     varying_materials_ = varying_materials_ || !material.inputs.empty();
     if (!is_finite(material.emission)) material.emission = Color(0.0f);
     material.emission = vmax(material.emission, Color(0.0f));
+    material.prepare();
     materials_.push_back(std::move(material));
     return static_cast<uint32_t>(materials_.size() - 1);
 }
