@@ -39,6 +39,18 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
                     "every frame",
         default=False,
     )
+    sampling_pattern: EnumProperty(
+        name="Pattern",
+        description="Random numbers of the pixel samples",
+        items=[
+            ('STRATIFIED', "Stratified",
+             "Owen-scrambled Sobol points for the pixel position, the lens and the first bounce's light "
+             "and BSDF samples, so a pixel's samples spread evenly; independent random numbers after. "
+             "Unbiased, less noise at the same samples, negligible cost"),
+            ('RANDOM', "Random", "Independent random numbers for every decision (for comparisons)"),
+        ],
+        default='STRATIFIED',
+    )
     mis_heuristic: EnumProperty(
         name="MIS Heuristic",
         description="How multiple importance sampling weights the sampling techniques",
@@ -273,6 +285,7 @@ def session_settings(scene):
         "samples": s.samples,
         "max_bounces": s.max_bounces,
         "seed": seed,
+        "stratified": s.sampling_pattern == 'STRATIFIED',
         "mis_heuristic": s.mis_heuristic,
         "time_limit": float(s.time_limit),
         "threads": threads,

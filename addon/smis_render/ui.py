@@ -46,6 +46,7 @@ class SMIS_RENDER_PT_sampling(SMISButtonsPanel, bpy.types.Panel):
         row = col.row(align=True)
         row.prop(settings, "seed")
         row.prop(settings, "use_animated_seed", text="", icon='TIME')
+        col.prop(settings, "sampling_pattern")
         col = layout.column(align=True)
         col.prop(settings, "filter_type")
         col.prop(settings, "filter_width")

@@ -30,6 +30,7 @@ struct RenderSettings {
     uint32_t samples = 64;
     int max_bounces = 8;          // Cycles' meaning: 0 = direct lighting only
     uint32_t seed = 0;
+    bool stratified = true;       // stratified prefix of every pixel sample's stream (core/stratified.h)
     MisHeuristic mis = MisHeuristic::Power;
     double time_limit = 0.0;      // seconds, 0 = none
     int threads = 0;              // 0 = all cores

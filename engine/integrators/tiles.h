@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/float_mode.h"
+#include "core/stratified.h"
 #include "integrators/integrator.h"
 
 namespace smis {
@@ -36,10 +37,31 @@ void for_each_pixel_in_tiles(RenderContext& ctx, Fn&& fn) {
 }
 
 // The camera ray of sample `s` of window pixel (x, y), and the sample's own random stream.
+// The stratified prefix of a pixel sample's stream (core/stratified.h), in the order the path
+// tracers draw: pixel position (2D), lens position (2D, only with depth of field), then at the first
+// vertex next-event estimation (light choice 1D, point on the light 2D) and the BSDF sample (lobe
+// 1D, direction 2D). The two 1D choices share one 2D group. Every integrator that starts with
+// camera_ray() gets it; one that draws in another order stays unbiased (each value is uniform and
+// independent of the others on its own) and only loses the stratification.
+inline void set_stratified_prefix(Rng* rng, uint32_t fx, uint32_t fy, uint32_t s, uint32_t seed, bool lens) {
+    const uint64_t key = mix64(mix64((uint64_t(fy) << 32) | fx) ^ (uint64_t(seed) * 0xd1b54a32d192ed03ull));
+    float v[Rng::kMaxPrefix], choices[2];
+    int n = 0;
+    stratified::sample_2d(s, key, 0, v + n), n += 2;
+    if (lens) stratified::sample_2d(s, key, 1, v + n), n += 2;
+    stratified::sample_2d(s, key, 2, choices);
+    v[n++] = choices[0];
+    stratified::sample_2d(s, key, 3, v + n), n += 2;
+    v[n++] = choices[1];
+    stratified::sample_2d(s, key, 4, v + n), n += 2;
+    rng->set_prefix(v, n);
+}
+
 inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s, Rng* rng) {
     const Camera& cam = ctx.scene.camera();
     int fx = x + cam.window_x0(), fy = y + cam.window_y0();
     *rng = pixel_sample_rng(fx, fy, s, ctx.settings.seed);
+    if (ctx.settings.stratified) set_stratified_prefix(rng, fx, fy, s, ctx.settings.seed, cam.has_aperture());
     Point2 off = ctx.filter.sample({rng->next_float(), rng->next_float()});
     if (!cam.has_aperture()) return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y);
     Point2 u_lens{rng->next_float(), rng->next_float()};

@@ -116,6 +116,7 @@ RenderSettings parse_settings(const py::dict& d) {
     s.samples = get<uint32_t>(d, "samples", s.samples);
     s.max_bounces = get<int>(d, "max_bounces", s.max_bounces);
     s.seed = get<uint32_t>(d, "seed", s.seed);
+    s.stratified = get<bool>(d, "stratified", s.stratified);
     auto mis = get<std::string>(d, "mis_heuristic", "POWER");
     if (mis == "BALANCE") s.mis = MisHeuristic::Balance;
     else if (mis == "POWER") s.mis = MisHeuristic::Power;

@@ -288,10 +288,10 @@ int disagreeing_blocks(const BlockStats& a, const BlockStats& ref, int family) {
 TEST(PhotonPlanes, AllEstimatorsConvergeToThePathTracer) {
     Medium fog = make_medium({0.05f, 0.08f, 0.12f}, {0.35f, 0.3f, 0.25f});
     auto scene = fog_box(kW, kH, fog);
-    BlockStats ref = across_renders(scene, "PATH", 16, 1024, 100);
+    BlockStats ref = across_renders(scene, "PATH", 16, 1024, 2100);
     const char* estimators[] = {"PLANES_UNWEIGHTED", "PLANES_CMIS", "PLANES_SMIS_COS", "PLANES_SMIS_EXACT"};
     for (const char* e : estimators) {
-        BlockStats planes = across_renders(scene, e, 16, 8, 200);
+        BlockStats planes = across_renders(scene, e, 16, 8, 2200);
         int bad = disagreeing_blocks(planes, ref, 4);
         double rel_se = 0;
         for (size_t b = 0; b < planes.blocks.size(); ++b)
