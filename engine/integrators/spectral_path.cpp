@@ -1,5 +1,6 @@
 #include "integrators/spectral_path.h"
 
+#include "core/pixel_sequence.h"
 #include "integrators/path_tracing.h"
 
 namespace smis {
@@ -43,8 +44,8 @@ struct SpectralPath {
     float inv_mix = 1.0f;            // 1 / sum_j a_j r_j
     int n = 0, c = 0;
 
-    void start(const WavelengthSampler& sampler, Rng& rng) {
-        sampler.sample(rng, &ws);
+    void start(const WavelengthSampler& sampler, float u, float v, Rng& rng) {
+        sampler.sample(u, v, rng, &ws);
         n = ws.n;
         c = ws.conditioning;
         for (int i = 0; i < n; ++i) {
@@ -167,8 +168,30 @@ std::map<std::string, double> SpectralPathIntegrator::stats() const {
 
 Color SpectralPathIntegrator::Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
                                  LocalCounters& counters) const {
+    float u = rng.next_float();
+    float v = rng.next_float();
+    return trace(scene, settings, ray, u, v, rng, counters);
+}
+
+// The offsets of sample s: u from the pixel sequence of s, so that all the wavelengths of the pixel's
+// samples stratify (for SMIS the samples' lattices interleave into one of n x spp points); v from the
+// sequence of s / n, so that each run of n samples sharing s / n (whose offsets u fall in different
+// 1/n-wide slots) gets different conditioning indices and the conditioning wavelengths stratify too.
+Color SpectralPathIntegrator::pixel_sample(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s,
+                                           const Ray& ray, Rng& rng, LocalCounters& counters) const {
+    if (!ctx.settings.spectral_pixel_sequence || !sampler_.follows_offsets())
+        return Li(ctx.scene, ctx.settings, ray, rng, counters);
+    constexpr uint64_t kOffsetDimension = 0x5be7a1, kConditioningDimension = 0xc0d1;
+    uint32_t seed = ctx.settings.seed;
+    float u = pixel_sequence(px, py, s, seed, kOffsetDimension);
+    float v = pixel_sequence(px, py, s / uint32_t(sampler_.count()), seed, kConditioningDimension);
+    return trace(ctx.scene, ctx.settings, ray, u, v, rng, counters);
+}
+
+Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& settings, Ray ray, float u, float v,
+                                    Rng& rng, LocalCounters& counters) const {
     SpectralPath p;
-    p.start(sampler_, rng);
+    p.start(sampler_, u, v, rng);
     float f[kMaxWavelengths];
     Color L(0.0f);
     PathState state;
