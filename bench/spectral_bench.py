@@ -253,9 +253,22 @@ def checks(name, res, equal_spp):
                         "SMIS / BRUTE_FORCE = %.3f" % ratio))
     else:
         best = min(PRACTICAL, key=lambda k: m[k])
+        runner_up = min((k for k in PRACTICAL if k != "SMIS"), key=lambda k: m[k])
+        d, se = paired_difference(res, runner_up, "SMIS", equal_spp)
         out.append(("SMIS lowest of the practical modes at %d spp" % equal_spp, best == "SMIS",
-                    ", ".join("%s %.4g" % (k, m[k]) for k in PRACTICAL)))
+                    ", ".join("%s %.4g" % (k, m[k]) for k in PRACTICAL) +
+                    "; paired per seed: %s - SMIS = %.4g ± %.2g" % (runner_up, d, se)))
     return out
+
+
+def paired_difference(res, a, b, spp):
+    """Mean and standard error over seeds of MSE(a) - MSE(b) at `spp`, render by render with the same
+    seed: UNIFORM, SPECTRAL_IS, HERO and SMIS draw their paths from the same random numbers at equal
+    seed (their wavelength offsets come from the pixel sequence), up to where the wavelength changes
+    the path (dispersion, Russian roulette), so the paired difference is less noisy than the MSEs."""
+    mse = {(r["mode"], r["seed"]): r["mse"] for r in res["rows"] if r["spp"] == spp}
+    d = [mse[(a, seed)] - mse[(b, seed)] for (mode, seed) in mse if mode == a and (b, seed) in mse]
+    return float(np.mean(d)), float(np.std(d, ddof=1) / np.sqrt(len(d))) if len(d) > 1 else 0.0
 
 
 def excess_section(res, args):
@@ -295,7 +308,10 @@ def write_summary(path, args, scenes, cost):
              "%d seeds per point, n = %d wavelengths for HERO / SMIS / SMIS_INDEPENDENT. Error = MSE "
              "in linear RGB against a BRUTE_FORCE reference (%d renders x %d spp, averaged), minus the "
              "reference's own variance (estimated from the spread of its renders). Times are engine "
-             "render times on a 2-core machine shared with other jobs (load varies): compare ratios."
+             "render times on a 2-core machine shared with other jobs (load varies): compare ratios. "
+             "The wavelength offsets of UNIFORM, SPECTRAL_IS, HERO and SMIS come from a sequence "
+             "stratified over each pixel's samples (`engine/core/pixel_sequence.h`); SMIS_NOSEQ is SMIS "
+             "with independent offsets per sample (`spectral_pixel_sequence` off), for comparison."
              % (" --quick" if args.quick else "", args.percentage, args.seeds, args.wavelengths,
                 args.ref_renders, args.ref_spp), ""]
     for name, res in scenes.items():
@@ -348,7 +364,11 @@ def main():
     ap.add_argument("--quick", action="store_true", help="CI-sized run")
     ap.add_argument("--scenes", nargs="*", default=list(SCENES))
     ap.add_argument("--no-cost", action="store_true", help="skip the AUTO vs RGB cost measurement")
+    ap.add_argument("--from-json", action="store_true",
+                    help="no rendering: rewrite plots and summary from bench/results/spectral.json")
     args = ap.parse_args()
+    if args.from_json:
+        return rewrite_from_json(args.quick)
     if args.quick:
         args.percentage, args.seeds, args.ref_renders, args.ref_spp = 50, 2, 4, 16
         args.spp, args.bf_spp, args.equal_spp = [4, 16], [4], 4
@@ -376,6 +396,23 @@ def main():
     with open(os.path.join(RESULTS, "spectral.json"), "w") as f:
         json.dump({"scenes": {k: {kk: vv for kk, vv in v.items() if kk != "ref_image"} for k, v in scenes.items()},
                    "cost": cost, "args": vars(args)}, f, indent=1)
+    publish(args, scenes, cost)
+    return 0
+
+
+def rewrite_from_json(quick):
+    with open(os.path.join(RESULTS, "spectral.json")) as f:
+        saved = json.load(f)
+    args = argparse.Namespace(**saved["args"])
+    args.quick = quick
+    for name, res in saved["scenes"].items():
+        plot(os.path.join(RESULTS, "%s.png" % name), name, res)
+    publish(args, saved["scenes"], saved["cost"])
+    return 0
+
+
+def publish(args, scenes, cost):
+    """Summary into bench/results; for a full run also into docs/bench with the plots, CSVs, PNGs."""
     suffix = "_quick" if args.quick else ""
     write_summary(os.path.join(RESULTS, "spectral_summary%s.md" % suffix), args, scenes, cost)
     if not args.quick:
@@ -386,7 +423,6 @@ def main():
         if args.dispersion:
             shutil.copy(args.dispersion["png"], DOCS)
             shutil.copy(args.dispersion["crop_png"], DOCS)
-    return 0
 
 
 if __name__ == "__main__":

@@ -206,11 +206,9 @@ def box_object(sc, name, lo, hi, mat):
     return link(sc, bpy.data.objects.new(name, me))
 
 
-def unit_cube_object(sc, name, mat, location, rotation_z_deg, scale):
-    """Unit cube mesh placed by a non-trivial object transform (rotation + non-uniform scale)."""
+def bmesh_object(sc, name, mat, bm, location, rotation_z_deg, scale=(1.0, 1.0, 1.0)):
+    """Object of the mesh in `bm` (freed here) placed by an object transform (turn about z, scale)."""
     me = bpy.data.meshes.new(name)
-    bm = bmesh.new()
-    bmesh.ops.create_cube(bm, size=1.0)
     bm.to_mesh(me)
     bm.free()
     me.materials.append(mat)
@@ -219,6 +217,13 @@ def unit_cube_object(sc, name, mat, location, rotation_z_deg, scale):
     ob.rotation_euler = (0.0, 0.0, math.radians(rotation_z_deg))
     ob.scale = scale
     return ob
+
+
+def unit_cube_object(sc, name, mat, location, rotation_z_deg, scale):
+    """Unit cube mesh placed by a non-trivial object transform (rotation + non-uniform scale)."""
+    bm = bmesh.new()
+    bmesh.ops.create_cube(bm, size=1.0)
+    return bmesh_object(sc, name, mat, bm, location, rotation_z_deg, scale)
 
 
 def sphere_object(sc, name, mat, location, radius, segments=64, rings=32):
@@ -660,7 +665,6 @@ def prism_object(sc, name, mat, location, apex_deg, side, height, rotation_z_deg
     half = side * math.sin(math.radians(apex_deg) / 2.0)
     apex = side * math.cos(math.radians(apex_deg) / 2.0)
     tri = [(-half, 0.0), (half, 0.0), (0.0, apex)]
-    me = bpy.data.meshes.new(name)
     bm = bmesh.new()
     bottom = [bm.verts.new((x, y - apex / 3.0, 0.0)) for x, y in tri]
     top = [bm.verts.new((x, y - apex / 3.0, height)) for x, y in tri]
@@ -670,13 +674,7 @@ def prism_object(sc, name, mat, location, apex_deg, side, height, rotation_z_deg
         j = (i + 1) % 3
         bm.faces.new((bottom[i], bottom[j], top[j], top[i]))
     bmesh.ops.recalc_face_normals(bm, faces=bm.faces)  # outward: the glass needs its inside
-    bm.to_mesh(me)
-    bm.free()
-    me.materials.append(mat)
-    ob = link(sc, bpy.data.objects.new(name, me))
-    ob.location = location
-    ob.rotation_euler = (0.0, 0.0, math.radians(rotation_z_deg))
-    return ob
+    return bmesh_object(sc, name, mat, bm, location, rotation_z_deg)
 
 
 def build_spectral_glass(path):
