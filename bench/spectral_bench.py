@@ -3,6 +3,9 @@ at equal samples per pixel and against time, and what AUTO costs on an RGB-only 
 
     /usr/bin/python3 bench/spectral_bench.py            # full: 128x128, 4 seeds, BRUTE_FORCE 4x64 spp reference
     /usr/bin/python3 bench/spectral_bench.py --quick    # CI-sized: 64x64, 2 seeds, 4x16 spp reference
+    /usr/bin/python3 bench/spectral_bench.py --scenes spectral_glass --seeds 16 --keep --no-cost
+        # one scene again with more seeds, the other scene's results and the cost kept from the JSON
+    /usr/bin/python3 bench/spectral_bench.py --from-json  # rewrite plots and summary, no rendering
 
 Per scene (scenes/spectral_gold.blend = Fig. 8: measured gold under F10; spectral_glass.blend =
 Fig. 9: dispersive glasses under D65), one Blender process exports the scene once and renders every
@@ -12,11 +15,14 @@ job in-process (bench/spectral_worker.py), so times are the engine's render time
      their mean) and subtracted from every MSE ("MSE - reference variance"), so a mode is not
      credited or blamed for the reference's noise.
   2. every mode (UNIFORM, SPECTRAL_IS, HERO, SMIS, SMIS_INDEPENDENT with n = 4 wavelengths, and
-     BRUTE_FORCE) at several spp, with S seeds each. Error = MSE in linear RGB against the
-     reference (all pixels and channels), averaged over the seeds. The equal-spp comparison uses
-     --equal-spp (16 by default).
+     BRUTE_FORCE) at several spp, with S seeds each, and SMIS_NOSEQ (SMIS without the pixel
+     sequence of wavelength offsets). Error = MSE in linear RGB against the reference (all pixels
+     and channels), averaged over the seeds. The equal-spp comparison is at 16 spp (4 with --quick).
   3. cost of AUTO against RGB on scenes/cornell.blend (no spectral content): interleaved renders,
      best of N each (the machine is shared; the ratio is what counts).
+  4. dispersion on spectral_glass: dispersive glasses against each glass at constant IOR n_d
+     (dispersion_demo), and where SMIS's excess over BRUTE_FORCE comes from (excess_section,
+     bench/spectral_model.py).
 Outputs: bench/results/<scene>.csv (one row per render), bench/results/spectral.json,
 bench/results/<scene>.png (error vs spp and vs time), and docs/bench/spectral_summary.md
 with the checks of issue 4; the PNGs and CSVs are copied to docs/bench/.
@@ -369,9 +375,9 @@ def main():
     ap.add_argument("--no-cost", action="store_true", help="skip the AUTO vs RGB cost measurement")
     ap.add_argument("--seeds", type=int, help="seeds per point (default 4, --quick 2)")
     ap.add_argument("--keep", action="store_true",
-                    help="keep the other scenes' results of bench/results/spectral.json in the summary")
+                    help="keep the other scenes' results of bench/results/spectral[_quick].json in the summary")
     ap.add_argument("--from-json", action="store_true",
-                    help="no rendering: rewrite plots and summary from bench/results/spectral.json")
+                    help="no rendering: rewrite plots and summary from bench/results/spectral[_quick].json")
     args = ap.parse_args()
     if args.from_json:
         return rewrite_from_json(args.quick)
@@ -389,7 +395,7 @@ def main():
     os.makedirs(DOCS, exist_ok=True)
     scenes, saved = {}, None
     if args.keep:
-        with open(os.path.join(RESULTS, "spectral.json")) as f:
+        with open(json_path(args.quick)) as f:
             saved = json.load(f)
         scenes = {k: dict(v, seeds=v.get("seeds", saved["args"]["seeds"]))
                   for k, v in saved["scenes"].items() if k not in args.scenes}
@@ -409,15 +415,19 @@ def main():
         args.dispersion = saved["args"].get("dispersion")
     if cost:
         print("AUTO / RGB best-time ratio %.3f, identical images %s" % (cost["ratio_best"], cost["identical_images"]))
-    with open(os.path.join(RESULTS, "spectral.json"), "w") as f:
+    with open(json_path(args.quick), "w") as f:
         json.dump({"scenes": {k: {kk: vv for kk, vv in v.items() if kk != "ref_image"} for k, v in scenes.items()},
                    "cost": cost, "args": vars(args)}, f, indent=1)
     publish(args, scenes, cost)
     return 0
 
 
+def json_path(quick):
+    return os.path.join(RESULTS, "spectral_quick.json" if quick else "spectral.json")
+
+
 def rewrite_from_json(quick):
-    with open(os.path.join(RESULTS, "spectral.json")) as f:
+    with open(json_path(quick)) as f:
         saved = json.load(f)
     args = argparse.Namespace(**saved["args"])
     args.quick = quick

@@ -18,9 +18,10 @@
 //   * BRUTE_FORCE: 512 wavelengths jittered in their own strata of the CDF of p (the reference).
 // The offset u (SMIS's lattice shift, the hero of HERO, the single wavelength of UNIFORM and
 // SPECTRAL_IS) and the number v that picks the conditioning index c = floor(v n) are the caller's:
-// any independent numbers uniform on [0, 1) keep every mode unbiased, and the path tracer passes
-// core/pixel_sequence.h so that the wavelengths of a pixel's successive samples stratify (all n of
-// them, and the conditioning ones alone, which are all that survives a dispersive refraction). Why the shared lattice shift and the pixel sequence: docs/bench/spectral_summary.md
+// any independent numbers uniform on [0, 1) keep every mode unbiased (v only through floor(v n)),
+// and the path tracer correlates them over a pixel's samples so that the wavelengths of successive
+// samples stratify (all n of them, and the conditioning ones alone, which are all that survives a
+// dispersive refraction): SpectralPathIntegrator::pixel_sample. Why the shared lattice shift and the pixel sequence: docs/bench/spectral_summary.md
 // (they cut SMIS's excess colour variance over BRUTE_FORCE on the Fig. 8 scene).
 // When a dispersive refraction makes x valid for l_c only, r_j = 0 for j != c and the estimator keeps
 // l_c alone with W_c = 1 / (q_c a_c): unbiased because x was drawn from the mixture over c that the
