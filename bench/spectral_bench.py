@@ -3,6 +3,9 @@ at equal samples per pixel and against time, and what AUTO costs on an RGB-only 
 
     /usr/bin/python3 bench/spectral_bench.py            # full: 128x128, 4 seeds, BRUTE_FORCE 4x64 spp reference
     /usr/bin/python3 bench/spectral_bench.py --quick    # CI-sized: 64x64, 2 seeds, 4x16 spp reference
+    /usr/bin/python3 bench/spectral_bench.py --scenes spectral_glass --seeds 16 --keep --no-cost
+        # one scene again with more seeds, the other scene's results and the cost kept from the JSON
+    /usr/bin/python3 bench/spectral_bench.py --from-json  # rewrite plots and summary, no rendering
 
 Per scene (scenes/spectral_gold.blend = Fig. 8: measured gold under F10; spectral_glass.blend =
 Fig. 9: dispersive glasses under D65), one Blender process exports the scene once and renders every
@@ -12,11 +15,14 @@ job in-process (bench/spectral_worker.py), so times are the engine's render time
      their mean) and subtracted from every MSE ("MSE - reference variance"), so a mode is not
      credited or blamed for the reference's noise.
   2. every mode (UNIFORM, SPECTRAL_IS, HERO, SMIS, SMIS_INDEPENDENT with n = 4 wavelengths, and
-     BRUTE_FORCE) at several spp, with S seeds each. Error = MSE in linear RGB against the
-     reference (all pixels and channels), averaged over the seeds. The equal-spp comparison uses
-     --equal-spp (16 by default).
+     BRUTE_FORCE) at several spp, with S seeds each, and SMIS_NOSEQ (SMIS without the pixel
+     sequence of wavelength offsets). Error = MSE in linear RGB against the reference (all pixels
+     and channels), averaged over the seeds. The equal-spp comparison is at 16 spp (4 with --quick).
   3. cost of AUTO against RGB on scenes/cornell.blend (no spectral content): interleaved renders,
      best of N each (the machine is shared; the ratio is what counts).
+  4. dispersion on spectral_glass: dispersive glasses against each glass at constant IOR n_d
+     (dispersion_demo), and where SMIS's excess over BRUTE_FORCE comes from (excess_section,
+     bench/spectral_model.py).
 Outputs: bench/results/<scene>.csv (one row per render), bench/results/spectral.json,
 bench/results/<scene>.png (error vs spp and vs time), and docs/bench/spectral_summary.md
 with the checks of issue 4; the PNGs and CSVs are copied to docs/bench/.
@@ -38,6 +44,10 @@ DOCS = os.path.join(ROOT, "docs", "bench")
 BLENDER = os.environ.get("BLENDER", "blender")
 MODES = ["UNIFORM", "SPECTRAL_IS", "HERO", "SMIS", "SMIS_INDEPENDENT", "BRUTE_FORCE"]
 PRACTICAL = ["UNIFORM", "SPECTRAL_IS", "HERO", "SMIS", "SMIS_INDEPENDENT"]
+# Ablation rows: a mode with its wavelength offsets drawn independently per sample instead of from
+# the pixel sequence (settings.spectral_pixel_sequence), to show what the stratification brings.
+VARIANTS = {"SMIS_NOSEQ": ("SMIS", {"spectral_pixel_sequence": False})}
+ROWS = MODES[:-1] + list(VARIANTS) + MODES[-1:]
 SCENES = {"spectral_gold": "Fig. 8: measured gold, F10 lights",
           "spectral_glass": "Fig. 9: dispersive glasses, D65 lights"}
 
@@ -70,11 +80,12 @@ def bench_scene(scene, args):
     blend = os.path.join(ROOT, "scenes", scene + ".blend")
     jobs = [job("ref_%d" % k, samples=args.ref_spp, seed=1000 + k, spectral="BRUTE_FORCE")
             for k in range(args.ref_renders)]
-    for mode in MODES:
+    for row in ROWS:
+        mode, extra = VARIANTS.get(row, (row, {}))
         for spp in (args.bf_spp if mode == "BRUTE_FORCE" else args.spp):
             for seed in range(args.seeds):
-                jobs.append(job("%s_%d_%d" % (mode, spp, seed), samples=spp, seed=seed + 1, spectral=mode,
-                                wavelengths=args.wavelengths))
+                jobs.append(job("%s_%d_%d" % (row, spp, seed), samples=spp, seed=seed + 1, spectral=mode,
+                                wavelengths=args.wavelengths, **extra))
     images, results = run_jobs(blend, jobs, args.percentage)
     refs = np.stack([images["ref_%d" % k] for k in range(args.ref_renders)])
     ref = refs.mean(axis=0)
@@ -98,7 +109,8 @@ def bench_scene(scene, args):
                              if len(v["mse"]) > 1 else 0.0,
                              "seconds": float(np.mean(v["seconds"]))} for k, v in agg.items()}
     ref_seconds = sum(results["ref_%d" % k]["seconds"] for k in range(args.ref_renders))
-    return {"rows": rows, "summary": summary, "ref_variance": ref_var, "ref_mean": float(ref.mean()),
+    return {"rows": rows, "summary": summary, "seeds": args.seeds, "ref_variance": ref_var,
+            "ref_mean": float(ref.mean()),
             "ref_seconds": ref_seconds, "ref_image": ref}
 
 
@@ -121,56 +133,84 @@ def bench_auto_cost(args):
     return out
 
 
+def block_chroma(img, size=8):
+    """rg chromaticity of each size x size block's summed RGB, and the block's mean RGB sum."""
+    h, w = img.shape[0] // size * size, img.shape[1] // size * size
+    rgb = img[:h, :w].reshape(h // size, size, w // size, size, 3).sum(axis=(1, 3))
+    total = rgb.sum(axis=2)
+    return rgb[..., :2] / np.maximum(total, 1e-9)[..., None], total / size ** 2
+
+
+def block_z(a, b):
+    """Per block: |mean chroma of renders a - mean chroma of renders b| in standard errors estimated
+    from the spread of each set's independent renders (a, b: (K, H, W, 2))."""
+    diff = a.mean(axis=0) - b.mean(axis=0)
+    se2 = a.var(axis=0, ddof=1) / len(a) + b.var(axis=0, ddof=1) / len(b)
+    return np.sqrt((diff ** 2).sum(axis=2) / np.maximum(se2.sum(axis=2), 1e-30)), np.sqrt((diff ** 2).sum(axis=2))
+
+
 def dispersion_demo(args):
     """spectral_glass rendered by SMIS with its dispersive glasses ("on") and with each glass replaced
-    by a constant IOR equal to its n_d ("off"), two seeds each. The mean squared rg-chromaticity change
-    per pixel that dispersion causes, with the noise of both renders removed:
-        signal = E|c(on_1) - c(off_2)|^2 - (E|c(on_1) - c(on_2)|^2 + E|c(off_1) - c(off_2)|^2) / 2,
-    (independent seeds: the cross term carries the noise of one render of each kind, the halves of
-    the same-kind terms exactly that), and the same per 8x8 block of pixels. PNGs side by side."""
+    by a constant IOR equal to its n_d ("off"), K = 4 seeds each.
+    Per pixel, the mean squared rg-chromaticity change that dispersion causes, with the noise of the
+    renders removed (independent seeds: the cross term carries the noise of one render of each kind,
+    the halves of the same-kind terms exactly that):
+        signal = E|c(on_1) - c(off_2)|^2 - (E|c(on_1) - c(on_2)|^2 + E|c(off_1) - c(off_2)|^2) / 2.
+    Per 8x8 block, the chromaticity of the block's summed RGB, averaged over the K renders of each kind:
+    a block changes when on and off differ by more than 4 standard errors (from the spread of the
+    renders of each kind). Control: the same test between two halves of 2K constant-IOR renders
+    counts the blocks that pass by chance. PNGs side by side (whole frame, and the glasses 3x)."""
     blend = os.path.join(ROOT, "scenes", "spectral_glass.blend")
-    jobs = [job("seed%d" % seed, samples=args.demo_spp, seed=seed, spectral="SMIS") for seed in (1, 2)]
-    on, _ = run_jobs(blend, jobs, args.percentage)
-    off, _ = run_jobs(blend, jobs, args.percentage, "no_dispersion")
+    k = args.demo_seeds
+    on, _ = run_jobs(blend, [job("s%d" % i, samples=args.demo_spp, seed=i + 1, spectral="SMIS")
+                             for i in range(k)], args.percentage)
+    off, _ = run_jobs(blend, [job("s%d" % i, samples=args.demo_spp, seed=i + 1, spectral="SMIS")
+                              for i in range(2 * k)], args.percentage, "no_dispersion")
+    on = [on["s%d" % i] for i in range(k)]
+    off = [off["s%d" % i] for i in range(2 * k)]
 
     def chroma(img):
         return img[..., :2] / np.maximum(img.sum(axis=2, keepdims=True), 1e-6)
 
-    lit = np.ones(on["seed1"].shape[:2], bool)
-    for img in list(on.values()) + list(off.values()):
+    lit = np.ones(on[0].shape[:2], bool)
+    for img in on[:2] + off[:2]:
         lit &= img.sum(axis=2) > 0.05
-    c = {k: chroma(v) for k, v in (("on1", on["seed1"]), ("on2", on["seed2"]),
-                                   ("off1", off["seed1"]), ("off2", off["seed2"]))}
+    c = [chroma(v) for v in on[:2] + off[:2]]
 
     def d2(a, b):
         return ((c[a] - c[b]) ** 2).sum(axis=2)
 
-    signal = d2("on1", "off2") - 0.5 * (d2("on1", "on2") + d2("off1", "off2"))
-    # Per 8x8 block: mean signal and its standard error over the block's lit pixels; a block shows
-    # dispersion when its mean is more than 4 standard errors above 0.
-    h, w = signal.shape[0] // 8 * 8, signal.shape[1] // 8 * 8
-    sig = np.where(lit, signal, np.nan)[:h, :w].reshape(h // 8, 8, w // 8, 8).transpose(0, 2, 1, 3)
-    sig = sig.reshape(h // 8, w // 8, 64)
-    n = np.sum(~np.isnan(sig), axis=2)
-    ok = n >= 8
-    mean = np.nanmean(np.where(ok[..., None], sig, 0.0), axis=2)[ok]
-    se = (np.nanstd(np.where(ok[..., None], sig, 0.0), axis=2, ddof=1)[ok] / np.sqrt(n[ok]))
-    significant = mean > 4.0 * np.maximum(se, 1e-12)
-    block_rms = np.sqrt(np.maximum(mean, 0.0))
-    noise = 0.5 * (d2("on1", "on2") + d2("off1", "off2"))[lit]
-    from metrics import save_png
+    signal = d2(0, 3) - 0.5 * (d2(0, 1) + d2(2, 3))
+    noise = 0.5 * (d2(0, 1) + d2(2, 3))[lit]
+    blocks_on = np.stack([block_chroma(v)[0] for v in on])
+    blocks_off = np.stack([block_chroma(v)[0] for v in off])
+    bright = block_chroma(off[0])[1] > 0.02  # blocks with light enough for a chromaticity
+    z, change = block_z(blocks_on, blocks_off[:k])
+    z_null, _ = block_z(blocks_off[:k], blocks_off[k:])
+    significant = (z > 4.0) & bright
     path = os.path.join(RESULTS, "spectral_glass_dispersion.png")
-    a, b = on["seed1"], off["seed1"]
-    both = np.concatenate([a, np.zeros((a.shape[0], 4, 3)), b], axis=1)
-    save_png(path, np.concatenate([both, np.ones(both.shape[:2] + (1,))], axis=2).astype(np.float32),
-             view="Standard")
-    return {"spp": args.demo_spp, "png": path,
+    crop_path = os.path.join(RESULTS, "spectral_glass_dispersion_crop.png")
+    a, b = on[0], off[0]
+    save_side_by_side(path, a, b, 1)
+    # The band of the image holding the glasses (rows are bottom-up), enlarged 3x.
+    rows = slice(int(0.25 * a.shape[0]), int(0.72 * a.shape[0]))
+    save_side_by_side(crop_path, a[rows], b[rows], 3)
+    return {"spp": args.demo_spp, "seeds": k, "png": path, "crop_png": crop_path,
             "rms_chroma_change": float(np.sqrt(max(signal[lit].mean(), 0.0))),
             "signal_mean_sq": float(signal[lit].mean()),
             "signal_stderr": float(signal[lit].std(ddof=1) / np.sqrt(lit.sum())),
             "rms_noise": float(np.sqrt(noise.mean())),
-            "blocks": int(ok.sum()), "blocks_significant": int(significant.sum()),
-            "significant_block_rms": float(block_rms[significant].mean()) if significant.any() else 0.0}
+            "blocks": int(bright.sum()), "blocks_significant": int(significant.sum()),
+            "blocks_significant_control": int(((z_null > 4.0) & bright).sum()),
+            "significant_block_change": float(change[significant].mean()) if significant.any() else 0.0}
+
+
+def save_side_by_side(path, a, b, scale):
+    """PNG of images a | b (linear RGB, row 0 = bottom), each enlarged `scale` times (nearest)."""
+    from metrics import save_png
+    both = np.concatenate([a, np.zeros((a.shape[0], 2, 3)), b], axis=1).repeat(scale, 0).repeat(scale, 1)
+    save_png(path, np.concatenate([both, np.ones(both.shape[:2] + (1,))], axis=2).astype(np.float32),
+             view="Standard")
 
 
 def write_csv(path, rows):
@@ -186,12 +226,12 @@ def plot(path, scene, res):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
-    for mode in MODES:
+    for mode in ROWS:
         pts = sorted((int(k.split("@")[1]), v) for k, v in res["summary"].items() if k.split("@")[0] == mode)
         spp = [p[0] for p in pts]
         mse = [max(p[1]["mse"], 1e-12) for p in pts]
         secs = [p[1]["seconds"] for p in pts]
-        style = "--" if mode == "BRUTE_FORCE" else "-"
+        style = "--" if mode == "BRUTE_FORCE" else ":" if mode in VARIANTS else "-"
         axes[0].loglog(spp, mse, style, marker="o", label=mode)
         axes[1].loglog(secs, mse, style, marker="o", label=mode)
     axes[0].set_xlabel("samples (paths) per pixel")
@@ -214,24 +254,74 @@ def checks(name, res, equal_spp):
         order = m["UNIFORM"] > m["SPECTRAL_IS"] > m["HERO"] > m["SMIS"]
         out.append(("UNIFORM > SPECTRAL_IS > HERO > SMIS at %d spp" % equal_spp, order,
                     " > ".join("%s %.4g" % (k, m[k]) for k in ("UNIFORM", "SPECTRAL_IS", "HERO", "SMIS"))))
-        ratio = m["SMIS"] / m["BRUTE_FORCE"]
-        out.append(("SMIS within 1.25x of BRUTE_FORCE at %d spp" % equal_spp, ratio <= 1.25,
-                    "SMIS / BRUTE_FORCE = %.3f" % ratio))
+        for spp in sorted({int(k.split("@")[1]) for k in s if k.startswith("BRUTE_FORCE@")}):
+            ratio = s["SMIS@%d" % spp]["mse"] / s["BRUTE_FORCE@%d" % spp]["mse"]
+            out.append(("SMIS within 1.25x of BRUTE_FORCE at %d spp" % spp, ratio <= 1.25,
+                        "SMIS / BRUTE_FORCE = %.3f" % ratio))
     else:
         best = min(PRACTICAL, key=lambda k: m[k])
+        runner_up = min((k for k in PRACTICAL if k != "SMIS"), key=lambda k: m[k])
+        d, se = paired_difference(res, runner_up, "SMIS", equal_spp)
         out.append(("SMIS lowest of the practical modes at %d spp" % equal_spp, best == "SMIS",
-                    ", ".join("%s %.4g" % (k, m[k]) for k in PRACTICAL)))
+                    ", ".join("%s %.4g" % (k, m[k]) for k in PRACTICAL) +
+                    "; paired per seed: %s - SMIS = %.4g ± %.2g" % (runner_up, d, se)))
     return out
+
+
+def paired_difference(res, a, b, spp):
+    """Mean and standard error over seeds of MSE(a) - MSE(b) at `spp`, render by render with the same
+    seed: UNIFORM, SPECTRAL_IS, HERO and SMIS draw their paths from the same random numbers at equal
+    seed (their wavelength offsets come from the pixel sequence), up to where the wavelength changes
+    the path (dispersion, Russian roulette), so the paired difference is less noisy than the MSEs."""
+    mse = {(r["mode"], r["seed"]): r["mse"] for r in res["rows"] if r["spp"] == spp}
+    d = [mse[(a, seed)] - mse[(b, seed)] for (mode, seed) in mse if mode == a and (b, seed) in mse]
+    return float(np.mean(d)), float(np.std(d, ddof=1) / np.sqrt(len(d))) if len(d) > 1 else 0.0
+
+
+def excess_section(res, args):
+    """Where SMIS's error above BRUTE_FORCE comes from on the Fig. 8 scene: the per-path model of
+    bench/spectral_model.py, and the measured excess MSE(mode) - MSE(BRUTE_FORCE) at equal spp."""
+    from spectral_model import model
+    s = res["summary"]
+    lines = ["## Where SMIS's excess colour error comes from (spectral_gold)", "",
+             "BRUTE_FORCE evaluates 512 stratified wavelengths per path, so its error is the path's own "
+             "variance; a mode's error above it at equal spp is the variance of its wavelength estimate "
+             "given the path (law of total variance). Per-path model (`bench/spectral_model.py`: a path "
+             "reflecting F10 off gold, variance over wavelength sets / squared value, n = 4):", "",
+             "| density p(l) | jittered strata (before) | shared offset (SMIS now) | independent (SMIS_i) |",
+             "| --- | --- | --- | --- |"]
+    rows = {}
+    for name, n, pattern, v in model():
+        if n == 4:
+            rows.setdefault(name, {})[pattern] = v
+    for name, v in rows.items():
+        lines.append("| %s | %.3f | %.3f | %.3f |" % (name, v["jittered"], v["shared"], v["independent"]))
+    lines += ["", "Measured excess over BRUTE_FORCE (MSE difference / BRUTE_FORCE MSE):", "",
+              "| spp | SMIS_NOSEQ (shared offset, independent per sample) | SMIS (offsets from the pixel sequence) |",
+              "| --- | --- | --- |"]
+    for spp in args.bf_spp:
+        bf = s.get("BRUTE_FORCE@%d" % spp)
+        if not bf:
+            continue
+        cells = ["%.3f" % ((s[k]["mse"] - bf["mse"]) / bf["mse"]) if k in s else "-"
+                 for k in ("SMIS_NOSEQ@%d" % spp, "SMIS@%d" % spp)]
+        lines.append("| %d | %s |" % (spp, " | ".join(cells)))
+    return lines + [""]
 
 
 def write_summary(path, args, scenes, cost):
     lines = ["# Spectral rendering benchmark (issue 4, paper §5)", "",
              "Generated by `/usr/bin/python3 bench/spectral_bench.py%s`. Resolution %d%% of 128x128, "
-             "%d seeds per point, n = %d wavelengths for HERO / SMIS / SMIS_INDEPENDENT. Error = MSE "
+             "%s seeds per point, n = %d wavelengths for HERO / SMIS / SMIS_INDEPENDENT. Error = MSE "
              "in linear RGB against a BRUTE_FORCE reference (%d renders x %d spp, averaged), minus the "
              "reference's own variance (estimated from the spread of its renders). Times are engine "
-             "render times on a 2-core machine shared with other jobs (load varies): compare ratios."
-             % (" --quick" if args.quick else "", args.percentage, args.seeds, args.wavelengths,
+             "render times on a 2-core machine shared with other jobs (load varies): compare ratios. "
+             "The wavelength offsets of UNIFORM, SPECTRAL_IS, HERO and SMIS come from a sequence "
+             "stratified over each pixel's samples (`engine/core/pixel_sequence.h`); SMIS_NOSEQ is SMIS "
+             "with independent offsets per sample (`spectral_pixel_sequence` off), for comparison."
+             % (" --quick" if args.quick else "", args.percentage,
+                ", ".join("%d (%s)" % (res.get("seeds", args.seeds), name) for name, res in scenes.items()),
+                args.wavelengths,
                 args.ref_renders, args.ref_spp), ""]
     for name, res in scenes.items():
         lines += ["## %s (%s)" % (name, SCENES[name]), "",
@@ -239,7 +329,7 @@ def write_summary(path, args, scenes, cost):
                   % (res["ref_mean"], res["ref_variance"], res["ref_seconds"]), "",
                   "| mode | " + " | ".join("MSE @%d spp" % spp for spp in args.spp) + " | s @%d spp |"
                   % args.equal_spp, "| --- |" + " --- |" * (len(args.spp) + 1)]
-        for mode in MODES:
+        for mode in ROWS:
             cells = []
             for spp in args.spp:
                 v = res["summary"].get("%s@%d" % (mode, spp))
@@ -250,6 +340,8 @@ def write_summary(path, args, scenes, cost):
         for what, ok, detail in checks(name, res, args.equal_spp):
             lines.append("- %s: **%s** (%s)" % (what, "met" if ok else "NOT met", detail))
         lines += ["", "![%s](%s.png)" % (name, name), ""]
+    if "spectral_gold" in scenes:
+        lines += excess_section(scenes["spectral_gold"], args)
     if cost:
         lines += ["## AUTO on an RGB-only scene (cornell.blend)", "",
                   "AUTO resolves to `%s`; %d interleaved renders of %d spp each: best AUTO %.3f s, "
@@ -261,13 +353,17 @@ def write_summary(path, args, scenes, cost):
         d = args.dispersion
         lines += ["## Dispersion in spectral_glass", "",
                   "SMIS, %d spp, left with the dispersive glasses, right with each glass at a constant IOR "
-                  "equal to its n_d. Mean squared rg-chromaticity change that dispersion causes, noise of "
-                  "both renders removed (two seeds each, see `dispersion_demo`): %.3g ± %.2g (RMS %.4f; "
-                  "the renders' own chromaticity noise RMS is %.4f). Per 8x8-pixel block, %d of %d blocks "
-                  "change significantly (block mean > 4 standard errors), by %.3f RMS on average."
+                  "equal to its n_d. Mean squared per-pixel rg-chromaticity change that dispersion causes, "
+                  "noise of the renders removed (see `dispersion_demo`): %.3g ± %.2g (RMS %.4f; the "
+                  "renders' own chromaticity noise RMS is %.4f). Per 8x8-pixel block (chromaticity of the "
+                  "block's summed RGB, %d renders of each kind): %d of %d lit blocks change by more than 4 "
+                  "standard errors, by %.3f in rg on average; the same test between two sets of "
+                  "constant-IOR renders (no change) passes %d blocks."
                   % (d["spp"], d["signal_mean_sq"], d["signal_stderr"], d["rms_chroma_change"],
-                     d["rms_noise"], d["blocks_significant"], d["blocks"], d["significant_block_rms"]),
-                  "", "![dispersion on / off](spectral_glass_dispersion.png)", ""]
+                     d["rms_noise"], d["seeds"], d["blocks_significant"], d["blocks"],
+                     d["significant_block_change"], d["blocks_significant_control"]),
+                  "", "![dispersion on / off, glasses enlarged 3x](spectral_glass_dispersion_crop.png)", "",
+                  "Whole frame: ![dispersion on / off](spectral_glass_dispersion.png)", ""]
     with open(path, "w") as f:
         f.write("\n".join(lines))
 
@@ -277,19 +373,32 @@ def main():
     ap.add_argument("--quick", action="store_true", help="CI-sized run")
     ap.add_argument("--scenes", nargs="*", default=list(SCENES))
     ap.add_argument("--no-cost", action="store_true", help="skip the AUTO vs RGB cost measurement")
+    ap.add_argument("--seeds", type=int, help="seeds per point (default 4, --quick 2)")
+    ap.add_argument("--keep", action="store_true",
+                    help="keep the other scenes' results of bench/results/spectral[_quick].json in the summary")
+    ap.add_argument("--from-json", action="store_true",
+                    help="no rendering: rewrite plots and summary from bench/results/spectral[_quick].json")
     args = ap.parse_args()
+    if args.from_json:
+        return rewrite_from_json(args.quick)
     if args.quick:
-        args.percentage, args.seeds, args.ref_renders, args.ref_spp = 50, 2, 4, 16
+        args.percentage, args.ref_renders, args.ref_spp = 50, 4, 16
         args.spp, args.bf_spp, args.equal_spp = [4, 16], [4], 4
-        args.cost_repeats, args.cost_spp, args.demo_spp = 3, 8, 16
+        args.cost_repeats, args.cost_spp, args.demo_spp, args.demo_seeds = 3, 8, 16, 3
     else:
-        args.percentage, args.seeds, args.ref_renders, args.ref_spp = 100, 4, 4, 64
+        args.percentage, args.ref_renders, args.ref_spp = 100, 4, 64
         args.spp, args.bf_spp, args.equal_spp = [4, 16, 64], [4, 16], 16
-        args.cost_repeats, args.cost_spp, args.demo_spp = 5, 32, 256
+        args.cost_repeats, args.cost_spp, args.demo_spp, args.demo_seeds = 5, 32, 256, 4
+    args.seeds = args.seeds or (2 if args.quick else 4)
     args.wavelengths = 4
     os.makedirs(RESULTS, exist_ok=True)
     os.makedirs(DOCS, exist_ok=True)
-    scenes = {}
+    scenes, saved = {}, None
+    if args.keep:
+        with open(json_path(args.quick)) as f:
+            saved = json.load(f)
+        scenes = {k: dict(v, seeds=v.get("seeds", saved["args"]["seeds"]))
+                  for k, v in saved["scenes"].items() if k not in args.scenes}
     for name in args.scenes:
         print("== %s" % name, flush=True)
         res = bench_scene(name, args)
@@ -299,12 +408,37 @@ def main():
         for what, ok, detail in checks(name, res, args.equal_spp):
             print("  %s: %s (%s)" % (what, "met" if ok else "NOT met", detail), flush=True)
     cost = None if args.no_cost else bench_auto_cost(args)
+    if cost is None and saved:
+        cost = saved["cost"]
     args.dispersion = dispersion_demo(args) if "spectral_glass" in args.scenes else None
+    if args.dispersion is None and saved:
+        args.dispersion = saved["args"].get("dispersion")
     if cost:
         print("AUTO / RGB best-time ratio %.3f, identical images %s" % (cost["ratio_best"], cost["identical_images"]))
-    with open(os.path.join(RESULTS, "spectral.json"), "w") as f:
+    with open(json_path(args.quick), "w") as f:
         json.dump({"scenes": {k: {kk: vv for kk, vv in v.items() if kk != "ref_image"} for k, v in scenes.items()},
                    "cost": cost, "args": vars(args)}, f, indent=1)
+    publish(args, scenes, cost)
+    return 0
+
+
+def json_path(quick):
+    return os.path.join(RESULTS, "spectral_quick.json" if quick else "spectral.json")
+
+
+def rewrite_from_json(quick):
+    with open(json_path(quick)) as f:
+        saved = json.load(f)
+    args = argparse.Namespace(**saved["args"])
+    args.quick = quick
+    for name, res in saved["scenes"].items():
+        plot(os.path.join(RESULTS, "%s.png" % name), name, res)
+    publish(args, saved["scenes"], saved["cost"])
+    return 0
+
+
+def publish(args, scenes, cost):
+    """Summary into bench/results; for a full run also into docs/bench with the plots, CSVs, PNGs."""
     suffix = "_quick" if args.quick else ""
     write_summary(os.path.join(RESULTS, "spectral_summary%s.md" % suffix), args, scenes, cost)
     if not args.quick:
@@ -314,7 +448,7 @@ def main():
                 shutil.copy(os.path.join(RESULTS, "%s.%s" % (name, ext)), DOCS)
         if args.dispersion:
             shutil.copy(args.dispersion["png"], DOCS)
-    return 0
+            shutil.copy(args.dispersion["crop_png"], DOCS)
 
 
 if __name__ == "__main__":

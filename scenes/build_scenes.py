@@ -35,10 +35,11 @@ OUTDIR defaults to the folder holding this script (scenes/). Writes:
                          floor before a grey wall, lit only by two F10 area lights
                          (light.smis.spectrum = F10, spiky SPD). 128x128.
   spectral_glass.blend   Spectral rendering (after Fig. 9): sharp glass objects of
-                         slightly dispersive glasses (N-BK7, F2 and N-SF11 Sellmeier, an
-                         Abbe-number cube) before coloured stripes on a white floor and
-                         wall and three thin D65 emissive slits seen through the glasses, lit
-                         by two D65 area lights. 128x128.
+                         slightly dispersive glasses (N-BK7 and F2 Sellmeier spheres, an
+                         Abbe-number cube) and a dense-flint N-SF11 prism on a grey floor
+                         before a dark wall of thin vertical D65 emissive slits (the
+                         high-contrast backdrop that shows dispersion as spectra and
+                         coloured fringes), lit by two D65 area lights. 128x128.
                          The smis properties are written by registering the add-on's
                          spectral_properties module (no native module needed).
 
@@ -205,11 +206,9 @@ def box_object(sc, name, lo, hi, mat):
     return link(sc, bpy.data.objects.new(name, me))
 
 
-def unit_cube_object(sc, name, mat, location, rotation_z_deg, scale):
-    """Unit cube mesh placed by a non-trivial object transform (rotation + non-uniform scale)."""
+def bmesh_object(sc, name, mat, bm, location, rotation_z_deg, scale=(1.0, 1.0, 1.0)):
+    """Object of the mesh in `bm` (freed here) placed by an object transform (turn about z, scale)."""
     me = bpy.data.meshes.new(name)
-    bm = bmesh.new()
-    bmesh.ops.create_cube(bm, size=1.0)
     bm.to_mesh(me)
     bm.free()
     me.materials.append(mat)
@@ -218,6 +217,13 @@ def unit_cube_object(sc, name, mat, location, rotation_z_deg, scale):
     ob.rotation_euler = (0.0, 0.0, math.radians(rotation_z_deg))
     ob.scale = scale
     return ob
+
+
+def unit_cube_object(sc, name, mat, location, rotation_z_deg, scale):
+    """Unit cube mesh placed by a non-trivial object transform (rotation + non-uniform scale)."""
+    bm = bmesh.new()
+    bmesh.ops.create_cube(bm, size=1.0)
+    return bmesh_object(sc, name, mat, bm, location, rotation_z_deg, scale)
 
 
 def sphere_object(sc, name, mat, location, radius, segments=64, rings=32):
@@ -653,37 +659,57 @@ def build_spectral_gold(path):
     save(path)
 
 
+def prism_object(sc, name, mat, location, apex_deg, side, height, rotation_z_deg):
+    """Upright triangular prism: apex angle `apex_deg` between two faces of width `side`, base
+    along the local x axis, extruded `height` up from `location`, turned by `rotation_z_deg`."""
+    half = side * math.sin(math.radians(apex_deg) / 2.0)
+    apex = side * math.cos(math.radians(apex_deg) / 2.0)
+    tri = [(-half, 0.0), (half, 0.0), (0.0, apex)]
+    bm = bmesh.new()
+    bottom = [bm.verts.new((x, y - apex / 3.0, 0.0)) for x, y in tri]
+    top = [bm.verts.new((x, y - apex / 3.0, height)) for x, y in tri]
+    bm.faces.new(bottom)
+    bm.faces.new(top)
+    for i in range(3):
+        j = (i + 1) % 3
+        bm.faces.new((bottom[i], bottom[j], top[j], top[i]))
+    bmesh.ops.recalc_face_normals(bm, faces=bm.faces)  # outward: the glass needs its inside
+    return bmesh_object(sc, name, mat, bm, location, rotation_z_deg)
+
+
 def build_spectral_glass(path):
+    """Fig. 9-like: slightly dispersive glasses (N-BK7 and F2 spheres, an Abbe-number cube) and a
+    dense-flint N-SF11 prism on a grey floor before a dark wall of thin vertical D65 slits. The slits
+    are the high-contrast backdrop that makes dispersion visible: through the prism (deviation ~41
+    degrees, spread ~2.4 degrees over 430-680 nm at its 45-degree apex) each slit becomes a small
+    spectrum, and the spheres' refracted images of the slits get coloured fringes."""
     _spectral_properties()
     sc = new_scene(128, 128, samples=64)
     set_world(sc)
-    spectral_room(sc, wall_color=(0.8, 0.8, 0.8))
-    # Coloured stripes on the wall and floor behind the glass: dispersion shows as coloured fringes.
-    for i, color in enumerate(((0.8, 0.1, 0.1), (0.1, 0.7, 0.1), (0.1, 0.2, 0.8), (0.05, 0.05, 0.05))):
-        x = -1.2 + 0.6 * i
-        box_object(sc, "Stripe%d" % i, (x, 1.15, 0.0), (x + 0.3, 1.2, 2.0), diffuse("Stripe%d" % i, color))
-        box_object(sc, "FloorStripe%d" % i, (x, -1.0, 0.0), (x + 0.3, 1.15, 0.005),
-                   diffuse("FloorStripe%d" % i, color))
-    # Thin D65 emissive slits on the wall, seen through the glasses: their refracted images split
-    # into coloured fringes where the glass disperses.
-    slit = _node_material("Slit")[0]
-    emit = _bsdf_node(slit.node_tree, 'ShaderNodeEmission', {"Color": (1.0, 1.0, 1.0), "Strength": 6.0},
-                      (-250, 0))
-    slit.node_tree.links.new(emit.outputs[0], slit.node_tree.nodes["Material Output"].inputs["Surface"])
+    box_object(sc, "Floor", (-4, -4, -0.1), (4, 4, 0), diffuse("Floor", (0.4, 0.4, 0.4)))
+    box_object(sc, "Wall", (-5, 2.5, 0), (5, 2.6, 4), diffuse("Wall", (0.02, 0.02, 0.02)))
+    slit = emission("Slit", (1.0, 1.0, 1.0), 6.0)
     slit.smis.emission_spectrum = 'D65'
-    for i, x in enumerate((-0.62, 0.12, 0.88)):
-        box_object(sc, "Slit%d" % i, (x, 1.14, 0.0), (x + 0.03, 1.15, 1.2), slit)
-    glasses = (("N-BK7", (-0.75, -0.2, 0.35), 0.35), ("F2", (0.05, 0.1, 0.4), 0.4),
-               ("N-SF11", (0.8, -0.3, 0.3), 0.3))
-    for glass, loc, radius in glasses:
+    quads = []
+    for i in range(21):
+        x = -5.0 + 0.5 * i
+        quads.append([(x, 2.49, 0.0), (x + 0.04, 2.49, 0.0), (x + 0.04, 2.49, 3.0), (x, 2.49, 3.0)])
+    quads_object(sc, "Slits", slit, quads)
+    for glass, loc, radius in (("N-BK7", (-0.95, -0.1, 0.32), 0.32), ("F2", (0.95, 0.2, 0.3), 0.3)):
         mat = glass_ggx("Glass_" + glass, 1.5, 0.0)
         mat.smis.dispersion = glass
         sphere_object(sc, "Sphere_" + glass, mat, loc, radius)
-    prism = glass_ggx("Glass_Abbe", 1.6, 0.0)
-    prism.smis.dispersion = 'ABBE'
-    prism.smis.abbe = 30.0
-    unit_cube_object(sc, "AbbeCube", prism, (-0.2, -0.8, 0.15), 35.0, (0.3, 0.3, 0.3))
-    spectral_lights(sc, 'D65', (("D65Key", (-1.0, -1.5, 2.4), 150.0), ("D65Fill", (1.6, -1.0, 1.5), 60.0)),
+    cube = glass_ggx("Glass_Abbe", 1.6, 0.0)
+    cube.smis.dispersion = 'ABBE'
+    cube.smis.abbe = 40.0
+    unit_cube_object(sc, "AbbeCube", cube, (-0.35, -0.75, 0.12), 35.0, (0.24, 0.24, 0.24))
+    flint = glass_ggx("Glass_N-SF11", 1.78, 0.0)
+    flint.smis.dispersion = 'N-SF11'
+    # Base turned to the ray inside at minimum deviation: 90 - delta_min / 2 with delta_min ~41 degrees.
+    prism_object(sc, "Prism_N-SF11", flint, (0.05, -0.35, 0.0), 45.0, 0.8, 1.3, 69.5)
+    cam = add_camera(sc, (0.0, -3.2, 0.75), (0.0, 0.0, 0.0), lens=42.0)
+    aim(cam, (0.0, 0.0, 0.4))
+    spectral_lights(sc, 'D65', (("D65Key", (-1.0, -1.5, 2.4), 100.0), ("D65Fill", (1.6, -1.0, 1.5), 40.0)),
                     size=0.6, target=(0.0, 0.0, 0.3))
     save(path)
 

@@ -49,6 +49,9 @@ struct RenderSettings {
     // else SMIS. Applies to the PATH integrator.
     std::string spectral = "AUTO";
     int wavelengths = 4;               // n for HERO / SMIS / SMIS_INDEPENDENT
+    // Wavelength offsets of a pixel's samples from core/pixel_sequence.h (stratified over the
+    // samples) instead of independent random numbers; off only to measure what it brings.
+    bool spectral_pixel_sequence = true;
     // Single scattering in media (West et al. 2020, §6): PATH (distance sampling + NEE) or photon
     // planes PLANES_UNWEIGHTED / PLANES_CMIS / PLANES_SMIS_COS / PLANES_SMIS_EXACT.
     std::string volume_estimator = "PATH";
@@ -137,6 +140,12 @@ protected:
     // Radiance along a camera ray; `rng` is the sample's own stream.
     virtual Color Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
                      LocalCounters& counters) const = 0;
+    // Radiance of sample `s` of film pixel (px, py) along `ray`: Li() unless the integrator
+    // stratifies a dimension over the samples of a pixel (core/pixel_sequence.h), which needs them.
+    virtual Color pixel_sample(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s, const Ray& ray,
+                               Rng& rng, LocalCounters& counters) const {
+        return Li(ctx.scene, ctx.settings, ray, rng, counters);
+    }
 };
 
 // Creates the integrator named by settings.integrator (the spectral path tracer for PATH when

@@ -10,7 +10,8 @@ void PixelIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) 
             Rng rng;
             Ray ray = camera_ray(ctx, x, y, s, &rng);
             add_aux_sample(ctx, x, y, s, ray);
-            Color L = Li(ctx.scene, ctx.settings, ray, rng, local);
+            const Camera& cam = ctx.scene.camera();
+            Color L = pixel_sample(ctx, x + cam.window_x0(), y + cam.window_y0(), s, ray, rng, local);
             ++local.paths;
             ctx.film.add(x, y, guard_sample(L, local));
         }

@@ -1,5 +1,6 @@
 #include "integrators/spectral_path.h"
 
+#include "core/pixel_sequence.h"
 #include "integrators/path_tracing.h"
 
 namespace smis {
@@ -43,8 +44,8 @@ struct SpectralPath {
     float inv_mix = 1.0f;            // 1 / sum_j a_j r_j
     int n = 0, c = 0;
 
-    void start(const WavelengthSampler& sampler, Rng& rng) {
-        sampler.sample(rng, &ws);
+    void start(const WavelengthSampler& sampler, float u, float v, Rng& rng) {
+        sampler.sample(u, v, rng, &ws);
         n = ws.n;
         c = ws.conditioning;
         for (int i = 0; i < n; ++i) {
@@ -167,8 +168,34 @@ std::map<std::string, double> SpectralPathIntegrator::stats() const {
 
 Color SpectralPathIntegrator::Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
                                  LocalCounters& counters) const {
+    float u = rng.next_float();
+    float v = rng.next_float();
+    return trace(scene, settings, ray, u, v, rng, counters);
+}
+
+// The offsets of sample s. u from the pixel sequence of s, so that all the wavelengths of the pixel's
+// samples stratify (for SMIS the samples' lattices interleave into one of n x spp points). The
+// conditioning index c_s = (s + s / n + k) mod n, k random per pixel: every run of n consecutive
+// samples gets n different indices, and so do the samples s = r, r + n, r + 2n, ... whose offsets u
+// lie in the same 1/n-wide slot, so the conditioning wavelengths P^-1((c_s + u_s) / n), all that
+// survives a dispersive refraction, stratify too (at 4 spp already: one per quarter of the CDF).
+// Each sample's c is uniform and independent of its u (k and the rotation of u are independent).
+Color SpectralPathIntegrator::pixel_sample(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s,
+                                           const Ray& ray, Rng& rng, LocalCounters& counters) const {
+    if (!ctx.settings.spectral_pixel_sequence || !sampler_.follows_offsets())
+        return Li(ctx.scene, ctx.settings, ray, rng, counters);
+    constexpr uint64_t kOffsetDimension = 0x5be7a1, kConditioningDimension = 0xc0d1;
+    uint32_t seed = ctx.settings.seed, n = uint32_t(sampler_.count());
+    float u = pixel_sequence(px, py, s, seed, kOffsetDimension);
+    uint32_t k = std::min(uint32_t(pixel_sequence(px, py, 0, seed, kConditioningDimension) * float(n)), n - 1);
+    float v = (float((s + s / n + k) % n) + 0.5f) / float(n);
+    return trace(ctx.scene, ctx.settings, ray, u, v, rng, counters);
+}
+
+Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& settings, Ray ray, float u, float v,
+                                    Rng& rng, LocalCounters& counters) const {
     SpectralPath p;
-    p.start(sampler_, rng);
+    p.start(sampler_, u, v, rng);
     float f[kMaxWavelengths];
     Color L(0.0f);
     PathState state;

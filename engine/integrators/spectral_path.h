@@ -16,10 +16,18 @@ public:
     std::map<std::string, double> stats() const override;
 
 protected:
+    // A wavelength offset from rng (a lone camera ray)...
     Color Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
              LocalCounters& counters) const override;
+    // ... or stratified over the samples of the pixel (settings.spectral_pixel_sequence).
+    Color pixel_sample(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s, const Ray& ray, Rng& rng,
+                       LocalCounters& counters) const override;
 
 private:
+    // The path for the wavelength set of offset `u` and conditioning choice `v` (WavelengthSampler).
+    Color trace(const Scene& scene, const RenderSettings& settings, Ray ray, float u, float v, Rng& rng,
+                LocalCounters& counters) const;
+
     spectral::SpectralScene spectral_;
     spectral::WavelengthSampler sampler_;
 };

@@ -134,6 +134,7 @@ RenderSettings parse_settings(const py::dict& d) {
     s.psf_keller_plane = get<float>(d, "psf_keller_plane", s.psf_keller_plane);
     s.spectral = get<std::string>(d, "spectral", s.spectral);
     s.wavelengths = get<int>(d, "wavelengths", s.wavelengths);
+    s.spectral_pixel_sequence = get<bool>(d, "spectral_pixel_sequence", s.spectral_pixel_sequence);
     s.volume_estimator = get<std::string>(d, "volume_estimator", s.volume_estimator);
     s.photon_planes = get<uint32_t>(d, "photon_planes", s.photon_planes);
     s.smis_planes = get<int>(d, "smis_planes", s.smis_planes);

@@ -71,25 +71,25 @@ WavelengthSampler::WavelengthSampler(SpectralMode mode, int n, WavelengthPdf imp
     }
 }
 
-void WavelengthSampler::sample(Rng& rng, WavelengthSet* s) const {
+void WavelengthSampler::sample(float u, float v, Rng& rng, WavelengthSet* s) const {
     const int n = n_;
     s->n = n;
     s->conditioning = 0;
     switch (mode_) {
         case SpectralMode::Rgb:
         case SpectralMode::Uniform:
-            s->lambda[0] = uniform_.sample(rng.next_float());
+            s->lambda[0] = uniform_.sample(u);
             s->q[0] = uniform_.pdf(s->lambda[0]);
             s->a[0] = 1.0f;
             return;
         case SpectralMode::SpectralIs:
-            s->lambda[0] = importance_.sample(rng.next_float());
+            s->lambda[0] = importance_.sample(u);
             s->q[0] = importance_.pdf(s->lambda[0]);
             s->a[0] = 1.0f;
             return;
         case SpectralMode::Hero: {
             // Eq. (19): the hero from p, the others equally spaced (wrapping around the range).
-            float hero = (importance_.sample(rng.next_float()) - kLambdaMin) / kLambdaRange;
+            float hero = (importance_.sample(u) - kLambdaMin) / kLambdaRange;
             for (int i = 0; i < n; ++i) {
                 float t = hero + float(i) / float(n);
                 t -= std::floor(t);
@@ -102,17 +102,18 @@ void WavelengthSampler::sample(Rng& rng, WavelengthSet* s) const {
         case SpectralMode::Smis:
         case SpectralMode::BruteForce:
         case SpectralMode::SmisIndependent: {
-            // Eq. (21): n wavelengths from p (stratified, or independent for SMIS_i), the path
-            // conditioned on one of them chosen uniformly.
-            bool stratified = mode_ != SpectralMode::SmisIndependent;
+            // Eq. (21): n wavelengths from p, the path conditioned on one of them chosen uniformly.
+            // SMIS shifts its n strata by the shared offset u; BRUTE_FORCE jitters each stratum on
+            // its own; SMIS_INDEPENDENT (SMIS_i) draws n independent wavelengths.
             for (int i = 0; i < n; ++i) {
-                float u = rng.next_float();
-                if (stratified) u = std::min((float(i) + u) / float(n), kOneMinusEpsilon);
-                s->lambda[i] = importance_.sample(u);
+                float t = mode_ == SpectralMode::Smis ? (float(i) + u) / float(n)
+                          : mode_ == SpectralMode::BruteForce ? (float(i) + rng.next_float()) / float(n)
+                                                               : rng.next_float();
+                s->lambda[i] = importance_.sample(std::min(t, kOneMinusEpsilon));
                 s->q[i] = importance_.pdf(s->lambda[i]);
                 s->a[i] = 1.0f;
             }
-            s->conditioning = std::min(int(rng.next_float() * float(n)), n - 1);
+            s->conditioning = std::min(int(v * float(n)), n - 1);
             return;
         }
     }

@@ -10,11 +10,19 @@
 //   * UNIFORM, SPECTRAL_IS: n = 1, q = p(l), a = 1 (plain one-wavelength Monte Carlo);
 //   * HERO (eq. 19, Wilkie et al. 2014): l_c = hero ~ p(l), the others rotated by k / n of the range;
 //     balance heuristic over the n rotations: q_i = 1, a_j = p(l_j);
-//   * SMIS (eq. 21): l_i = P^-1((i + u_i) / n) (a stratified pattern warped by the CDF of p), c
-//     uniform, balance heuristic over the n: q_i = p(l_i), a_j = 1; since every technique has the same
-//     marginal p(l) the 1/n of eq. (11) cancels (mis/smis.h, NORMALISATION);
+//   * SMIS (eq. 21): l_i = P^-1((i + u) / n) (a stratified pattern warped by the CDF of p: one
+//     offset u shifts the n strata together, a rotated rank-1 lattice), c uniform, balance heuristic
+//     over the n: q_i = p(l_i), a_j = 1; since every technique has the same marginal p(l) the 1/n of
+//     eq. (11) cancels (mis/smis.h, NORMALISATION);
 //   * SMIS_INDEPENDENT: the same with n independent wavelengths (SMIS_i in the paper);
-//   * BRUTE_FORCE: SMIS with 512 stratified wavelengths (the reference).
+//   * BRUTE_FORCE: 512 wavelengths jittered in their own strata of the CDF of p (the reference).
+// The offset u (SMIS's lattice shift, the hero of HERO, the single wavelength of UNIFORM and
+// SPECTRAL_IS) and the number v that picks the conditioning index c = floor(v n) are the caller's:
+// any independent numbers uniform on [0, 1) keep every mode unbiased (v only through floor(v n)),
+// and the path tracer correlates them over a pixel's samples so that the wavelengths of successive
+// samples stratify (all n of them, and the conditioning ones alone, which are all that survives a
+// dispersive refraction): SpectralPathIntegrator::pixel_sample. Why the shared lattice shift and the pixel sequence: docs/bench/spectral_summary.md
+// (they cut SMIS's excess colour variance over BRUTE_FORCE on the Fig. 8 scene).
 // When a dispersive refraction makes x valid for l_c only, r_j = 0 for j != c and the estimator keeps
 // l_c alone with W_c = 1 / (q_c a_c): unbiased because x was drawn from the mixture over c that the
 // balance denominator describes (uniform c for SMIS; for HERO the hero's posterior among the rotations).
@@ -64,7 +72,15 @@ public:
     int count() const { return n_; }
     SpectralMode mode() const { return mode_; }
     const WavelengthPdf& importance() const { return importance_; }
-    void sample(Rng& rng, WavelengthSet* set) const;
+    // True when the wavelengths are a function of (u, v) alone (UNIFORM, SPECTRAL_IS, HERO, SMIS), so
+    // correlating u, v over a pixel's samples stratifies them. BRUTE_FORCE (the reference, kept as
+    // defined) and SMIS_INDEPENDENT (independent by definition) draw theirs from rng.
+    bool follows_offsets() const {
+        return mode_ != SpectralMode::BruteForce && mode_ != SpectralMode::SmisIndependent;
+    }
+    // `u`, `v`: the pattern's offset and the conditioning choice, uniform on [0, 1) (see above);
+    // `rng` draws the rest (BRUTE_FORCE's jitter, SMIS_INDEPENDENT's wavelengths).
+    void sample(float u, float v, Rng& rng, WavelengthSet* set) const;
 
 private:
     SpectralMode mode_;
