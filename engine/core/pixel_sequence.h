@@ -8,22 +8,15 @@
 #include <cstdint>
 
 #include "core/rng.h"
+#include "core/stratified.h"
 
 namespace smis {
-
-inline uint32_t reverse_bits(uint32_t v) {
-    v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
-    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
-    v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
-    v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
-    return (v >> 16) | (v << 16);
-}
 
 // `salt` names the dimension, so different users of the sequence get independent rotations.
 inline float pixel_sequence(uint32_t px, uint32_t py, uint32_t sample, uint32_t seed, uint64_t salt) {
     uint64_t key = mix64(((static_cast<uint64_t>(py) << 32) | px) ^ mix64(seed ^ mix64(salt)));
     uint32_t shift = static_cast<uint32_t>(key >> 32);
-    uint32_t v = reverse_bits(sample) + shift;  // wraps: the rotation modulo 1 in 32-bit fixed point
+    uint32_t v = stratified::reverse_bits(sample) + shift;  // wraps: the rotation modulo 1 in 32-bit fixed point
     return static_cast<float>(v >> 8) * 0x1p-24f;  // 24 bits as Rng::next_float(): never rounds up to 1
 }
 
