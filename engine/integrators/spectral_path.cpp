@@ -130,6 +130,11 @@ bool delta_event(const ShadingPoint& sp, const SpectralMaterial& sm, const BsdfS
         }
         return true;
     }
+    if (lobe.kind == LobeKind::Clearcoat) {  // smooth coat: its Fresnel (fixed IOR) is not spectral
+        float f = fresnel_dielectric(cos_o, lobe.eta);
+        for (int i = 0; i < p.n; ++i) p.beta[i] *= s.weight(p.ws.lambda[i]) * f / prob;
+        return true;
+    }
     float radiance_scale = bs.transmission ? 1.0f / (bs.eta * bs.eta) : 1.0f;
     if (!s.dispersion.active()) {
         for (int i = 0; i < p.n; ++i) p.beta[i] *= s.weight(p.ws.lambda[i]) * (radiance_scale / prob);

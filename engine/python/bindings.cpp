@@ -53,6 +53,8 @@ Lobe parse_lobe(const py::dict& d) {
     if (kind == "diffuse") l.kind = LobeKind::Diffuse;
     else if (kind == "microfacet") l.kind = LobeKind::Microfacet;
     else if (kind == "dielectric") l.kind = LobeKind::Dielectric;
+    else if (kind == "clearcoat") l.kind = LobeKind::Clearcoat;
+    else if (kind == "sheen") l.kind = LobeKind::Sheen;
     else throw py::value_error("unknown closure kind '" + kind + "'");
     auto fresnel = get<std::string>(d, "fresnel", "none");
     if (fresnel == "none") l.fresnel = FresnelMode::None;

@@ -20,6 +20,11 @@ enum class LobeKind : uint8_t {
     Diffuse,      // Lambert: color / pi
     Microfacet,   // GGX reflection (Glossy BSDF, metals, Principled specular); fresnel selects the tint
     Dielectric,   // glass: Fresnel-weighted reflection + refraction, smooth (alpha = 0) or GGX-rough
+    // Principled v1 extras (Cycles 3.4). Kept after the three base kinds so that code treating
+    // "everything but Diffuse/Microfacet" generically tests one ordering (kind >= Dielectric).
+    Clearcoat,    // Disney/Cycles clearcoat: GTR1 normals (alpha = roughness^2), Smith G with fixed alpha
+                  // 0.25, exact dielectric Fresnel at `eta` (1.5); the Fresnel is inside LobeTerms::geom
+    Sheen,        // Disney/Cycles principled sheen: f cos = (1 - wi.h)^5 cos_i (no 1/pi), cosine sampled
 };
 
 enum class FresnelMode : uint8_t {
@@ -75,6 +80,12 @@ bool lobe_is_delta(const Lobe& lobe);
 
 // Rough scalar estimate of the lobe's albedo, only used to choose which lobe to sample.
 float lobe_sample_weight(const Lobe& lobe, const Vec3& wo);
+
+// Burley 2012's GTR1 (gamma = 1) normal distribution of the clearcoat, normalised so that
+// integral D(m) cos(theta_m) dm = 1; alpha >= 1 is the uniform-in-cosine limit 1/pi.
+float gtr1_D(float cos_m, float alpha);
+// The clearcoat's masking-shadowing roughness, fixed by Cycles 3.4 whatever the coat roughness.
+constexpr float kClearcoatShadowAlpha = 0.25f;
 
 // GGX helpers, exposed for tests and for the path-space filtering integrator.
 float ggx_D(const Vec3& wm, float alpha);

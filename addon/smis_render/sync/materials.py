@@ -218,8 +218,9 @@ class _Translation:
         # The specular lobe's IOR comes from the Specular input, as Cycles 3.4 does
         # (f0 = 0.08 * specular, ior = 2 / (1 - sqrt(f0)) - 1; Specular 0.5 gives 1.5);
         # the IOR input is used by the glass lobe only, as in Cycles 3.4.
+        #   sheen, clearcoat         Cycles' principled sheen and clearcoat lobes (_sheen, _clearcoat)
         # Ignored (with one warning if not at their neutral values): subsurface, specular
-        # tint, anisotropy, sheen, clearcoat, alpha, transmission roughness, multiscatter.
+        # tint, anisotropy, transmission roughness, multiscatter.
         v = lambda name: self._value(node, name)  # noqa: E731
         base_in = self._color(node, "Base Color")
         m = _clamp01(v("Metallic"))
@@ -239,12 +240,38 @@ class _Translation:
         self._add(closure("microfacet", _scale(w, m), roughness=rough, fresnel="schlick",
                           f0=base_in.constant or (1.0, 1.0, 1.0), **base_in.closure_keys(to_f0=True)))
         self._add(_colored("dielectric", _scale(w, t), base_in, roughness=rough, ior=v("IOR")))
+        self._sheen(node, _scale(w, dielectric_w), base_in)
+        self._clearcoat(node, w)
         self._add_emission(_scale(_scale(w, v("Emission")), v("Emission Strength")))
+
+    def _sheen(self, node, w, base_in):
+        # Cycles 3.4: weight Sheen x (1 - metallic)(1 - transmission) x a colour mixed from white to
+        # the base colour's tint (base / luminance) by Sheen Tint; the lobe is LobeKind::Sheen.
+        sheen = max(self._value(node, "Sheen"), 0.0)
+        if sheen <= 0.0:
+            return
+        tint = _clamp01(self._value(node, "Sheen Tint"))
+        base = base_in.constant
+        if base is None:
+            if tint > 0.0:
+                self._warn_node(node, "has Sheen Tint with a linked Base Color; the sheen is untinted")
+            base, tint = (1.0, 1.0, 1.0), 0.0
+        lum = 0.2126 * base[0] + 0.7152 * base[1] + 0.0722 * base[2]  # Rec.709, Blender's default
+        ctint = tuple(c / lum for c in base) if lum > 0.0 else (1.0, 1.0, 1.0)
+        color = tuple(1.0 - tint + c * tint for c in ctint)
+        self._add(closure("sheen", _scale(_scale(w, color), sheen)))
+
+    def _clearcoat(self, node, w):
+        # Cycles 3.4: 0.25 x Clearcoat, IOR 1.5, alpha = Clearcoat Roughness^2, added on top of the
+        # base without taking energy from it (Principled v1 is not energy conserving here either).
+        coat = max(self._value(node, "Clearcoat"), 0.0)
+        if coat > 0.0:
+            self._add(closure("clearcoat", _scale(w, 0.25 * coat), ior=1.5,
+                              roughness=_clamp01(self._value(node, "Clearcoat Roughness"))))
 
     def _warn_principled_extras(self, node, t):
         v = lambda name: self._value(node, name)  # noqa: E731
-        ignored = [name for name in ("Subsurface", "Specular Tint", "Anisotropic", "Sheen",
-                                     "Clearcoat") if v(name) > 0.0]
+        ignored = [name for name in ("Subsurface", "Specular Tint", "Anisotropic") if v(name) > 0.0]
         if t > 0.0 and v("Transmission Roughness") > 0.0:
             ignored.append("Transmission Roughness")
         if node.distribution != 'GGX':
