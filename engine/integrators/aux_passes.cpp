@@ -17,7 +17,7 @@ Color albedo(const Bsdf& bsdf) {
         else if ((l.kind == LobeKind::Microfacet && l.fresnel == FresnelMode::Dielectric) ||
                  l.kind == LobeKind::Clearcoat)
             sum += l.weight * sqr((l.eta - 1.0f) / (l.eta + 1.0f));
-        else sum += l.weight;
+        else if (l.kind != LobeKind::Transparent) sum += l.weight;  // see-through is not reflectance
     }
     return sum;
 }

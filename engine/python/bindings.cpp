@@ -55,6 +55,8 @@ Lobe parse_lobe(const py::dict& d) {
     else if (kind == "dielectric") l.kind = LobeKind::Dielectric;
     else if (kind == "clearcoat") l.kind = LobeKind::Clearcoat;
     else if (kind == "sheen") l.kind = LobeKind::Sheen;
+    else if (kind == "transparent") l.kind = LobeKind::Transparent;
+    else if (kind == "principled_diffuse") l.kind = LobeKind::PrincipledDiffuse;
     else throw py::value_error("unknown closure kind '" + kind + "'");
     auto fresnel = get<std::string>(d, "fresnel", "none");
     if (fresnel == "none") l.fresnel = FresnelMode::None;
@@ -228,6 +230,9 @@ PYBIND11_MODULE(_smis, m) {
                      }
                  if (!varies) mat.inputs.clear();  // constant lobes: no per-hit work
                  mat.emission = get_color(d, "emission", Color(0.0f));
+                 if (d.contains("emission_texture") && !d["emission_texture"].is_none())
+                     mat.emission_texture =
+                         value_errors([&] { return s.texture(d["emission_texture"].cast<uint32_t>()); });
                  MaterialSpectral& sp = mat.spectral;
                  sp.emission_spectrum = get<std::string>(d, "emission_spectrum", sp.emission_spectrum);
                  sp.emission_temperature = get<float>(d, "emission_temperature", sp.emission_temperature);

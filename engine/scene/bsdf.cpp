@@ -51,6 +51,8 @@ bool lobe_is_delta(const Lobe& lobe) {
             return !(lobe.alpha >= kDeltaAlpha) || !(std::fabs(lobe.eta - 1.0f) >= kIndexMatchedEps);
         case LobeKind::Clearcoat: return !(lobe.alpha >= kDeltaAlpha);
         case LobeKind::Sheen: return false;
+        case LobeKind::Transparent: return true;
+        case LobeKind::PrincipledDiffuse: return false;
     }
     return false;
 }
@@ -184,6 +186,17 @@ LobeTerms sheen_terms(const Vec3& wo, const Vec3& wi) {
     LobeTerms t;
     t.pdf = cosine_hemisphere_pdf(wi.z);
     t.geom = schlick_weight(dot(wi, h) / std::sqrt(len2)) * wi.z;
+    return t;
+}
+
+LobeTerms principled_diffuse_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+    if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return {};
+    float fv = schlick_weight(wo.z), fl = schlick_weight(wi.z);
+    float rr = std::sqrt(lobe.alpha) * (1.0f + dot(wi, wo));
+    float f = (1.0f - 0.5f * fv) * (1.0f - 0.5f * fl) + rr * (fl + fv + fl * fv * (rr - 1.0f));
+    LobeTerms t;
+    t.pdf = cosine_hemisphere_pdf(wi.z);
+    t.geom = wi.z * kInvPi * f;
     return t;
 }
 
@@ -432,6 +445,8 @@ LobeTerms lobe_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
         case LobeKind::Dielectric: t = dielectric_terms(lobe, wo, wi); break;
         case LobeKind::Clearcoat: t = clearcoat_terms(lobe, wo, wi); break;
         case LobeKind::Sheen: t = sheen_terms(wo, wi); break;
+        case LobeKind::Transparent: break;  // Dirac: never reached (lobe_is_delta above)
+        case LobeKind::PrincipledDiffuse: t = principled_diffuse_terms(lobe, wo, wi); break;
     }
     if (!std::isfinite(t.geom) || !std::isfinite(t.pdf) || !(t.pdf >= 0.0f)) return {};
     return t;
@@ -447,9 +462,17 @@ BsdfSample lobe_sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event
         case LobeKind::Dielectric: s = sample_dielectric(lobe, wo, u, u_event); break;
         case LobeKind::Clearcoat: s = sample_clearcoat(lobe, wo, u); break;
         case LobeKind::Sheen:
+        case LobeKind::PrincipledDiffuse:
             // Cosine sampling, evaluated through lobe_eval_pdf so that sample, eval and pdf agree.
             s = sample_diffuse(lobe, wo, u);
             if (s.pdf > 0.0f) s.value = lobe_eval_pdf(lobe, wo, s.wi).value;
+            break;
+        case LobeKind::Transparent:  // no refraction: same medium, no radiance scaling (eta 1)
+            s.wi = -wo;
+            s.value = lobe.weight;
+            s.pdf = 1.0f;
+            s.delta = true;
+            s.transmission = true;
             break;
     }
     if (!s.valid()) return BsdfSample{};

@@ -25,6 +25,11 @@ enum class LobeKind : uint8_t {
     Clearcoat,    // Disney/Cycles clearcoat: GTR1 normals (alpha = roughness^2), Smith G with fixed alpha
                   // 0.25, exact dielectric Fresnel at `eta` (1.5); the Fresnel is inside LobeTerms::geom
     Sheen,        // Disney/Cycles principled sheen: f cos = (1 - wi.h)^5 cos_i (no 1/pi), cosine sampled
+    Transparent,  // Transparent BSDF's coloured part: a Dirac straight through (wi = -wo), value = weight
+    // Cycles 3.4's principled diffuse (Burley 2012 with retro-reflection), cosine sampled:
+    // f cos = cos_i / pi [(1 - FV/2)(1 - FL/2) + RR (FL + FV + FL FV (RR - 1))], F = (1 - cos)^5,
+    // RR = roughness (1 + wi.wo) with roughness = sqrt(alpha) (the Principled Roughness input).
+    PrincipledDiffuse,
 };
 
 enum class FresnelMode : uint8_t {

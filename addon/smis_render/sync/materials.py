@@ -61,6 +61,9 @@ class _Translation:
         self.uv_map = None        # UV map the textures read ('' = active render), None = no UVs
         self.normal_map = None
         self.alpha = None         # {"value": a, "texture": id?} for cut-outs
+        self.transparent = BLACK  # summed Transparent BSDF weight (straight-through colour)
+        self.emission_texture = None   # engine texture id multiplying the emission
+        self._constant_emission = False  # emission added without a texture (see _emit)
         self._checked_nodes = set()
         self._translated_links = set()  # (node name, input name) handled by textures.py
 
@@ -204,13 +207,44 @@ class _Translation:
                            ior=self._value(node, "IOR")))
 
     def emission(self, node, w):
-        strength = self._value(node, "Strength")
-        self._add_emission(_scale(_scale(w, self._value(node, "Color")), strength))
+        self._emit(node, w, "Color", self._value(node, "Strength"))
+
+    def _emit(self, node, w, color_name, strength):
+        """Emission of colour input `color_name` times strength; an Image Texture on the colour
+        becomes the material's emission texture (one per material), looked up at every hit and at
+        every light sample on the emissive triangles."""
+        ci = self._color(node, color_name)
+        if ci.object_color:
+            self._warn_node(node, "has Object Info Color on %s, not supported for emission; "
+                                  "using white" % color_name)
+        textured = ci.texture is not None
+        e = _scale(w, strength) if ci.constant is None else _scale(_scale(w, ci.constant), strength)
+        if _is_zero(e):
+            return
+        if textured and self.emission_texture is None:
+            self.emission_texture = ci.texture
+        elif textured and self.emission_texture != ci.texture:
+            self._warn_node(node, "has a second, different emission texture; using the first")
+        self._constant_emission = self._constant_emission or not textured
+        if self.emission_texture is not None and self._constant_emission:
+            self._warn_node(node, "mixes textured and constant emission; the texture applies to both")
+        self._add_emission(e)
+
+    def transparent(self, node, w):
+        # Cycles' Transparent BSDF: light passes straight through, tinted by Color. The material
+        # turns the grey part of the summed tint into a stochastic cut-out (free, as with Alpha) and
+        # the coloured rest into a straight-through Dirac lobe (see translate()).
+        color = self._color(node, "Color")
+        if color.constant is None:
+            self._warn_node(node, "has a linked Color, not supported on Transparent BSDF; using white")
+            color = tex.ColorInput(constant=(1.0, 1.0, 1.0))
+        self.transparent = tuple(a + b for a, b in zip(self.transparent, _scale(w, color.constant)))
 
     def principled(self, node, w):
         # Approximation of Blender 3.4's Principled BSDF by four lobes and emission.
         # With m = metallic and t = transmission * (1 - m):
-        #   diffuse                  weight base * (1-m) * (1-t)
+        #   diffuse                  weight base * (1-m) * (1-t), Cycles' principled diffuse
+        #                            (Burley's retro-reflection driven by Roughness)
         #   dielectric specular      microfacet, dielectric Fresnel, weight (1-m) * (1-t)
         #   metal                    microfacet, Schlick Fresnel with f0 = base, weight m
         #   glass (transmission)     dielectric, weight base * t, roughness and IOR inputs
@@ -231,7 +265,7 @@ class _Translation:
         self._alpha(node)
 
         dielectric_w = (1.0 - m) * (1.0 - t)
-        self._add(_colored("diffuse", _scale(w, dielectric_w), base_in))
+        self._add(_colored("principled_diffuse", _scale(w, dielectric_w), base_in, roughness=rough))
         f0 = min(0.08 * specular, 0.99)
         if f0 > 0.0:
             spec_ior = 2.0 / (1.0 - f0 ** 0.5) - 1.0
@@ -242,7 +276,7 @@ class _Translation:
         self._add(_colored("dielectric", _scale(w, t), base_in, roughness=rough, ior=v("IOR")))
         self._sheen(node, _scale(w, dielectric_w), base_in)
         self._clearcoat(node, w)
-        self._add_emission(_scale(_scale(w, v("Emission")), v("Emission Strength")))
+        self._emit(node, w, "Emission", v("Emission Strength"))
 
     def _sheen(self, node, w, base_in):
         # Cycles 3.4: weight Sheen x (1 - metallic)(1 - transmission) x a colour mixed from white to
@@ -295,7 +329,30 @@ _HANDLERS = {
     'ShaderNodeBsdfGlass': _Translation.glass,
     'ShaderNodeEmission': _Translation.emission,
     'ShaderNodeBsdfPrincipled': _Translation.principled,
+    'ShaderNodeBsdfTransparent': _Translation.transparent,
 }
+
+
+def _apply_transparency(tr):
+    """Fold the Transparent BSDF weight T into the closures: the grey part g = min(T) passes by the
+    cut-out (kept with probability k = 1 - g, times any Principled Alpha), so the kept hit's closures
+    are divided by k, and the coloured rest T - g becomes a straight-through lobe of weight
+    (T - g) / k. In expectation: k (closures / k) + g = closures + g, and k (T - g) / k + g = T."""
+    t = tuple(min(max(c, 0.0), 1.0) for c in tr.transparent)
+    g = min(t)
+    if max(t) <= 0.0:
+        return
+    keep = 1.0 - g
+    if keep <= 1e-6:
+        tr.closures = []
+    else:
+        tr.closures = [dict(c, weight=_scale(c["weight"], 1.0 / keep)) for c in tr.closures]
+        rest = tuple((c - g) / keep for c in t)
+        if max(rest) > 0.0:
+            tr.closures.append(closure("transparent", rest))
+    alpha = dict(tr.alpha) if tr.alpha is not None else {"value": 1.0}
+    alpha["value"] = alpha["value"] * keep
+    tr.alpha = alpha
 
 
 def translate(material, warn, textures=None):
@@ -324,12 +381,15 @@ def translate(material, warn, textures=None):
         # An unlinked Surface renders black, as in Cycles, unless the material has a volume: then
         # the mesh is only the boundary of the medium and rays pass straight through it.
         pass_through = surface is None and volume is not None
+        _apply_transparency(tr)
     desc = dict({"name": name, "closures": tr.closures, "emission": tr.emission, "uv_map": tr.uv_map,
                  "volume": volume, "pass_through": pass_through}, **material_spectral(material))
     if tr.normal_map is not None:
         desc["normal_map"] = tr.normal_map
     if tr.alpha is not None:
         desc["alpha"] = tr.alpha
+    if tr.emission_texture is not None:
+        desc["emission_texture"] = tr.emission_texture
     return desc
 
 
