@@ -10,6 +10,8 @@ ignored with one warning per node, unsupported shader nodes become a neutral
 diffuse.
 """
 
+import bpy
+
 from . import nodes, textures as tex
 from ..spectral_properties import material_spectral
 from .volumes import translate_volume
@@ -428,6 +430,27 @@ class MaterialCache:
 
     def warning(self, message):
         self._reporter.warning(message)
+
+    def replace_all(self):
+        """Viewport material edits: translate every material again and replace it in the committed
+        engine scene (Scene.replace_material). False when one of them cannot be replaced in place
+        (the caller then builds a new scene): a material that is gone, reads another UV map, or
+        changes what the scene baked at commit (cut-out, emissive, volume)."""
+        for key, mat_id in self._ids.items():
+            if key is None:
+                continue  # the default grey never changes
+            material = bpy.data.materials.get(key)
+            if material is None:
+                return False
+            desc = translate(material, self._reporter.warning, self._textures)
+            if desc.get("uv_map") != self._uv_maps.get(mat_id):
+                return False
+            try:
+                if not self._scene.replace_material(mat_id, desc):
+                    return False
+            except ValueError:
+                return False
+        return True
 
     def uv_map_for(self, mat_ids):
         """The UV map a mesh with these engine materials must export, or None if none reads UVs."""
