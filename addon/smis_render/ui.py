@@ -21,6 +21,10 @@ class SMISButtonsPanel:
 class SMIS_RENDER_PT_sampling(SMISButtonsPanel, bpy.types.Panel):
     bl_label = "Sampling"
 
+    def draw_header_preset(self, context):
+        # Where Cycles puts its sampling presets: quick preview, final, the paper's set-ups.
+        self.layout.menu("SMIS_MT_presets", text="Presets", icon='PRESET')
+
     def draw(self, context):
         layout = self.layout
         layout.use_property_split = True
