@@ -238,7 +238,7 @@ class SMIS_VIEWLAYER_PT_passes(SMISButtonsPanel, bpy.types.Panel):
         col.prop(view_layer, "use_pass_normal")
         col.prop(view_layer.smis, "use_pass_albedo")
         sub = col.column(align=True)
-        sub.active = passes.DIAGNOSTIC.get(context.scene.smis.integrator) is not None
+        sub.active = passes.diagnostic_pass(context.scene.smis) is not None
         sub.prop(view_layer.smis, "use_pass_diagnostic")
 
 

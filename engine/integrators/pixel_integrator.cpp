@@ -9,8 +9,10 @@ void PixelIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) 
         for (uint32_t s = s0; s < s1; ++s) {
             Rng rng;
             Ray ray = camera_ray(ctx, x, y, s, &rng);
-            add_aux_sample(ctx, x, y, s, ray);
+            local.sample_diagnostic = 0.0f;
             Color L = Li(ctx.scene, ctx.settings, ray, rng, local);
+            // After Li, for its diagnostic value; the passes draw their own random numbers.
+            add_aux_sample(ctx, x, y, s, ray, local.sample_diagnostic);
             ++local.paths;
             ctx.film.add(x, y, guard_sample(L, local));
         }

@@ -222,6 +222,11 @@ Color SpectralPathIntegrator::Li(const Scene& scene, const RenderSettings& setti
         for (int i = 0; i < p.n; ++i) alive |= (p.beta[i] /= survival) > 0.0f;
         if (!alive) break;
     }
+    // Diagnostic pass: the wavelengths this path still carried at its end (n, or 1 after a
+    // dispersive refraction kept only the conditioning wavelength).
+    int alive = 0;
+    for (int i = 0; i < p.n; ++i) alive += p.r[i] > 0.0f;
+    counters.sample_diagnostic = float(alive);
     return L;
 }
 
