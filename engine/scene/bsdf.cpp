@@ -230,20 +230,22 @@ Vec3 gtr1_sample_normal(float alpha, Point2 u) {
     return Vec3(sin_t * std::cos(phi), sin_t * std::sin(phi), std::sqrt(cos2));
 }
 
-BsdfSample sample_clearcoat(const Lobe& lobe, const Vec3& wo, Point2 u) {
+// The perfect mirror of a delta reflection lobe, carrying `value` (weight x Fresnel).
+BsdfSample mirror_sample(const Vec3& wo, const Color& value) {
     BsdfSample s;
-    if (!(wo.z > 0.0f)) return s;
-    if (lobe_is_delta(lobe)) {  // as Cycles' specular case: the Fresnel-weighted mirror, no shadowing
-        s.wi = Vec3(-wo.x, -wo.y, wo.z);
-        s.value = lobe.weight * fresnel_dielectric(wo.z, lobe.eta);
-        s.pdf = 1.0f;
-        s.delta = true;
-        return s;
-    }
-    Vec3 wm = gtr1_sample_normal(lobe.alpha, u);
-    if (!(dot(wo, wm) > 0.0f)) return s;  // back-facing normal: the reflection would leave the hemisphere
+    s.wi = Vec3(-wo.x, -wo.y, wo.z);
+    s.value = value;
+    s.pdf = 1.0f;
+    s.delta = true;
+    return s;
+}
+
+// wo reflected about the sampled microfacet normal wm, evaluated through the same code path as
+// eval()/pdf() so that the three always agree.
+BsdfSample reflect_about(const Lobe& lobe, const Vec3& wo, const Vec3& wm) {
+    BsdfSample s;
     Vec3 wi = reflect(wo, wm);
-    if (!(wi.z > 0.0f)) return s;
+    if (!(wi.z > 0.0f)) return s;  // reflected below the horizon: the single-scatter energy loss
     wi = normalize(wi);
     EvalPdf r = lobe_eval_pdf(lobe, wo, wi);
     if (!(r.pdf > 0.0f)) return s;
@@ -253,27 +255,19 @@ BsdfSample sample_clearcoat(const Lobe& lobe, const Vec3& wo, Point2 u) {
     return s;
 }
 
+BsdfSample sample_clearcoat(const Lobe& lobe, const Vec3& wo, Point2 u) {
+    if (!(wo.z > 0.0f)) return {};
+    // As Cycles' specular case: the Fresnel-weighted mirror, no shadowing.
+    if (lobe_is_delta(lobe)) return mirror_sample(wo, lobe.weight * fresnel_dielectric(wo.z, lobe.eta));
+    Vec3 wm = gtr1_sample_normal(lobe.alpha, u);
+    if (!(dot(wo, wm) > 0.0f)) return {};  // back-facing normal: the reflection would leave the hemisphere
+    return reflect_about(lobe, wo, wm);
+}
+
 BsdfSample sample_microfacet(const Lobe& lobe, const Vec3& wo, Point2 u) {
-    BsdfSample s;
-    if (!(wo.z > 0.0f)) return s;
-    if (lobe_is_delta(lobe)) {
-        s.wi = Vec3(-wo.x, -wo.y, wo.z);
-        s.value = lobe.weight * microfacet_fresnel(lobe, wo.z);
-        s.pdf = 1.0f;
-        s.delta = true;
-        return s;
-    }
-    Vec3 wm = ggx_sample_visible_normal(wo, lobe.alpha, u);
-    Vec3 wi = reflect(wo, wm);
-    if (!(wi.z > 0.0f)) return s;  // reflected below the horizon: the single-scatter energy loss
-    wi = normalize(wi);
-    // Evaluate through the same code path as eval()/pdf() so that the three always agree.
-    EvalPdf r = lobe_eval_pdf(lobe, wo, wi);
-    if (!(r.pdf > 0.0f)) return s;
-    s.wi = wi;
-    s.value = r.value;
-    s.pdf = r.pdf;
-    return s;
+    if (!(wo.z > 0.0f)) return {};
+    if (lobe_is_delta(lobe)) return mirror_sample(wo, lobe.weight * microfacet_fresnel(lobe, wo.z));
+    return reflect_about(lobe, wo, ggx_sample_visible_normal(wo, lobe.alpha, u));
 }
 
 BsdfSample sample_dielectric(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event) {

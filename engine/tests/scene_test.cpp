@@ -6,6 +6,7 @@
 
 #include "core/rng.h"
 #include "scene/scene.h"
+#include "test_scenes.h"
 
 using namespace smis;
 
@@ -197,14 +198,7 @@ TEST(Scene, InPlaceViewportUpdatesEqualAFreshScene) {
 TEST(Scene, InPlaceMaterialAndLightEditsEqualAFreshScene) {
     // Viewport material, lamp and world edits replace what changed in the committed scene; its
     // materials and light table must then be those of a scene built from scratch in the final state.
-    auto material = [](Color diffuse, Color emission) {
-        Material m;
-        Lobe l;
-        l.weight = diffuse;
-        m.lobes.push_back(l);
-        m.emission = emission;
-        return m;
-    };
+    using smis::testing::diffuse;
     auto lamp = [](float power, float x) {
         LightDesc d;
         d.type = "POINT";
@@ -213,11 +207,11 @@ TEST(Scene, InPlaceMaterialAndLightEditsEqualAFreshScene) {
         return d;
     };
     uint32_t m0 = 0, m1 = 0;  // the scene has its own default material first
-    auto build = [&](Color diffuse, Color emission, const std::vector<LightDesc>& lamps, Color world, bool fast) {
+    auto build = [&](Color albedo, Color emission, const std::vector<LightDesc>& lamps, Color world, bool fast) {
         auto s = std::make_unique<Scene>();
         s->set_fast_build(fast);
-        m0 = s->add_material(material(diffuse, Color(0.0f)));
-        m1 = s->add_material(material(Color(0.5f), emission));
+        m0 = s->add_material(diffuse(albedo));
+        m1 = s->add_material(diffuse(Color(0.5f), emission));
         uint32_t quad = s->add_mesh(kQuad, 4, kQuadTris, 2, nullptr, nullptr, {m0});
         uint32_t glow = s->add_mesh(kQuad, 4, kQuadTris, 2, nullptr, nullptr, {m1});
         s->add_instance(quad, translation(0, 0, -3));
@@ -229,11 +223,11 @@ TEST(Scene, InPlaceMaterialAndLightEditsEqualAFreshScene) {
         return s;
     };
     auto updated = build(Color(0.8f), Color(2.0f), {lamp(100, 0)}, Color(0.1f), true);
-    EXPECT_FALSE(build(Color(0.8f), Color(2.0f), {}, Color(0.0f), false)->replace_material(m0, material(Color(0.1f), Color(0.0f))))
+    EXPECT_FALSE(build(Color(0.8f), Color(2.0f), {}, Color(0.0f), false)->replace_material(m0, diffuse(Color(0.1f), Color(0.0f))))
         << "only viewport (fast-build) scenes are edited in place";
-    ASSERT_TRUE(updated->replace_material(m0, material(Color(0.2f, 0.4f, 0.6f), Color(0.0f))));
-    ASSERT_TRUE(updated->replace_material(m1, material(Color(0.5f), Color(5.0f, 1.0f, 0.5f))));
-    EXPECT_FALSE(updated->replace_material(m0, material(Color(0.1f), Color(1.0f))))  // would become emissive
+    ASSERT_TRUE(updated->replace_material(m0, diffuse(Color(0.2f, 0.4f, 0.6f), Color(0.0f))));
+    ASSERT_TRUE(updated->replace_material(m1, diffuse(Color(0.5f), Color(5.0f, 1.0f, 0.5f))));
+    EXPECT_FALSE(updated->replace_material(m0, diffuse(Color(0.1f), Color(1.0f))))  // would become emissive
         << "emissive triangles are found at commit";
     std::vector<LightDesc> lamps = {lamp(50, 1), lamp(300, -1)};
     ASSERT_TRUE(updated->replace_lights(lamps, Color(0.0f)));
