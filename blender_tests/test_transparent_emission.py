@@ -103,3 +103,29 @@ def test_transparent_surface_multiplies_by_its_colour():
     np.testing.assert_allclose(img.reshape(-1, 3).mean(0), c, atol=0.01)
     # A white Transparent BSDF is a pure cut-out: exactly the emitter behind, no noise.
     np.testing.assert_array_equal(combined(render(setup=transparent_in_front((1, 1, 1), 1.0))), 1.0)
+
+
+def half_transparent_emitter(strength, fac):
+    """The emissive plane as Mix(Emission strength, Transparent white, fac)."""
+    return PLANE + DARK + f"""
+nt.nodes.remove(diffuse)
+em = nt.nodes.new("ShaderNodeEmission")
+em.inputs["Strength"].default_value = {strength}
+tr = nt.nodes.new("ShaderNodeBsdfTransparent")
+mix = nt.nodes.new("ShaderNodeMixShader")
+mix.inputs["Fac"].default_value = {fac}
+nt.links.new(em.outputs[0], mix.inputs[1])
+nt.links.new(tr.outputs[0], mix.inputs[2])
+nt.links.new(mix.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+"""
+
+
+def test_half_transparent_emitter_lights_like_half_the_emission():
+    """Mix(Emission 2, Transparent, 0.5) emits 1 in expectation, to the camera (hits kept with
+    probability 1/2) and to a floor through light samples (which must see the cut-out too):
+    the floor is lit as by a plain Emission 1."""
+    seen = combined(render(setup=half_transparent_emitter(2.0, 0.5) + "scene.smis.samples = 64\n"))
+    np.testing.assert_allclose(seen.mean(), 1.0, atol=0.02)
+    floor = lambda setup: combined(render(setup=setup + RECEIVER + "scene.smis.samples = 64\n")).mean()  # noqa: E731
+    half, plain = floor(half_transparent_emitter(2.0, 0.5)), floor(half_transparent_emitter(1.0, 0.0))
+    assert abs(half / plain - 1.0) < 0.03, (half, plain)

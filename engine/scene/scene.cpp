@@ -441,7 +441,10 @@ void Scene::add_triangle_lights(Instance& inst) {
             v[k] = inst.identity ? p : inst.to_world.point(p);
         }
         const Material& mat = materials_[mesh.materials[t]];
-        auto light = std::make_unique<TriangleLight>(v[0], v[1], v[2], mat.emission);
+        // A cut-out emitter is there with probability alpha for the rays that hit it; a light sample
+        // on it must see it with the same probability (the constant part of alpha; an alpha
+        // texture is not looked up here).
+        auto light = std::make_unique<TriangleLight>(v[0], v[1], v[2], mat.emission * mat.alpha);
         if (mat.emission_texture) light->set_texture(mat.emission_texture.get(), mesh.uvs.empty() ? nullptr : &mesh.uvs[3 * t]);
         lights_.push_back(std::move(light));
         emitter_sources_.push_back({mat.spectral.emission_spectrum, mat.spectral.emission_temperature, mat.emission});

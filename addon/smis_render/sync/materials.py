@@ -338,8 +338,9 @@ _HANDLERS = {
 def _apply_transparency(tr):
     """Fold the Transparent BSDF weight T into the closures: the grey part g = min(T) passes by the
     cut-out (kept with probability k = 1 - g, times any Principled Alpha), so the kept hit's closures
-    are divided by k, and the coloured rest T - g becomes a straight-through lobe of weight
-    (T - g) / k. In expectation: k (closures / k) + g = closures + g, and k (T - g) / k + g = T."""
+    and emission are divided by k, and the coloured rest T - g becomes a straight-through lobe of
+    weight (T - g) / k. In expectation: k (closures / k) + g = closures + g, and k (T - g) / k + g = T.
+    (Light samples on an emitter are weighted by the material's alpha, so they agree with hits.)"""
     t = tuple(min(max(c, 0.0), 1.0) for c in tr.transparent)
     g = min(t)
     if max(t) <= 0.0:
@@ -347,8 +348,10 @@ def _apply_transparency(tr):
     keep = 1.0 - g
     if keep <= 1e-6:
         tr.closures = []
+        tr.emission = BLACK
     else:
         tr.closures = [dict(c, weight=_scale(c["weight"], 1.0 / keep)) for c in tr.closures]
+        tr.emission = _scale(tr.emission, 1.0 / keep)  # the engine's emitters see the cut-out too
         rest = tuple((c - g) / keep for c in t)
         if max(rest) > 0.0:
             tr.closures.append(closure("transparent", rest))
