@@ -43,18 +43,25 @@ inline float sanitize_alpha(float alpha) { return std::fmax(alpha, kMinAlpha); }
 
 }  // namespace
 
+namespace {
+
+// The lobe kinds after Dielectric (Principled extras, Transparent) are dispatched out of line
+// (extra_is_delta, extra_terms, extra_sample), so that the switch over the three base kinds compiles
+// as it did before they existed: scenes without them pay nothing per lobe call.
+[[gnu::noinline]] bool extra_is_delta(const Lobe& lobe) {
+    return lobe.kind == LobeKind::Transparent || (lobe.kind == LobeKind::Clearcoat && !(lobe.alpha >= kDeltaAlpha));
+}
+
+}  // namespace
+
 bool lobe_is_delta(const Lobe& lobe) {
     switch (lobe.kind) {
         case LobeKind::Diffuse: return false;
         case LobeKind::Microfacet: return !(lobe.alpha >= kDeltaAlpha);
         case LobeKind::Dielectric:
             return !(lobe.alpha >= kDeltaAlpha) || !(std::fabs(lobe.eta - 1.0f) >= kIndexMatchedEps);
-        case LobeKind::Clearcoat: return !(lobe.alpha >= kDeltaAlpha);
-        case LobeKind::Sheen: return false;
-        case LobeKind::Transparent: return true;
-        case LobeKind::PrincipledDiffuse: return false;
+        default: return extra_is_delta(lobe);
     }
-    return false;
 }
 
 namespace {
@@ -231,7 +238,7 @@ Vec3 gtr1_sample_normal(float alpha, Point2 u) {
 }
 
 // The perfect mirror of a delta reflection lobe, carrying `value` (weight x Fresnel).
-BsdfSample mirror_sample(const Vec3& wo, const Color& value) {
+[[gnu::always_inline]] inline BsdfSample mirror_sample(const Vec3& wo, const Color& value) {
     BsdfSample s;
     s.wi = Vec3(-wo.x, -wo.y, wo.z);
     s.value = value;
@@ -242,7 +249,7 @@ BsdfSample mirror_sample(const Vec3& wo, const Color& value) {
 
 // wo reflected about the sampled microfacet normal wm, evaluated through the same code path as
 // eval()/pdf() so that the three always agree.
-BsdfSample reflect_about(const Lobe& lobe, const Vec3& wo, const Vec3& wm) {
+[[gnu::always_inline]] inline BsdfSample reflect_about(const Lobe& lobe, const Vec3& wo, const Vec3& wm) {
     BsdfSample s;
     Vec3 wi = reflect(wo, wm);
     if (!(wi.z > 0.0f)) return s;  // reflected below the horizon: the single-scatter energy loss
@@ -323,6 +330,33 @@ BsdfSample sample_dielectric(const Lobe& lobe, const Vec3& wo, Point2 u, float u
     s.transmission = transmission;
     s.eta = transmission ? etap : 1.0f;
     return s;
+}
+
+[[gnu::noinline]] LobeTerms extra_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+    switch (lobe.kind) {
+        case LobeKind::Clearcoat: return clearcoat_terms(lobe, wo, wi);
+        case LobeKind::Sheen: return sheen_terms(wo, wi);
+        case LobeKind::PrincipledDiffuse: return principled_diffuse_terms(lobe, wo, wi);
+        default: return {};  // Transparent: a Dirac (lobe_terms returns before)
+    }
+}
+
+[[gnu::noinline]] BsdfSample extra_sample(const Lobe& lobe, const Vec3& wo, Point2 u) {
+    BsdfSample s;
+    switch (lobe.kind) {
+        case LobeKind::Clearcoat: return sample_clearcoat(lobe, wo, u);
+        case LobeKind::Transparent:  // no refraction: same medium, no radiance scaling (eta 1)
+            s.wi = -wo;
+            s.value = lobe.weight;
+            s.pdf = 1.0f;
+            s.delta = true;
+            s.transmission = true;
+            return s;
+        default:  // Sheen, PrincipledDiffuse: cosine sampling, evaluated through lobe_eval_pdf
+            s = sample_diffuse(lobe, wo, u);
+            if (s.pdf > 0.0f) s.value = lobe_eval_pdf(lobe, wo, s.wi).value;
+            return s;
+    }
 }
 
 // Local-frame vs geometric-normal hemisphere agreement (light-leak guard). Shading normals can make a
@@ -437,10 +471,7 @@ LobeTerms lobe_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
             break;
         case LobeKind::Microfacet: t = microfacet_terms(lobe, wo, wi); break;
         case LobeKind::Dielectric: t = dielectric_terms(lobe, wo, wi); break;
-        case LobeKind::Clearcoat: t = clearcoat_terms(lobe, wo, wi); break;
-        case LobeKind::Sheen: t = sheen_terms(wo, wi); break;
-        case LobeKind::Transparent: break;  // Dirac: never reached (lobe_is_delta above)
-        case LobeKind::PrincipledDiffuse: t = principled_diffuse_terms(lobe, wo, wi); break;
+        default: t = extra_terms(lobe, wo, wi); break;
     }
     if (!std::isfinite(t.geom) || !std::isfinite(t.pdf) || !(t.pdf >= 0.0f)) return {};
     return t;
@@ -454,20 +485,7 @@ BsdfSample lobe_sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event
         case LobeKind::Diffuse: s = sample_diffuse(lobe, wo, u); break;
         case LobeKind::Microfacet: s = sample_microfacet(lobe, wo, u); break;
         case LobeKind::Dielectric: s = sample_dielectric(lobe, wo, u, u_event); break;
-        case LobeKind::Clearcoat: s = sample_clearcoat(lobe, wo, u); break;
-        case LobeKind::Sheen:
-        case LobeKind::PrincipledDiffuse:
-            // Cosine sampling, evaluated through lobe_eval_pdf so that sample, eval and pdf agree.
-            s = sample_diffuse(lobe, wo, u);
-            if (s.pdf > 0.0f) s.value = lobe_eval_pdf(lobe, wo, s.wi).value;
-            break;
-        case LobeKind::Transparent:  // no refraction: same medium, no radiance scaling (eta 1)
-            s.wi = -wo;
-            s.value = lobe.weight;
-            s.pdf = 1.0f;
-            s.delta = true;
-            s.transmission = true;
-            break;
+        default: s = extra_sample(lobe, wo, u); break;
     }
     if (!s.valid()) return BsdfSample{};
     return s;
