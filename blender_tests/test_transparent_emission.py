@@ -66,6 +66,19 @@ def test_light_samples_read_the_emission_texture():
     assert dark.max() == 0.0
 
 
+def mix_with_transparent(tree, first, color, fac):
+    """Setup code: Mix(`first`, Transparent `color`, fac) into node tree `tree`'s output."""
+    return f"""
+tr = {tree}.nodes.new("ShaderNodeBsdfTransparent")
+tr.inputs["Color"].default_value = ({color[0]}, {color[1]}, {color[2]}, 1.0)
+mix = {tree}.nodes.new("ShaderNodeMixShader")
+mix.inputs["Fac"].default_value = {fac}
+{tree}.links.new({first}.outputs[0], mix.inputs[1])
+{tree}.links.new(tr.outputs[0], mix.inputs[2])
+{tree}.links.new(mix.outputs[0], {tree}.nodes["Material Output"].inputs["Surface"])
+"""
+
+
 def transparent_in_front(color, fac):
     """An emitter of radiance 1 seen through a plane of Mix(Diffuse white, Transparent color, fac)."""
     return PLANE + DARK + f"""
@@ -78,23 +91,15 @@ pane = bpy.data.materials.new("Pane")
 pane.use_nodes = True
 pt = pane.node_tree
 pt.nodes.remove(pt.nodes["Principled BSDF"])
-tr = pt.nodes.new("ShaderNodeBsdfTransparent")
-tr.inputs["Color"].default_value = ({color[0]}, {color[1]}, {color[2]}, 1.0)
 df = pt.nodes.new("ShaderNodeBsdfDiffuse")
-mix = pt.nodes.new("ShaderNodeMixShader")
-mix.inputs["Fac"].default_value = {fac}
-pt.links.new(df.outputs[0], mix.inputs[1])
-pt.links.new(tr.outputs[0], mix.inputs[2])
-pt.links.new(mix.outputs[0], pt.nodes["Material Output"].inputs["Surface"])
 bpy.context.active_object.data.materials.append(pane)
 scene.smis.samples = 64
-"""
+""" + mix_with_transparent("pt", "df", color, fac)
 
 
 def test_transparent_surface_multiplies_by_its_colour():
     """Fully transparent (fac 1) with colour c: the emitter behind reads c (the grey part 0.2 passes
-    by the cut-out, the coloured rest by the straight-through lobe). Fac 0.5: half of it, plus the
-    diffuse half, which is lit by the emitter below and seen from above: 0.5 c + 0.5 x (its light)."""
+    by the cut-out, the coloured rest by the straight-through lobe)."""
     c = (0.8, 0.4, 0.2)
     run = render(setup=transparent_in_front(c, 1.0))
     img = combined(run)
@@ -111,13 +116,7 @@ def half_transparent_emitter(strength, fac):
 nt.nodes.remove(diffuse)
 em = nt.nodes.new("ShaderNodeEmission")
 em.inputs["Strength"].default_value = {strength}
-tr = nt.nodes.new("ShaderNodeBsdfTransparent")
-mix = nt.nodes.new("ShaderNodeMixShader")
-mix.inputs["Fac"].default_value = {fac}
-nt.links.new(em.outputs[0], mix.inputs[1])
-nt.links.new(tr.outputs[0], mix.inputs[2])
-nt.links.new(mix.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
-"""
+""" + mix_with_transparent("nt", "em", (1, 1, 1), fac)
 
 
 def test_half_transparent_emitter_lights_like_half_the_emission():
