@@ -11,7 +11,7 @@ import sys
 import bpy
 
 OUT = sys.argv[sys.argv.index("--") + 1]
-WAIT = 6.0  # seconds for the viewport to converge (16 samples at 1/2 resolution on a small view; 2 shared cores)
+WAIT = 4.0  # seconds for the viewport to converge (16 samples at 1/2 resolution on a small view)
 
 
 def view3d():
