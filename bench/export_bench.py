@@ -9,8 +9,9 @@ Scenes (built here, 1,000,000+ triangles each as rendered):
   unique     200 objects with their own ~5,000-triangle mesh = 1.0 M triangles exported
 For each: a full export (best of REPEATS), split into the Python sync (depsgraph walk,
 to_mesh, foreach_get) and the engine commit (Embree BVH build); then, through the viewport's
-ViewportSync, a move of one object and an edit of one object's mesh, each re-synced (best of
-REPEATS). Writes bench/results/export_bench.json.
+ViewportSync, a move of one object, an edit of one object's mesh, and edits of the material all
+objects share, of the light and of the world, each re-synced (best of REPEATS). Writes
+bench/results/export_bench.json.
 """
 import json
 import os
@@ -35,12 +36,15 @@ def build(unique):
         if obj.type == 'MESH':
             bpy.data.objects.remove(obj)
     coll = bpy.context.scene.collection
+    mat = bpy.data.materials.new("BenchMat")
+    mat.use_nodes = True
     n = 0
     for m in range(MESHES):
         bpy.ops.mesh.primitive_uv_sphere_add(segments=50, radius=0.4, ring_count=51, location=(0, 0, 0))
         src = bpy.context.active_object
         for c in list(src.users_collection):
             c.objects.unlink(src)
+        src.data.materials.append(mat)
         for u in range(USERS):
             data = src.data.copy() if unique else src.data
             obj = bpy.data.objects.new("S%d_%d" % (m, u), data)
@@ -102,8 +106,20 @@ def measure(unique):
             for v in target.data.vertices[:50]:
                 v.co.z += 0.01
             target.data.update()
+        def edit_material():
+            bsdf = bpy.data.materials["BenchMat"].node_tree.nodes["Principled BSDF"]
+            bsdf.inputs["Roughness"].default_value = 0.9 - bsdf.inputs["Roughness"].default_value
+
+        def edit_light():
+            bpy.data.lights["Light"].energy += 10.0
+
+        def edit_world():
+            bg = bpy.context.scene.world.node_tree.nodes["Background"]
+            bg.inputs["Strength"].default_value += 0.1
         moved = resync(recorder, move)
         edited = resync(recorder, edit_mesh) if unique else None
+        others = {name: resync(recorder, fn) for name, fn in
+                  (("material", edit_material), ("light", edit_light), ("world", edit_world))}
     finally:
         bpy.app.handlers.depsgraph_update_post.remove(recorder)
     row = {
@@ -119,6 +135,8 @@ def measure(unique):
         "move_meshes_exported": moved[2],
         "move_in_place": moved[3],
     }
+    for name, t in others.items():
+        row.update({name + "_resync_s": round(t[0], 4), name + "_meshes_exported": t[2], name + "_in_place": t[3]})
     if edited:
         row.update(edit_resync_s=round(edited[0], 4), edit_resync_python_s=round(edited[0] - edited[1], 4),
                    edit_meshes_exported=edited[2], edit_in_place=edited[3])

@@ -67,3 +67,12 @@ def test_volume_single_scattering_matches_cycles():
     assert r["mean_relative_error"] < 0.01, r
     assert abs(r["mean_signed_error"]) < 0.005, r
     assert r["worst_region_error"] < 0.02, r
+
+
+def test_principled_clearcoat_and_sheen_match_cycles():
+    """Principled clearcoat (GTR1 coat, IOR 1.5) and sheen against Cycles 3.4 on two spheres
+    (scenes/build_scenes.py principled_coat; reference from scenes/make_references.sh)."""
+    r = compare("principled_coat")
+    assert r["mean_relative_error"] < 0.01, r
+    assert abs(r["mean_signed_error"]) < 0.005, r
+    assert r["worst_region_error"] < 0.02, r

@@ -92,3 +92,31 @@ mat.node_tree.links.new(principled.outputs[0], mat.node_tree.nodes["Material Out
 """
     albedo = layer_pass(channels(render(setup=setup)), "Albedo", "RGB")
     np.testing.assert_allclose(albedo, 0.84, rtol=1e-4)
+
+
+def test_restir_and_spectral_diagnostic_passes():
+    """ReSTIR writes every auxiliary pass (it used to write none) and its reservoir's M (at least the
+    M = 16 initial candidates where the plane is lit); SMIS spectral rendering writes the
+    wavelengths alive at each path's end: all 4 on a plane without dispersion."""
+    restir = channels(render(setup=PLANE_SCENE.format(integrator="PATH") + PASSES_ON +
+                             "scene.smis.direct_light = 'RESTIR'\nscene.smis.ris_candidates = 16\n"))
+    np.testing.assert_allclose(restir["ViewLayer.Depth.Z"], 5.0, rtol=1e-5)
+    m = restir["ViewLayer.ReSTIR M.X"]
+    assert m.min() >= 16.0 - 1e-3 and m.mean() > 16.0, (m.min(), m.mean())  # spatial reuse adds more
+    spectral = channels(render(setup=PLANE_SCENE.format(integrator="PATH") + PASSES_ON +
+                               "scene.smis.spectral = 'SMIS'\nscene.smis.wavelengths = 4\n"))
+    np.testing.assert_array_equal(spectral["ViewLayer.Wavelengths.X"], 4.0)
+
+
+def test_photon_planes_diagnostic_pass():
+    from conftest import scene_path
+    run = render(scene_path("volume_planes.blend"), PASSES_ON + """
+scene.render.resolution_percentage = 25
+scene.smis.samples = 2
+scene.smis.volume_estimator = 'PLANES_SMIS_COS'
+scene.smis.photon_planes = 4096
+""")
+    chans = channels(run)
+    hits = chans["ViewLayer.Plane Hits.X"]
+    assert (hits >= 0).all() and hits.mean() > 1.0, hits.mean()
+    assert (chans["ViewLayer.Depth.Z"] < 1e10).any()

@@ -25,3 +25,19 @@ def test_engine_can_be_selected():
     scene = bpy.context.scene
     scene.render.engine = "SMIS"
     assert scene.render.engine == "SMIS"
+
+
+def test_presets_set_what_they_name():
+    """Every preset of the Sampling header's menu applies through its operator and leaves the
+    settings it names at its values (so a renamed property or enum item fails here)."""
+    from smis_render.presets import PRESETS
+    assert hasattr(bpy.types, "SMIS_MT_presets")
+    scene = bpy.context.scene
+    for name, (label, description, values) in PRESETS.items():
+        assert label and description
+        assert bpy.ops.smis.apply_preset(preset=name) == {'FINISHED'}
+        for key, value in values.items():
+            got = getattr(scene.smis, key)
+            assert (abs(got - value) < 1e-6 if isinstance(value, float) else got == value), (name, key, got)
+    bpy.ops.smis.apply_preset(preset="QUICK")
+    assert scene.smis.samples == 16 and scene.smis.integrator == 'PATH'

@@ -1,6 +1,7 @@
 """The interactive viewport in a real window (Xvfb + Mesa's software OpenGL): Rendered shading with
 SMIS draws the render, a move re-syncs without re-exporting meshes, a mesh edit re-exports that one
-mesh, and each edit changes what the 3D view shows."""
+mesh, material and lamp edits update the engine scene in place, and each edit changes what the 3D
+view shows."""
 import os
 import shutil
 import subprocess
@@ -33,19 +34,21 @@ def test_rendered_viewport_updates_after_edits():
     syncs = [l for l in log.splitlines() if l.startswith("SMIS viewport: scene sync")]
     print("\n".join(syncs))
     # The first sync exports the cube; moving it exports nothing; editing its mesh exports it again;
-    # both edits update the engine scene in place.
-    assert len(syncs) == 3, log[-3000:]
-    assert [", 1 meshes exported" in syncs[0], ", 0 meshes exported" in syncs[1],
-            ", 1 meshes exported" in syncs[2]] == [True, True, True], syncs
-    assert ["new engine scene" in syncs[0], "in place" in syncs[1], "in place" in syncs[2]] == [True] * 3, syncs
-    solid, before, moved, edited = (load_png(os.path.join(out, n + ".png"))
-                                    for n in ("solid", "before", "moved", "edited"))
+    # the material and lamp edits export no mesh; every edit updates the engine scene in place.
+    assert len(syncs) == 5, log[-3000:]
+    exported = [int(s.split(" meshes exported")[0].rsplit(", ", 1)[1]) for s in syncs]
+    assert exported == [1, 0, 1, 0, 0], syncs
+    assert ["new engine scene" in syncs[0]] + ["in place" in s for s in syncs[1:]] == [True] * 5, syncs
+    solid, before, moved, edited, recolored, relit = (
+        load_png(os.path.join(out, n + ".png")) for n in ("solid", "before", "moved", "edited", "recolored", "relit"))
     changed = lambda a, b: np.mean(np.abs(a - b).sum(axis=-1) > 0.1)  # noqa: E731
     # Our render replaced Solid shading (the world background it draws is a lighter grey than
     # Solid's theme colour, so most of the view changes), and each edit changed the view where the
     # cube was and went (about 2% of the view each).
-    fractions = changed(solid, before), changed(before, moved), changed(moved, edited)
-    print("fraction of the 3D view changed: solid->rendered %.4f, move %.4f, mesh edit %.4f" % fractions)
+    fractions = (changed(solid, before), changed(before, moved), changed(moved, edited), changed(edited, recolored),
+                 changed(recolored, relit))
+    print("fraction of the 3D view changed: solid->rendered %.4f, move %.4f, mesh edit %.4f, material %.4f, "
+          "lamp %.4f" % fractions)
     assert min(fractions) > 0.005, fractions
     print("screenshots in", out)
     # The material preview icon was rendered, by SMIS: the only SMIS render() call of this session

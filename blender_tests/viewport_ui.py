@@ -1,6 +1,6 @@
 """Drives Blender's UI (under Xvfb) for test_viewport.py: switches the 3D view to Rendered shading
-with SMIS (after a Solid-shading screenshot), waits for the progressive render, screenshots the 3D view, moves the cube, then edits
-its mesh, screenshotting after each; finally renders the material's preview icon.
+with SMIS (after a Solid-shading screenshot), waits for the progressive render, screenshots the 3D view, moves the cube, edits
+its mesh, its material's colour and the lamp's power, screenshotting after each; finally renders the material's preview icon.
 
     xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --addons smis_render \\
         --python blender_tests/viewport_ui.py -- OUT_DIR
@@ -54,8 +54,21 @@ def edit_mesh():
     print("SMIS viewport test: edited the mesh", flush=True)
 
 
-def material_preview():
+def edit_material():
     screenshot("edited.png")
+    bsdf = bpy.data.materials["Material"].node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (0.8, 0.05, 0.02, 1.0)
+    print("SMIS viewport test: edited the material", flush=True)
+
+
+def edit_light():
+    screenshot("recolored.png")
+    bpy.data.lights["Light"].energy *= 4.0
+    print("SMIS viewport test: edited the light", flush=True)
+
+
+def material_preview():
+    screenshot("relit.png")
     # The material's preview icon, which Blender renders with the scene's engine (bl_use_preview)
     # when the Material Properties draw it.
     for window in bpy.context.window_manager.windows:
@@ -76,7 +89,7 @@ def finish():
     bpy.ops.wm.quit_blender()
 
 
-STEPS = [start, move_cube, edit_mesh, material_preview, finish]
+STEPS = [start, move_cube, edit_mesh, edit_material, edit_light, material_preview, finish]
 
 
 def run_next():

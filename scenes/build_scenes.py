@@ -774,6 +774,34 @@ def build_volume_planes(path):
     save(path)
 
 
+def principled_extras(name, base, roughness, **inputs):
+    """Principled BSDF with sheen / clearcoat inputs (e.g. Clearcoat=1.0, Sheen=1.0)."""
+    m = _material(name, 'ShaderNodeBsdfPrincipled', distribution='GGX',
+                  **{"Base Color": base, "Roughness": roughness, **inputs})
+    m.diffuse_color = (*base, 1.0)
+    return m
+
+
+def build_principled_coat(path):
+    """Two spheres on a grey floor: left a dark red base under a clearcoat (Clearcoat 1,
+    roughness 0.1), right a blue rough base with full sheen (tint 0.5), both seen against a grey
+    world and lit by one area light from the upper left, so the coat's highlight and the sheen's
+    grazing rim are both in view. Small (96x64): the Cycles reference is committed."""
+    sc = new_scene(96, 64, samples=1024)
+    set_world(sc, (0.5, 0.5, 0.5), 0.6)
+    grey = diffuse("Grey", (0.5, 0.5, 0.5))
+    box_object(sc, "Floor", (-3.0, -3.0, -0.1), (3.0, 3.0, 0.0), grey)
+    coat = principled_extras("Clearcoat", (0.35, 0.04, 0.03), 0.5, Clearcoat=1.0,
+                             **{"Clearcoat Roughness": 0.1})
+    sheen = principled_extras("Sheen", (0.05, 0.1, 0.4), 0.8, Sheen=1.0, **{"Sheen Tint": 0.5})
+    sphere_object(sc, "CoatSphere", coat, (-0.55, 0.0, 0.5), 0.5)
+    sphere_object(sc, "SheenSphere", sheen, (0.55, 0.0, 0.5), 0.5)
+    aim(add_light(sc, "Key", 'AREA', (-2.0, -2.0, 2.5), shape='SQUARE', size=1.0, energy=150.0),
+        (0.0, 0.0, 0.5))
+    add_camera(sc, (0.0, -3.2, 0.9), (83.0, 0.0, 0.0), lens=40.0)
+    save(path)
+
+
 def save(path):
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
     print("build_scenes: wrote", path)
@@ -789,6 +817,7 @@ SCENE_NAMES = {
     "spectral_glass": build_spectral_glass,
     "volume_planes": build_volume_planes,
     "many_lights": build_many_lights,
+    "principled_coat": build_principled_coat,
 }
 
 

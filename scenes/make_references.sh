@@ -19,7 +19,7 @@ mkdir -p "$WORK" "$REFS"
 
 "$BLENDER" -b --factory-startup --python "$ROOT/scenes/build_scenes.py" -- "$ROOT/scenes"
 
-for entry in cornell:20480 cornell_diffuse:8192 volume_planes:32768; do
+for entry in cornell:20480 cornell_diffuse:8192 volume_planes:32768 principled_coat:8192; do
     scene=${entry%%:*}
     spp=${entry##*:}
     for seed in 1 2; do

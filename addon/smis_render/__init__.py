@@ -13,13 +13,13 @@ bl_info = {
 # Reloading the add-on (F3 "Reload Scripts") must pick up edited submodules too.
 if "bpy" in locals():
     import importlib
-    for _name in ("native", "properties", "spectral_properties", "passes", "sync", "engine", "ui"):
+    for _name in ("native", "properties", "spectral_properties", "passes", "sync", "engine", "presets", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
 import bpy  # noqa: E402,F401
 
-from . import engine, native, passes, properties, spectral_properties, sync, ui  # noqa: E402,F401
+from . import engine, native, passes, presets, properties, spectral_properties, sync, ui  # noqa: E402,F401
 
 
 def register():
@@ -27,6 +27,7 @@ def register():
     spectral_properties.register()
     passes.register()
     engine.register()
+    presets.register()
     ui.register()
     # The engine registers without its native module so that panels and renders can
     # say what is missing; tell the console right away too.
@@ -37,6 +38,7 @@ def register():
 
 def unregister():
     ui.unregister()
+    presets.unregister()
     engine.unregister()
     passes.unregister()
     spectral_properties.unregister()

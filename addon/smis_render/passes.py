@@ -30,12 +30,24 @@ DEPTH = Pass("Depth", "Depth", "Z", 'VALUE')
 NORMAL = Pass("Normal", "Normal", "XYZ", 'VECTOR')
 ALBEDO = Pass("Albedo", "Albedo", "RGB", 'COLOR')
 
-# The integrators' diagnostic passes, where one is cheap to record.
-DIAGNOSTIC = {
-    # Suffixes of other paths combined at each pixel's first vertex (averaged over samples).
-    integrator: Pass("PSF Reused", "Diagnostic", "X", 'VALUE')
-    for integrator in ("PSF_SMIS", "PSF_KELLER", "PSF_SMIS_UNBIASED")
-}
+# The integrators' diagnostic passes (one value per sample, averaged), chosen by the settings the
+# engine's registry uses to pick the integrator (engine/integrators/registry.cpp).
+PSF_REUSED = Pass("PSF Reused", "Diagnostic", "X", 'VALUE')        # other paths' suffixes combined at x1
+PLANE_HITS = Pass("Plane Hits", "Diagnostic", "X", 'VALUE')        # photon planes the camera ray gathered
+RESTIR_M = Pass("ReSTIR M", "Diagnostic", "X", 'VALUE')            # candidates the final reservoir stands for
+WAVELENGTHS = Pass("Wavelengths", "Diagnostic", "X", 'VALUE')      # wavelengths alive at the path's end
+
+
+def diagnostic_pass(settings):
+    """The diagnostic pass of the integrator these scene.smis settings select, or None."""
+    if settings.integrator in {"PSF_SMIS", "PSF_KELLER", "PSF_SMIS_UNBIASED"}:
+        return PSF_REUSED
+    if settings.volume_estimator != 'PATH':
+        return PLANE_HITS
+    if settings.integrator == 'PATH' and settings.direct_light == 'RESTIR':
+        return RESTIR_M
+    if settings.integrator == 'PATH' and settings.spectral != 'RGB':
+        return WAVELENGTHS  # 0 where AUTO renders the scene in RGB
 
 
 class SMISViewLayerSettings(bpy.types.PropertyGroup):
@@ -48,8 +60,10 @@ class SMISViewLayerSettings(bpy.types.PropertyGroup):
     )
     use_pass_diagnostic: BoolProperty(
         name="Integrator Diagnostic",
-        description="The integrator's own diagnostic pass, e.g. for path-space filtering the "
-                    "number of other paths' suffixes reused per pixel. Integrators without one "
+        description="The integrator's own diagnostic pass, averaged over samples: path-space "
+                    "filtering's reused suffixes (PSF Reused), photon planes gathered by the camera "
+                    "ray (Plane Hits), ReSTIR's reservoir M (ReSTIR M), spectral rendering's "
+                    "wavelengths alive at the path's end (Wavelengths). Integrators without one "
                     "write nothing",
         default=False,
     )
@@ -65,7 +79,7 @@ def enabled_passes(scene, view_layer):
     own = getattr(view_layer, "smis", None)
     if own is not None and own.use_pass_albedo:
         out.append(ALBEDO)
-    diagnostic = DIAGNOSTIC.get(scene.smis.integrator)
+    diagnostic = diagnostic_pass(scene.smis)
     if own is not None and own.use_pass_diagnostic and diagnostic is not None:
         out.append(diagnostic)
     return out

@@ -21,6 +21,10 @@ class SMISButtonsPanel:
 class SMIS_RENDER_PT_sampling(SMISButtonsPanel, bpy.types.Panel):
     bl_label = "Sampling"
 
+    def draw_header_preset(self, context):
+        # Where Cycles puts its sampling presets: quick preview, final, the paper's set-ups.
+        self.layout.menu("SMIS_MT_presets", text="Presets", icon='PRESET')
+
     def draw(self, context):
         layout = self.layout
         layout.use_property_split = True
@@ -235,7 +239,7 @@ class SMIS_VIEWLAYER_PT_passes(SMISButtonsPanel, bpy.types.Panel):
         col.prop(view_layer, "use_pass_normal")
         col.prop(view_layer.smis, "use_pass_albedo")
         sub = col.column(align=True)
-        sub.active = passes.DIAGNOSTIC.get(context.scene.smis.integrator) is not None
+        sub.active = passes.diagnostic_pass(context.scene.smis) is not None
         sub.prop(view_layer.smis, "use_pass_diagnostic")
 
 

@@ -101,6 +101,9 @@ class ViewportRenderer:
         settings = properties.session_settings(scene)
         settings.update(samples=scene.smis.viewport_samples, time_limit=0.0, aux_passes=False)
         self.session = native.load().RenderSession(self.export.scene, settings)
+        # The uploaded image's key counts samples: a new session that finishes before the next
+        # redraw would match the old one's key and never be drawn.
+        self._uploaded = None
         self.session.start()
 
     def stop(self):

@@ -14,9 +14,10 @@ Color albedo(const Bsdf& bsdf) {
     for (int i = 0; i < bsdf.lobe_count(); ++i) {
         const Lobe& l = bsdf.lobe(i);
         if (l.kind == LobeKind::Microfacet && l.fresnel == FresnelMode::Schlick) sum += l.weight * l.f0;
-        else if (l.kind == LobeKind::Microfacet && l.fresnel == FresnelMode::Dielectric)
+        else if ((l.kind == LobeKind::Microfacet && l.fresnel == FresnelMode::Dielectric) ||
+                 l.kind == LobeKind::Clearcoat)
             sum += l.weight * sqr((l.eta - 1.0f) / (l.eta + 1.0f));
-        else sum += l.weight;
+        else if (l.kind != LobeKind::Transparent) sum += l.weight;  // see-through is not reflectance
     }
     return sum;
 }

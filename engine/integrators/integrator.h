@@ -86,6 +86,9 @@ struct RenderCounters {
 // Per-thread tallies, flushed to RenderCounters once per tile so the hot loop touches no atomics.
 struct LocalCounters {
     uint64_t paths = 0, nan_caught = 0, samples_rejected = 0;
+    // The current sample's value for the integrator's diagnostic pass, set by Li() where it has one
+    // (PixelIntegrator resets it per sample and hands it to the auxiliary passes); not a counter.
+    float sample_diagnostic = 0.0f;
     void flush(RenderCounters& c) {
         c.paths += paths, c.nan_caught += nan_caught, c.samples_rejected += samples_rejected;
         *this = {};

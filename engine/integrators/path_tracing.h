@@ -83,7 +83,7 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
                 add(i, far(h.L * weight(scene.light_pmf(i), h.pdf)));
     } else if (hit.light >= 0) {
         auto& tri = static_cast<const TriangleLight&>(scene.light(hit.light));
-        add(uint32_t(hit.light), far(scene.material(hit.material).emission *
+        add(uint32_t(hit.light), far(scene.material(hit.material).emission_at(hit.attr.uv) *
                                      weight(scene.light_pmf(hit.light), tri.pdf_at(state.prev_p, hit.p))));
     }
 }

@@ -19,6 +19,8 @@
 // realised plane was sampled (one of the n techniques), hence the factor n.
 #include "integrators/photon_planes.h"
 
+#include "integrators/aux_passes.h"
+
 #include <chrono>
 
 #include "integrators/photon_plane_set.h"
@@ -140,6 +142,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
 
     t0 = Clock::now();
     std::vector<Color> image(size_t(w) * h);
+    std::vector<float> gathered_at(ctx.film.has_aux() ? image.size() : 0);  // the diagnostic pass
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
@@ -178,6 +181,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 }
             }
             plane_hits_ += gathered;
+            if (!gathered_at.empty()) gathered_at[size_t(y) * w + x] = float(gathered);
             parallel_rejected_ += parallel;
             nonfinite_rejected_ += nonfinite;
             local.samples_rejected += parallel + nonfinite;
@@ -187,7 +191,13 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     });
     if (ctx.should_stop()) return;  // a partial iteration never reaches the film
     for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) ctx.film.add(x, y, image[size_t(y) * w + x]);
+        for (int x = 0; x < w; ++x) {
+            if (!gathered_at.empty()) {  // diagnostic pass: photon planes the camera ray gathered
+                Rng camera_rng;
+                add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), gathered_at[size_t(y) * w + x]);
+            }
+            ctx.film.add(x, y, image[size_t(y) * w + x]);
+        }
     render_seconds_ += seconds_since(t0);
     ++iterations_;
     planes_ += set.size();

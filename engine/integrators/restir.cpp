@@ -15,6 +15,8 @@
 // tracer's, so the image converges to the path tracer's.
 #include "integrators/restir.h"
 
+#include "integrators/aux_passes.h"
+
 #include "integrators/reservoir_reuse.h"
 #include "integrators/tiles.h"
 
@@ -163,6 +165,10 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         if (me.has_vertex) {
             me.r = final_reservoirs[i];
             L += me.beta * reservoir_contribution(scene, settings, me.sp, me.r);
+        }
+        if (ctx.film.has_aux()) {  // diagnostic pass: the candidates the pixel's reservoir stands for (M)
+            Rng camera_rng;
+            add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), me.has_vertex ? me.r.M : 0.0f);
         }
         ctx.film.add(x, y, guard_sample(L, local));
     });

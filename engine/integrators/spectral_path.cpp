@@ -131,6 +131,11 @@ bool delta_event(const ShadingPoint& sp, const SpectralMaterial& sm, const BsdfS
         }
         return true;
     }
+    if (lobe.kind == LobeKind::Clearcoat) {  // smooth coat: its Fresnel (fixed IOR) is not spectral
+        float f = fresnel_dielectric(cos_o, lobe.eta);
+        for (int i = 0; i < p.n; ++i) p.beta[i] *= s.weight(p.ws.lambda[i]) * f / prob;
+        return true;
+    }
     float radiance_scale = bs.transmission ? 1.0f / (bs.eta * bs.eta) : 1.0f;
     if (!s.dispersion.active()) {
         for (int i = 0; i < p.n; ++i) p.beta[i] *= s.weight(p.ws.lambda[i]) * (radiance_scale / prob);
@@ -244,6 +249,11 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
         for (int i = 0; i < p.n; ++i) alive |= (p.beta[i] /= survival) > 0.0f;
         if (!alive) break;
     }
+    // Diagnostic pass: the wavelengths this path still carried at its end (n, or 1 after a
+    // dispersive refraction kept only the conditioning wavelength).
+    int alive = 0;
+    for (int i = 0; i < p.n; ++i) alive += p.r[i] > 0.0f;
+    counters.sample_diagnostic = float(alive);
     return L;
 }
 

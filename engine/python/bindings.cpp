@@ -53,6 +53,10 @@ Lobe parse_lobe(const py::dict& d) {
     if (kind == "diffuse") l.kind = LobeKind::Diffuse;
     else if (kind == "microfacet") l.kind = LobeKind::Microfacet;
     else if (kind == "dielectric") l.kind = LobeKind::Dielectric;
+    else if (kind == "clearcoat") l.kind = LobeKind::Clearcoat;
+    else if (kind == "sheen") l.kind = LobeKind::Sheen;
+    else if (kind == "transparent") l.kind = LobeKind::Transparent;
+    else if (kind == "principled_diffuse") l.kind = LobeKind::PrincipledDiffuse;
     else throw py::value_error("unknown closure kind '" + kind + "'");
     auto fresnel = get<std::string>(d, "fresnel", "none");
     if (fresnel == "none") l.fresnel = FresnelMode::None;
@@ -207,6 +211,65 @@ LobeInput parse_lobe_input(const Scene& s, const py::dict& d) {
     return in;
 }
 
+Material parse_material(Scene& s, const py::dict& d) {
+    Material mat;
+    mat.name = get<std::string>(d, "name", "");
+    bool varies = false;
+    if (d.contains("closures"))
+        for (auto c : d["closures"]) {
+            auto cd = c.cast<py::dict>();
+            mat.lobes.push_back(parse_lobe(cd));
+            mat.inputs.push_back(parse_lobe_input(s, cd));
+            varies = varies || mat.inputs.back().varies();
+        }
+    if (!varies) mat.inputs.clear();  // constant lobes: no per-hit work
+    mat.emission = get_color(d, "emission", Color(0.0f));
+    if (d.contains("emission_texture") && !d["emission_texture"].is_none())
+        mat.emission_texture =
+            value_errors([&] { return s.texture(d["emission_texture"].cast<uint32_t>()); });
+    MaterialSpectral& sp = mat.spectral;
+    sp.emission_spectrum = get<std::string>(d, "emission_spectrum", sp.emission_spectrum);
+    sp.emission_temperature = get<float>(d, "emission_temperature", sp.emission_temperature);
+    sp.metal = get<std::string>(d, "metal", sp.metal);
+    sp.dispersion = get<std::string>(d, "dispersion", sp.dispersion);
+    sp.abbe = get<float>(d, "abbe", sp.abbe);
+    mat.pass_through = get<bool>(d, "pass_through", false);
+    if (d.contains("volume") && !d["volume"].is_none())
+        mat.medium = value_errors([&] { return add_medium(s, d["volume"].cast<py::dict>()); });
+    if (d.contains("alpha")) {
+        auto a = d["alpha"].cast<py::dict>();
+        mat.alpha = get<float>(a, "value", 1.0f);
+        if (a.contains("texture") && !a["texture"].is_none())
+            mat.alpha_texture = value_errors([&] { return s.texture(a["texture"].cast<uint32_t>()); });
+    }
+    if (d.contains("normal_map")) {
+        auto nm = d["normal_map"].cast<py::dict>();
+        mat.normal_map = value_errors([&] { return s.texture(nm["texture"].cast<uint32_t>()); });
+        mat.normal_strength = get<float>(nm, "strength", 1.0f);
+    }
+    return mat;
+}
+
+LightDesc parse_light(const py::dict& d) {
+    LightDesc l;
+    l.type = get<std::string>(d, "type", "POINT");
+    l.to_world = get_matrix(d, "matrix");
+    l.color = get_color(d, "color", Color(1.0f));
+    l.power = get<float>(d, "power", 0.0f);
+    l.strength = get<float>(d, "strength", 0.0f);
+    l.shape = get<std::string>(d, "shape", "SQUARE");
+    l.size = get<float>(d, "size", 1.0f);
+    l.size_y = get<float>(d, "size_y", l.size);
+    l.radius = get<float>(d, "radius", 0.0f);
+    l.spot_size = get<float>(d, "spot_size", l.spot_size);
+    l.spot_blend = get<float>(d, "spot_blend", l.spot_blend);
+    l.angle = get<float>(d, "angle", 0.0f);
+    l.visible_to_camera = get<bool>(d, "visible_camera", true);
+    l.spectrum = get<std::string>(d, "spectrum", l.spectrum);
+    l.temperature = get<float>(d, "temperature", l.temperature);
+    return l;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_smis, m) {
@@ -216,40 +279,27 @@ PYBIND11_MODULE(_smis, m) {
         .def(py::init<>())
         .def("add_material",
              [](Scene& s, const py::dict& d) {
-                 Material mat;
-                 mat.name = get<std::string>(d, "name", "");
-                 bool varies = false;
-                 if (d.contains("closures"))
-                     for (auto c : d["closures"]) {
-                         auto cd = c.cast<py::dict>();
-                         mat.lobes.push_back(parse_lobe(cd));
-                         mat.inputs.push_back(parse_lobe_input(s, cd));
-                         varies = varies || mat.inputs.back().varies();
-                     }
-                 if (!varies) mat.inputs.clear();  // constant lobes: no per-hit work
-                 mat.emission = get_color(d, "emission", Color(0.0f));
-                 MaterialSpectral& sp = mat.spectral;
-                 sp.emission_spectrum = get<std::string>(d, "emission_spectrum", sp.emission_spectrum);
-                 sp.emission_temperature = get<float>(d, "emission_temperature", sp.emission_temperature);
-                 sp.metal = get<std::string>(d, "metal", sp.metal);
-                 sp.dispersion = get<std::string>(d, "dispersion", sp.dispersion);
-                 sp.abbe = get<float>(d, "abbe", sp.abbe);
-                 mat.pass_through = get<bool>(d, "pass_through", false);
-                 if (d.contains("volume") && !d["volume"].is_none())
-                     mat.medium = value_errors([&] { return add_medium(s, d["volume"].cast<py::dict>()); });
-                 if (d.contains("alpha")) {
-                     auto a = d["alpha"].cast<py::dict>();
-                     mat.alpha = get<float>(a, "value", 1.0f);
-                     if (a.contains("texture") && !a["texture"].is_none())
-                         mat.alpha_texture = value_errors([&] { return s.texture(a["texture"].cast<uint32_t>()); });
-                 }
-                 if (d.contains("normal_map")) {
-                     auto nm = d["normal_map"].cast<py::dict>();
-                     mat.normal_map = value_errors([&] { return s.texture(nm["texture"].cast<uint32_t>()); });
-                     mat.normal_strength = get<float>(nm, "strength", 1.0f);
-                 }
+                 Material mat = parse_material(s, d);
                  return value_errors([&] { return s.add_material(std::move(mat)); });
              })
+        .def(
+            "replace_material",
+            [](Scene& s, uint32_t id, const py::dict& d) {
+                Material mat = parse_material(s, d);
+                return value_errors([&] { return s.replace_material(id, std::move(mat)); });
+            },
+            "Viewport scenes: the material `id` edited (add_material's dict); False if the scene must be "
+            "rebuilt instead")
+        .def(
+            "replace_lights",
+            [](Scene& s, const py::list& lights, const py::dict& world) {
+                std::vector<LightDesc> descs;
+                for (auto l : lights) descs.push_back(parse_light(l.cast<py::dict>()));
+                Color radiance = get_color(world, "color", Color(0.0f)) * get<float>(world, "strength", 1.0f);
+                return value_errors([&] { return s.replace_lights(descs, radiance); });
+            },
+            "Viewport scenes: all lamps (add_light's dicts) and the world (set_world's dict, no volume) "
+            "edited; False if the scene must be rebuilt instead")
         .def(
             "add_texture",
             [](Scene& s, py::array_t<float, py::array::c_style | py::array::forcecast> rgba, const std::string& colorspace,
@@ -317,22 +367,7 @@ PYBIND11_MODULE(_smis, m) {
              py::arg("mesh"), py::arg("matrix"), py::arg("color") = std::vector<float>{1.0f, 1.0f, 1.0f})
         .def("add_light",
              [](Scene& s, const py::dict& d) {
-                 LightDesc l;
-                 l.type = get<std::string>(d, "type", "POINT");
-                 l.to_world = get_matrix(d, "matrix");
-                 l.color = get_color(d, "color", Color(1.0f));
-                 l.power = get<float>(d, "power", 0.0f);
-                 l.strength = get<float>(d, "strength", 0.0f);
-                 l.shape = get<std::string>(d, "shape", "SQUARE");
-                 l.size = get<float>(d, "size", 1.0f);
-                 l.size_y = get<float>(d, "size_y", l.size);
-                 l.radius = get<float>(d, "radius", 0.0f);
-                 l.spot_size = get<float>(d, "spot_size", l.spot_size);
-                 l.spot_blend = get<float>(d, "spot_blend", l.spot_blend);
-                 l.angle = get<float>(d, "angle", 0.0f);
-                 l.visible_to_camera = get<bool>(d, "visible_camera", true);
-                 l.spectrum = get<std::string>(d, "spectrum", l.spectrum);
-                 l.temperature = get<float>(d, "temperature", l.temperature);
+                 LightDesc l = parse_light(d);
                  return value_errors([&] { return s.add_light(l); });
              })
         .def("set_world",

@@ -39,6 +39,13 @@ inline float sanitize_alpha(float alpha) { return std::fmax(alpha, kMinAlpha); }
 
 }  // namespace
 
+// The lobe kinds after Dielectric (Principled extras, Transparent) are dispatched out of line
+// (extra_is_delta, extra_terms, extra_sample), so that the switch over the three base kinds compiles
+// as it did before they existed: scenes without them pay nothing per lobe call.
+[[gnu::noinline]] bool extra_is_delta(const Lobe& lobe) {
+    return lobe.kind == LobeKind::Transparent || (lobe.kind == LobeKind::Clearcoat && !(lobe.alpha >= kDeltaAlpha));
+}
+
 namespace {
 
 // Fresnel term of the Microfacet lobe for the angle cos_d between the light direction and the
@@ -139,6 +146,49 @@ LobeTerms dielectric_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
     return r;
 }
 
+// Clearcoat (Cycles 3.4's CLOSURE_BSDF_MICROFACET_GGX_CLEARCOAT_ID, Burley 2012 appendix B.2):
+// f cos_i = F(wi.wm) D_GTR1(wm) G1(wo) G1(wi) / (4 cos_o), G1 GGX-Smith with alpha 0.25. Sampled by
+// D_GTR1(wm) cos(theta_m) (Burley's eq. 2/5), so pdf = D cos_m / (4 wo.wm) after the reflection Jacobian.
+LobeTerms clearcoat_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+    if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return {};
+    Vec3 h = wo + wi;
+    float len2 = length_sq(h);
+    if (!(len2 > kMinHalfLenSq)) return {};
+    Vec3 wm = h / std::sqrt(len2);
+    float cos_om = dot(wo, wm);
+    if (!(cos_om > 0.0f)) return {};
+    float d = gtr1_D(wm.z, lobe.alpha);
+    float g = ggx_G1(wo, kClearcoatShadowAlpha) * ggx_G1(wi, kClearcoatShadowAlpha);
+    LobeTerms t;
+    t.pdf = d * wm.z / (4.0f * cos_om);
+    t.geom = fresnel_dielectric(cos_om, lobe.eta) * d * g / (4.0f * wo.z);
+    t.cos_d = cos_om;
+    return t;
+}
+
+// Principled sheen (Cycles 3.4 bsdf_principled_sheen.h): f cos_i = (1 - wi.h)^5 cos_i, reflection only.
+LobeTerms sheen_terms(const Vec3& wo, const Vec3& wi) {
+    if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return {};
+    Vec3 h = wo + wi;
+    float len2 = length_sq(h);
+    if (!(len2 > kMinHalfLenSq)) return {};
+    LobeTerms t;
+    t.pdf = cosine_hemisphere_pdf(wi.z);
+    t.geom = schlick_weight(dot(wi, h) / std::sqrt(len2)) * wi.z;
+    return t;
+}
+
+LobeTerms principled_diffuse_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+    if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return {};
+    float fv = schlick_weight(wo.z), fl = schlick_weight(wi.z);
+    float rr = std::sqrt(lobe.alpha) * (1.0f + dot(wi, wo));
+    float f = (1.0f - 0.5f * fv) * (1.0f - 0.5f * fl) + rr * (fl + fv + fl * fv * (rr - 1.0f));
+    LobeTerms t;
+    t.pdf = cosine_hemisphere_pdf(wi.z);
+    t.geom = wi.z * kInvPi * f;
+    return t;
+}
+
 // The lobe's eval and pdf from its factored terms: weight * Fresnel * geom (bsdf.h, LobeTerms).
 EvalPdf lobe_eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
     LobeTerms t = lobe_terms(lobe, wo, wi);
@@ -160,27 +210,53 @@ BsdfSample sample_diffuse(const Lobe& lobe, const Vec3& wo, Point2 u) {
     return s;
 }
 
-BsdfSample sample_microfacet(const Lobe& lobe, const Vec3& wo, Point2 u) {
+// Burley 2012 eq. 2: cos^2(theta_m) = (1 - alpha^(2 (1 - u))) / (1 - alpha^2) samples D_GTR1 cos(theta_m).
+Vec3 gtr1_sample_normal(float alpha, Point2 u) {
+    float a2 = alpha * alpha;
+    float cos2 = a2 >= 1.0f - 1e-4f ? 1.0f - u.x : (1.0f - std::exp((1.0f - u.x) * std::log(a2))) / (1.0f - a2);
+    cos2 = clampf(cos2, 0.0f, 1.0f);
+    float sin_t = std::sqrt(1.0f - cos2), phi = 2.0f * kPi * u.y;
+    return Vec3(sin_t * std::cos(phi), sin_t * std::sin(phi), std::sqrt(cos2));
+}
+
+// The perfect mirror of a delta reflection lobe, carrying `value` (weight x Fresnel).
+[[gnu::always_inline]] inline BsdfSample mirror_sample(const Vec3& wo, const Color& value) {
     BsdfSample s;
-    if (!(wo.z > 0.0f)) return s;
-    if (lobe_is_delta(lobe)) {
-        s.wi = Vec3(-wo.x, -wo.y, wo.z);
-        s.value = lobe.weight * microfacet_fresnel(lobe, wo.z);
-        s.pdf = 1.0f;
-        s.delta = true;
-        return s;
-    }
-    Vec3 wm = ggx_sample_visible_normal(wo, lobe.alpha, u);
+    s.wi = Vec3(-wo.x, -wo.y, wo.z);
+    s.value = value;
+    s.pdf = 1.0f;
+    s.delta = true;
+    return s;
+}
+
+// wo reflected about the sampled microfacet normal wm, evaluated through the same code path as
+// eval()/pdf() so that the three always agree.
+[[gnu::always_inline]] inline BsdfSample reflect_about(const Lobe& lobe, const Vec3& wo, const Vec3& wm) {
+    BsdfSample s;
     Vec3 wi = reflect(wo, wm);
     if (!(wi.z > 0.0f)) return s;  // reflected below the horizon: the single-scatter energy loss
     wi = normalize(wi);
-    // Evaluate through the same code path as eval()/pdf() so that the three always agree.
     EvalPdf r = lobe_eval_pdf(lobe, wo, wi);
     if (!(r.pdf > 0.0f)) return s;
     s.wi = wi;
     s.value = r.value;
     s.pdf = r.pdf;
     return s;
+}
+
+BsdfSample sample_clearcoat(const Lobe& lobe, const Vec3& wo, Point2 u) {
+    if (!(wo.z > 0.0f)) return {};
+    // As Cycles' specular case: the Fresnel-weighted mirror, no shadowing.
+    if (lobe_is_delta(lobe)) return mirror_sample(wo, lobe.weight * fresnel_dielectric(wo.z, lobe.eta));
+    Vec3 wm = gtr1_sample_normal(lobe.alpha, u);
+    if (!(dot(wo, wm) > 0.0f)) return {};  // back-facing normal: the reflection would leave the hemisphere
+    return reflect_about(lobe, wo, wm);
+}
+
+BsdfSample sample_microfacet(const Lobe& lobe, const Vec3& wo, Point2 u) {
+    if (!(wo.z > 0.0f)) return {};
+    if (lobe_is_delta(lobe)) return mirror_sample(wo, lobe.weight * microfacet_fresnel(lobe, wo.z));
+    return reflect_about(lobe, wo, ggx_sample_visible_normal(wo, lobe.alpha, u));
 }
 
 BsdfSample sample_dielectric(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event) {
@@ -238,6 +314,33 @@ BsdfSample sample_dielectric(const Lobe& lobe, const Vec3& wo, Point2 u, float u
     return s;
 }
 
+[[gnu::noinline]] LobeTerms extra_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+    switch (lobe.kind) {
+        case LobeKind::Clearcoat: return clearcoat_terms(lobe, wo, wi);
+        case LobeKind::Sheen: return sheen_terms(wo, wi);
+        case LobeKind::PrincipledDiffuse: return principled_diffuse_terms(lobe, wo, wi);
+        default: return {};  // Transparent: a Dirac (lobe_terms returns before)
+    }
+}
+
+[[gnu::noinline]] BsdfSample extra_sample(const Lobe& lobe, const Vec3& wo, Point2 u) {
+    BsdfSample s;
+    switch (lobe.kind) {
+        case LobeKind::Clearcoat: return sample_clearcoat(lobe, wo, u);
+        case LobeKind::Transparent:  // no refraction: same medium, no radiance scaling (eta 1)
+            s.wi = -wo;
+            s.value = lobe.weight;
+            s.pdf = 1.0f;
+            s.delta = true;
+            s.transmission = true;
+            return s;
+        default:  // Sheen, PrincipledDiffuse: cosine sampling, evaluated through lobe_eval_pdf
+            s = sample_diffuse(lobe, wo, u);
+            if (s.pdf > 0.0f) s.value = lobe_eval_pdf(lobe, wo, s.wi).value;
+            return s;
+    }
+}
+
 // Local-frame vs geometric-normal hemisphere agreement (light-leak guard). Shading normals can make a
 // direction look like reflection in the shading frame while it actually crosses the geometry (or the
 // reverse); those configurations would leak light through surfaces, so they contribute nothing.
@@ -277,6 +380,14 @@ float ggx_G1(const Vec3& w, float alpha) {
     float tan2 = sin2 / cos2;  // may be +inf at grazing angles: G1 -> 0, which is the limit
     float g = 2.0f / (1.0f + std::sqrt(1.0f + a2 * tan2));
     return std::isfinite(g) ? g : 0.0f;
+}
+
+float gtr1_D(float cos_m, float alpha) {
+    if (!(cos_m > 0.0f)) return 0.0f;
+    float a2 = sqr(sanitize_alpha(alpha));
+    if (a2 >= 1.0f - 1e-4f) return kInvPi;  // (a2 - 1) / log(a2) -> 1
+    float d = (a2 - 1.0f) / (kPi * std::log(a2) * (1.0f + (a2 - 1.0f) * cos_m * cos_m));
+    return std::isfinite(d) ? d : 0.0f;
 }
 
 // Heitz 2018, listing 1. wo is mirrored into the upper hemisphere (D is symmetric); the returned
@@ -342,6 +453,7 @@ LobeTerms lobe_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
             break;
         case LobeKind::Microfacet: t = microfacet_terms(lobe, wo, wi); break;
         case LobeKind::Dielectric: t = dielectric_terms(lobe, wo, wi); break;
+        default: t = extra_terms(lobe, wo, wi); break;
     }
     if (!std::isfinite(t.geom) || !std::isfinite(t.pdf) || !(t.pdf >= 0.0f)) return {};
     return t;
@@ -355,6 +467,7 @@ BsdfSample lobe_sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event
         case LobeKind::Diffuse: s = sample_diffuse(lobe, wo, u); break;
         case LobeKind::Microfacet: s = sample_microfacet(lobe, wo, u); break;
         case LobeKind::Dielectric: s = sample_dielectric(lobe, wo, u, u_event); break;
+        default: s = extra_sample(lobe, wo, u); break;
     }
     if (!s.valid()) return BsdfSample{};
     return s;
@@ -433,7 +546,8 @@ Bsdf::FixedWo Bsdf::fix_wo(const Vec3& wo) const {
 }
 
 // The same densities as lobe_pdf(), without evaluating the BSDF values: path-space filtering sums
-// k^2 of them per pixel (eq. 17). Dielectric lobes take the general route.
+// k^2 of them per pixel (eq. 17). Dielectric lobes and the Principled extras (clearcoat, sheen) take
+// the general route; one comparison covers them all (LobeKind order), so the common lobes pay nothing.
 float Bsdf::pdf(const FixedWo& fixed, const Vec3& wi) const {
     if (count_ == 0) return 0.0f;
     Vec3 wi_l = frame_.to_local(wi);
@@ -443,7 +557,7 @@ float Bsdf::pdf(const FixedWo& fixed, const Vec3& wi) const {
     for (int i = 0; i < count_; ++i) {
         const Lobe& lobe = lobes_[i];
         float p = 0.0f;
-        if (lobe.kind == LobeKind::Dielectric) {
+        if (lobe.kind >= LobeKind::Dielectric) {
             p = lobe_pdf(lobe, wo_l, wi_l);
         } else if (fixed.pdf_scale[i] > 0.0f && wi_l.z > 0.0f) {
             if (lobe.kind == LobeKind::Diffuse) {

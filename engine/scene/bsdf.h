@@ -20,6 +20,16 @@ enum class LobeKind : uint8_t {
     Diffuse,      // Lambert: color / pi
     Microfacet,   // GGX reflection (Glossy BSDF, metals, Principled specular); fresnel selects the tint
     Dielectric,   // glass: Fresnel-weighted reflection + refraction, smooth (alpha = 0) or GGX-rough
+    // Principled v1 extras (Cycles 3.4). Kept after the three base kinds so that code treating
+    // "everything but Diffuse/Microfacet" generically tests one ordering (kind >= Dielectric).
+    Clearcoat,    // Disney/Cycles clearcoat: GTR1 normals (alpha = roughness^2), Smith G with fixed alpha
+                  // 0.25, exact dielectric Fresnel at `eta` (1.5); the Fresnel is inside LobeTerms::geom
+    Sheen,        // Disney/Cycles principled sheen: f cos = (1 - wi.h)^5 cos_i (no 1/pi), cosine sampled
+    Transparent,  // Transparent BSDF's coloured part: a Dirac straight through (wi = -wo), value = weight
+    // Cycles 3.4's principled diffuse (Burley 2012 with retro-reflection), cosine sampled:
+    // f cos = cos_i / pi [(1 - FV/2)(1 - FL/2) + RR (FL + FV + FL FV (RR - 1))], F = (1 - cos)^5,
+    // RR = roughness (1 + wi.wo) with roughness = sqrt(alpha) (the Principled Roughness input).
+    PrincipledDiffuse,
 };
 
 enum class FresnelMode : uint8_t {
@@ -76,6 +86,8 @@ LobeTerms lobe_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
 // lobe collapses onto -wo whatever the roughness and the Walter Jacobian becomes singular
 // (the generalised half vector wo + eta wi vanishes), so it is treated as the smooth (delta) case.
 constexpr float kIndexMatchedEps = 1e-3f;
+// The kinds after Dielectric (bsdf.cpp, out of line so the base kinds' dispatch stays small).
+bool extra_is_delta(const Lobe& lobe);
 // Inline: the path tracer asks at every vertex (through Bsdf::is_delta and the pdf routines).
 inline bool lobe_is_delta(const Lobe& lobe) {
     switch (lobe.kind) {
@@ -83,12 +95,18 @@ inline bool lobe_is_delta(const Lobe& lobe) {
         case LobeKind::Microfacet: return !(lobe.alpha >= kDeltaAlpha);
         case LobeKind::Dielectric:
             return !(lobe.alpha >= kDeltaAlpha) || !(std::fabs(lobe.eta - 1.0f) >= kIndexMatchedEps);
+        default: return extra_is_delta(lobe);
     }
-    return false;
 }
 
 // Rough scalar estimate of the lobe's albedo, only used to choose which lobe to sample.
 float lobe_sample_weight(const Lobe& lobe, const Vec3& wo);
+
+// Burley 2012's GTR1 (gamma = 1) normal distribution of the clearcoat, normalised so that
+// integral D(m) cos(theta_m) dm = 1; alpha >= 1 is the uniform-in-cosine limit 1/pi.
+float gtr1_D(float cos_m, float alpha);
+// The clearcoat's masking-shadowing roughness, fixed by Cycles 3.4 whatever the coat roughness.
+constexpr float kClearcoatShadowAlpha = 0.25f;
 
 // GGX helpers, exposed for tests and for the path-space filtering integrator.
 float ggx_D(const Vec3& wm, float alpha);

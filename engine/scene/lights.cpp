@@ -284,7 +284,17 @@ LightSample TriangleLight::sample(const Vec3& ref, Point2 u) const {
     s.wi = d / s.dist;
     s.pdf = area_to_solid_angle(1.0f / area_, dist_sq, absdot(s.wi, n_));
     if (s.pdf > 0.0f) s.L = radiance_;
+    if (texture_) {
+        float w = 1.0f - b.x - b.y;
+        Point2 uv{uv_[0].x * w + uv_[1].x * b.x + uv_[2].x * b.y, uv_[0].y * w + uv_[1].y * b.x + uv_[2].y * b.y};
+        s.L *= texture_->lookup(uv).rgb;
+    }
     return s;
+}
+
+void TriangleLight::set_texture(const Texture* texture, const Point2* uv) {
+    texture_ = texture;
+    for (int k = 0; k < 3; ++k) uv_[k] = uv ? uv[k] : Point2{0.0f, 0.0f};
 }
 
 float TriangleLight::pdf_at(const Vec3& ref, const Vec3& p) const {
@@ -311,7 +321,10 @@ float TriangleLight::pdf(const Vec3& ref, const Vec3& wi) const {
     return pdf_at(ref, ref + wi * t);
 }
 
-float TriangleLight::power(float) const { return luminance(radiance_) * area_ * kPi * 2.0f; }
+float TriangleLight::power(float) const {
+    Color L = texture_ ? radiance_ * texture_->mean() : radiance_;
+    return luminance(L) * area_ * kPi * 2.0f;
+}
 
 WorldLight::WorldLight(const Color& radiance) : radiance_(radiance) {}
 

@@ -9,6 +9,7 @@
 #include "core/math.h"
 #include "core/sampling.h"
 #include "scene/camera.h"
+#include "scene/texture.h"
 
 namespace smis {
 
@@ -83,6 +84,9 @@ std::unique_ptr<Light> make_light(const LightDesc& desc);
 class TriangleLight : public Light {
 public:
     TriangleLight(const Vec3& a, const Vec3& b, const Vec3& c, const Color& radiance);
+    // Textured emission: the radiance at a point is radiance x the texture at the point's UV,
+    // interpolated from the corners' (uv[3]); selection power uses the texture's mean colour.
+    void set_texture(const Texture* texture, const Point2* uv);
     LightSample sample(const Vec3& ref, Point2 u) const override;
     float pdf(const Vec3& ref, const Vec3& wi) const override;
     // Density of hitting point p (normal n) from ref, already known from a BVH hit.
@@ -96,6 +100,8 @@ private:
     Vec3 a_, e1_, e2_, n_;
     float area_;
     Color radiance_;
+    const Texture* texture_ = nullptr;  // owned by the scene's material
+    Point2 uv_[3];
 };
 
 // Uniform world background (Blender World "Background" colour x strength): radiance at infinity.

@@ -46,6 +46,9 @@ struct Material {
     std::string name;
     std::vector<Lobe> lobes;
     Color emission{0.0f};  // radiance, emitted from both sides like Cycles' mesh emission
+    // Emission Color fed by an Image Texture: the radiance at a point is emission x its RGB.
+    std::shared_ptr<const Texture> emission_texture;
+    Color emission_at(Point2 uv) const { return emission_texture ? emission * emission_texture->lookup(uv).rgb : emission; }
     MaterialSpectral spectral;
     // Volume: the medium inside the closed mesh (Scene::medium id), -1 for none. A material with
     // no surface shader (only a Volume output) is an index-matched boundary rays pass straight
@@ -65,7 +68,7 @@ struct Material {
     float alpha_at(Point2 uv) const { return alpha_texture ? alpha * alpha_texture->lookup(uv).alpha : alpha; }
     bool emissive() const { return max_component(emission) > 0.0f; }
     bool needs_uv() const {
-        if (normal_map || alpha_texture) return true;
+        if (normal_map || alpha_texture || emission_texture) return true;
         for (const LobeInput& in : inputs)
             if (in.texture) return true;
         return false;

@@ -1,5 +1,6 @@
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 
@@ -92,9 +93,9 @@ Scene::~Scene() {
     if (device_) rtcReleaseDevice(device_);
 }
 
-uint32_t Scene::add_material(Material material) {
-    if (committed_) throw std::logic_error("scene already committed");
-    // Non-finite parameters would poison every pixel that sees the material: clamp them to safe values.
+// Non-finite parameters would poison every pixel that sees the material: clamp them to safe values.
+// Throws std::invalid_argument for inconsistent inputs or unknown spectral names.
+void Scene::sanitize(Material& material) {
     for (Lobe& l : material.lobes) {
         if (!is_finite(l.weight)) l.weight = Color(0.0f);
         l.weight = vmax(l.weight, Color(0.0f));
@@ -109,12 +110,35 @@ uint32_t Scene::add_material(Material material) {
         throw std::invalid_argument("material inputs must be empty or one per lobe");
     if (!std::isfinite(material.normal_strength)) material.normal_strength = 0.0f;
     material.alpha = std::isfinite(material.alpha) ? clampf(material.alpha, 0.0f, 1.0f) : 1.0f;
-    varying_materials_ = varying_materials_ || !material.inputs.empty();
     if (!is_finite(material.emission)) material.emission = Color(0.0f);
     material.emission = vmax(material.emission, Color(0.0f));
     material.prepare();
+}
+
+uint32_t Scene::add_material(Material material) {
+    if (committed_) throw std::logic_error("scene already committed");
+    sanitize(material);
+    varying_materials_ = varying_materials_ || !material.inputs.empty();
     materials_.push_back(std::move(material));
     return static_cast<uint32_t>(materials_.size() - 1);
+}
+
+bool Scene::replace_material(uint32_t id, Material material) {
+    if (!committed_ || !fast_build_ || id >= materials_.size()) return false;
+    sanitize(material);
+    const Material& old = materials_[id];
+    // What commit() baked into the geometry and the light tables must not change: cut-out filters
+    // are registered per mesh, emissive triangles and media are found at commit.
+    auto has_volume = [](const Material& m) { return m.medium >= 0 || m.pass_through; };
+    if (old.cutout() != material.cutout() || old.emissive() != material.emissive() || has_volume(old) ||
+        has_volume(material))
+        return false;
+    bool emissive = material.emissive();
+    materials_[id] = std::move(material);
+    varying_materials_ = varying_materials_ || !materials_[id].inputs.empty();
+    if (emissive) rebuild_lights();  // the triangle lights carry the emission
+    else update_spectral_content();
+    return true;
 }
 
 uint32_t Scene::add_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
@@ -228,7 +252,8 @@ bool Scene::replace_mesh(uint32_t id, const float* vertices, size_t nv, const in
 uint32_t Scene::mesh_dropped(uint32_t mesh) const { return mesh < meshes_.size() ? meshes_[mesh].dropped : 0; }
 
 uint32_t Scene::add_texture(std::shared_ptr<const Texture> texture) {
-    if (committed_) throw std::logic_error("scene already committed");
+    // Viewport scenes take new textures after commit, for materials replaced in place.
+    if (committed_ && !fast_build_) throw std::logic_error("scene already committed");
     if (!texture) throw std::invalid_argument("null texture");
     textures_.push_back(std::move(texture));
     return static_cast<uint32_t>(textures_.size() - 1);
@@ -254,7 +279,64 @@ uint32_t Scene::add_light(const LightDesc& desc) {
     check_emitter(desc.spectrum, desc.temperature, "light");
     lights_.push_back(make_light(desc));
     emitter_sources_.push_back({desc.spectrum, desc.temperature, desc.color});
+    light_descs_.push_back(desc);
     return static_cast<uint32_t>(lights_.size() - 1);
+}
+
+bool Scene::replace_lights(const std::vector<LightDesc>& descs, const Color& world) {
+    if (!committed_ || !fast_build_ || world_medium_ >= 0) return false;
+    for (const LightDesc& d : descs) {  // every light checked before anything changes
+        check_emitter(d.spectrum, d.temperature, "light");
+        make_light(d);
+    }
+    light_descs_ = descs;
+    set_world(world);
+    rebuild_lights();
+    return true;
+}
+
+// The light table in commit()'s order: the lamps, each instance's emissive triangles (whose
+// indices SurfaceHit::light refers to), the world; then selection by power.
+void Scene::rebuild_lights() {
+    lights_.clear();
+    emitter_sources_.clear();
+    for (const LightDesc& d : light_descs_) {
+        lights_.push_back(make_light(d));
+        emitter_sources_.push_back({d.spectrum, d.temperature, d.color});
+    }
+    stats_.emissive_triangles = 0;
+    for (Instance& inst : instances_)
+        if (!emissive_local_[inst.mesh].empty()) add_triangle_lights(inst);
+    finish_lights();
+}
+
+void Scene::update_spectral_content() {
+    spectral_content_ = false;
+    for (const EmitterSource& e : emitter_sources_) spectral_content_ |= e.spectrum != "RGB";
+    for (const Material& m : materials_) spectral_content_ |= m.spectral.has_spectral_content();
+}
+
+void Scene::finish_lights() {
+    if (max_component(world_) > 0.0f) {
+        lights_.push_back(std::make_unique<WorldLight>(world_));
+        emitter_sources_.push_back({"RGB", 6500.0f, world_});
+    }
+    update_spectral_content();
+    std::vector<float> power;
+    infinite_lights_.clear();
+    hittable_lights_.clear();
+    for (uint32_t i = 0; i < lights_.size(); ++i) {
+        const Light& l = *lights_[i];
+        power.push_back(l.power(radius_));
+        if (l.at_infinity()) infinite_lights_.push_back(i);
+        else if (!l.is_delta() && !dynamic_cast<const TriangleLight*>(&l)) hittable_lights_.push_back(i);
+    }
+    light_selection_ = DiscreteDistribution(power);
+    stats_.lights = lights_.size();
+    // sample_direct() returns at once on an empty light table: no shadow rays at all.
+    const char* no_lights = "NEE (no lights)";
+    skipped_.erase(std::remove(skipped_.begin(), skipped_.end(), no_lights), skipped_.end());
+    if (lights_.empty()) skipped_.push_back(no_lights);
 }
 
 void Scene::set_world(const Color& radiance) {
@@ -360,7 +442,12 @@ void Scene::add_triangle_lights(Instance& inst) {
             v[k] = inst.identity ? p : inst.to_world.point(p);
         }
         const Material& mat = materials_[mesh.materials[t]];
-        lights_.push_back(std::make_unique<TriangleLight>(v[0], v[1], v[2], mat.emission));
+        // A cut-out emitter is there with probability alpha for the rays that hit it; a light sample
+        // on it must see it with the same probability (the constant part of alpha; an alpha
+        // texture is not looked up here).
+        auto light = std::make_unique<TriangleLight>(v[0], v[1], v[2], mat.emission * mat.alpha);
+        if (mat.emission_texture) light->set_texture(mat.emission_texture.get(), mesh.uvs.empty() ? nullptr : &mesh.uvs[3 * t]);
+        lights_.push_back(std::move(light));
         emitter_sources_.push_back({mat.spectral.emission_spectrum, mat.spectral.emission_temperature, mat.emission});
         stats_.emissive_triangles++;
     }
@@ -436,26 +523,10 @@ void Scene::commit() {
     has_media_ = has_media_ || world_medium_ >= 0;
     if (has_media_) camera_medium_ = medium_at(camera_.generate_ray(0.5f * camera_.width(), 0.5f * camera_.height()).o);
 
-    if (max_component(world_) > 0.0f) {
-        lights_.push_back(std::make_unique<WorldLight>(world_));
-        emitter_sources_.push_back({"RGB", 6500.0f, world_});
-    }
-    for (const EmitterSource& e : emitter_sources_) spectral_content_ |= e.spectrum != "RGB";
-    for (const Material& m : materials_) spectral_content_ |= m.spectral.has_spectral_content();
-    std::vector<float> power;
-    for (uint32_t i = 0; i < lights_.size(); ++i) {
-        const Light& l = *lights_[i];
-        power.push_back(l.power(radius_));
-        if (l.at_infinity()) infinite_lights_.push_back(i);
-        else if (!l.is_delta() && !dynamic_cast<const TriangleLight*>(&l)) hittable_lights_.push_back(i);
-    }
-    light_selection_ = DiscreteDistribution(power);
+    finish_lights();
     stats_.meshes = meshes_.size();
     stats_.instances = instances_.size();
-    stats_.lights = lights_.size();
     stats_.materials = materials_.size();
-    // sample_direct() returns at once on an empty light table: no shadow rays at all.
-    if (lights_.empty()) skipped_.push_back("NEE (no lights)");
     committed_ = true;
 }
 

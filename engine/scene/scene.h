@@ -83,6 +83,13 @@ public:
     bool replace_mesh(uint32_t mesh, const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
                       const float* corner_normals, const int32_t* material_index,
                       const std::vector<uint32_t>& slot_materials, const float* corner_uvs = nullptr);
+    // A material edit: false (nothing changed) when what commit() derived from the material would
+    // change (cut-out or not, emissive or not, volumes); emission edits rebuild the light table.
+    bool replace_material(uint32_t id, Material material);
+    // A lamp or world edit: the lamps (as add_light takes them) and the world radiance replace the
+    // old ones; the emissive triangles stay. Throws std::invalid_argument, changing nothing, for an
+    // unusable light. The world's volume is not part of it (a new scene).
+    bool replace_lights(const std::vector<LightDesc>& lights, const Color& world);
 
     // --- queries (thread-safe after commit) --------------------------------------------------------
     bool intersect(const Ray& ray, SurfaceHit* hit) const;
@@ -158,6 +165,10 @@ private:
     bool emissive(const Mesh& mesh) const;
     RTCBuildQuality build_quality() const { return fast_build_ ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_HIGH; }
     void add_triangle_lights(Instance& inst);
+    static void sanitize(Material& material);
+    void rebuild_lights();
+    void finish_lights();  // world light, selection table, spectral flag: the end of commit()
+    void update_spectral_content();
     void fill_hit(const Ray& ray, const struct RTCRayHit& rh, SurfaceHit* hit) const;
 
     std::string embree_error_;
@@ -170,6 +181,7 @@ private:
     std::vector<uint32_t> geom_to_instance_;       // top-level geometry id -> instance
     std::vector<std::vector<int32_t>> emissive_local_;  // per mesh: triangle -> local emitter index
     std::vector<std::unique_ptr<Light>> lights_;
+    std::vector<LightDesc> light_descs_;  // the lamps as added, for replace_lights / rebuild_lights
     std::vector<EmitterSource> emitter_sources_;
     bool spectral_content_ = false;
     std::vector<uint32_t> hittable_lights_, infinite_lights_;

@@ -20,6 +20,11 @@ Texture::Texture(const float* rgba, int width, int height, const std::string& co
         if (!std::isfinite(v)) v = 0.0f;  // a NaN texel would reach the film through every path
         if (srgb && i % 4 != 3) v = srgb_to_linear(std::max(v, 0.0f));
     }
+    double sum[3] = {0.0, 0.0, 0.0};
+    for (size_t i = 0; i < rgba_.size(); i += 4)
+        for (int c = 0; c < 3; ++c) sum[c] += std::max(rgba_[i + c], 0.0f);
+    double n = double(width) * height;
+    mean_ = vmax(Color(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)), Color(1e-6f));
 }
 
 const float* Texture::texel(int x, int y) const {

@@ -22,6 +22,9 @@ public:
     Texture(const float* rgba, int width, int height, const std::string& colorspace, bool closest, Wrap wrap);
     TextureSample lookup(Point2 uv) const;
     int width() const { return width_; }
+    // Mean RGB over the texels (for light selection by power); at least a tiny positive value so
+    // that a dark texture's emitters can still be chosen.
+    Color mean() const { return mean_; }
     int height() const { return height_; }
 
 private:
@@ -30,6 +33,7 @@ private:
     bool closest_;
     Wrap wrap_;
     std::vector<float> rgba_;
+    Color mean_{0.0f};
 };
 
 // The sRGB transfer function's inverse (IEC 61966-2-1), what Blender's "sRGB" colour space applies.

@@ -132,7 +132,7 @@ void fuzz_one(Fuzz& f, Totals& totals, uint64_t seed, uint64_t iteration) {
         int nl = f.range(0, Bsdf::kMaxLobes + 2);  // more lobes than a Bsdf holds, sometimes
         for (int k = 0; k < nl; ++k) {
             Lobe l;
-            l.kind = LobeKind(f.range(0, 2));
+            l.kind = LobeKind(f.range(0, 6));
             l.fresnel = FresnelMode(f.range(0, 2));
             l.weight = f.chance(0.1f) ? Color(f.value(-2.0f, 2.0f, 1.0f)) : f.color(1.2f);
             l.f0 = f.color(1.0f);

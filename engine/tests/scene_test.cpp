@@ -6,6 +6,7 @@
 
 #include "core/rng.h"
 #include "scene/scene.h"
+#include "test_scenes.h"
 
 using namespace smis;
 
@@ -192,4 +193,59 @@ TEST(Scene, InPlaceViewportUpdatesEqualAFreshScene) {
         EXPECT_NEAR(length(h1.ng - h2.ng), 0.0f, 1e-4f);
     }
     EXPECT_GT(hits, 100);
+}
+
+TEST(Scene, InPlaceMaterialAndLightEditsEqualAFreshScene) {
+    // Viewport material, lamp and world edits replace what changed in the committed scene; its
+    // materials and light table must then be those of a scene built from scratch in the final state.
+    using smis::testing::diffuse;
+    auto lamp = [](float power, float x) {
+        LightDesc d;
+        d.type = "POINT";
+        d.power = power;
+        d.to_world = translation(x, 0, -1);
+        return d;
+    };
+    uint32_t m0 = 0, m1 = 0;  // the scene has its own default material first
+    auto build = [&](Color albedo, Color emission, const std::vector<LightDesc>& lamps, Color world, bool fast) {
+        auto s = std::make_unique<Scene>();
+        s->set_fast_build(fast);
+        m0 = s->add_material(diffuse(albedo));
+        m1 = s->add_material(diffuse(Color(0.5f), emission));
+        uint32_t quad = s->add_mesh(kQuad, 4, kQuadTris, 2, nullptr, nullptr, {m0});
+        uint32_t glow = s->add_mesh(kQuad, 4, kQuadTris, 2, nullptr, nullptr, {m1});
+        s->add_instance(quad, translation(0, 0, -3));
+        s->add_instance(glow, translation(3, 0, -4));
+        for (const LightDesc& d : lamps) s->add_light(d);
+        s->set_world(world);
+        s->set_camera(looking_down_minus_z(8, 8));
+        s->commit();
+        return s;
+    };
+    auto updated = build(Color(0.8f), Color(2.0f), {lamp(100, 0)}, Color(0.1f), true);
+    EXPECT_FALSE(build(Color(0.8f), Color(2.0f), {}, Color(0.0f), false)->replace_material(m0, diffuse(Color(0.1f), Color(0.0f))))
+        << "only viewport (fast-build) scenes are edited in place";
+    ASSERT_TRUE(updated->replace_material(m0, diffuse(Color(0.2f, 0.4f, 0.6f), Color(0.0f))));
+    ASSERT_TRUE(updated->replace_material(m1, diffuse(Color(0.5f), Color(5.0f, 1.0f, 0.5f))));
+    EXPECT_FALSE(updated->replace_material(m0, diffuse(Color(0.1f), Color(1.0f))))  // would become emissive
+        << "emissive triangles are found at commit";
+    std::vector<LightDesc> lamps = {lamp(50, 1), lamp(300, -1)};
+    ASSERT_TRUE(updated->replace_lights(lamps, Color(0.0f)));
+    LightDesc bad = lamp(-1, 0);
+    EXPECT_THROW(updated->replace_lights({bad}, Color(0.0f)), std::invalid_argument);
+    auto fresh = build(Color(0.2f, 0.4f, 0.6f), Color(5.0f, 1.0f, 0.5f), lamps, Color(0.0f), false);
+
+    EXPECT_EQ(updated->material(m0).lobes[0].weight.z, 0.6f);
+    EXPECT_EQ(updated->material(m1).emission.x, 5.0f);
+    ASSERT_EQ(updated->lights().size(), fresh->lights().size());  // 2 lamps + 2 emissive triangles, no world
+    for (uint32_t i = 0; i < fresh->lights().size(); ++i) {
+        EXPECT_NEAR(updated->light_pmf(i), fresh->light_pmf(i), 1e-6f) << i;
+        EXPECT_NEAR(updated->light(i).power(1.0f), fresh->light(i).power(1.0f), 1e-3f) << i;
+    }
+    EXPECT_TRUE(updated->infinite_lights().empty());
+    // A hit on the emitter names a triangle light carrying the new emission.
+    SurfaceHit h;
+    ASSERT_TRUE(updated->intersect(Ray{Vec3(3, 0, 0), Vec3(0, 0, -1), 0, kInf}, &h));
+    ASSERT_GE(h.light, 0);
+    EXPECT_EQ(static_cast<const TriangleLight&>(updated->light(h.light)).radiance().x, 5.0f);
 }

@@ -54,20 +54,29 @@ def problem(d):
     return None
 
 
-def export_light(scene, obj, matrix, reporter):
-    """Add one light instance; returns True if added, False if skipped (with a warning)."""
+def usable_light_dict(obj, matrix, reporter):
+    """The engine dict of one light instance, or None (with a warning) if it must be skipped."""
     light = obj.data
     if light.type not in {'POINT', 'SPOT', 'SUN', 'AREA'}:
         reporter.warning("Light '%s': type %s is not supported, skipped" % (obj.name, light.type))
-        return False
+        return None
     # Object > Visibility > Camera: whether the lamp itself shows in camera rays.
     d = light_dict(light, matrix, getattr(obj, "visible_camera", True))
     why = problem(d)
-    if why is None:
-        try:
-            scene.add_light(d)
-            return True
-        except ValueError as exc:
-            why = str(exc)
-    reporter.warning("Light '%s' skipped: %s" % (obj.name, why))
+    if why is not None:
+        reporter.warning("Light '%s' skipped: %s" % (obj.name, why))
+        return None
+    return d
+
+
+def export_light(scene, obj, matrix, reporter):
+    """Add one light instance; returns True if added, False if skipped (with a warning)."""
+    d = usable_light_dict(obj, matrix, reporter)
+    if d is None:
+        return False
+    try:
+        scene.add_light(d)
+        return True
+    except ValueError as exc:
+        reporter.warning("Light '%s' skipped: %s" % (obj.name, exc))
     return False

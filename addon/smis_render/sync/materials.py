@@ -10,6 +10,8 @@ ignored with one warning per node, unsupported shader nodes become a neutral
 diffuse.
 """
 
+import bpy
+
 from . import nodes, textures as tex
 from ..spectral_properties import material_spectral
 from .volumes import translate_volume
@@ -61,6 +63,9 @@ class _Translation:
         self.uv_map = None        # UV map the textures read ('' = active render), None = no UVs
         self.normal_map = None
         self.alpha = None         # {"value": a, "texture": id?} for cut-outs
+        self.transparent = BLACK  # summed Transparent BSDF weight (straight-through colour)
+        self.emission_texture = None   # engine texture id multiplying the emission
+        self._constant_emission = False  # emission added without a texture (see _emit)
         self._checked_nodes = set()
         self._translated_links = set()  # (node name, input name) handled by textures.py
 
@@ -204,13 +209,44 @@ class _Translation:
                            ior=self._value(node, "IOR")))
 
     def emission(self, node, w):
-        strength = self._value(node, "Strength")
-        self._add_emission(_scale(_scale(w, self._value(node, "Color")), strength))
+        self._emit(node, w, "Color", self._value(node, "Strength"))
+
+    def _emit(self, node, w, color_name, strength):
+        """Emission of colour input `color_name` times strength; an Image Texture on the colour
+        becomes the material's emission texture (one per material), looked up at every hit and at
+        every light sample on the emissive triangles."""
+        ci = self._color(node, color_name)
+        if ci.object_color:
+            self._warn_node(node, "has Object Info Color on %s, not supported for emission; "
+                                  "using white" % color_name)
+        textured = ci.texture is not None
+        e = _scale(w, strength) if ci.constant is None else _scale(_scale(w, ci.constant), strength)
+        if _is_zero(e):
+            return
+        if textured and self.emission_texture is None:
+            self.emission_texture = ci.texture
+        elif textured and self.emission_texture != ci.texture:
+            self._warn_node(node, "has a second, different emission texture; using the first")
+        self._constant_emission = self._constant_emission or not textured
+        if self.emission_texture is not None and self._constant_emission:
+            self._warn_node(node, "mixes textured and constant emission; the texture applies to both")
+        self._add_emission(e)
+
+    def transparent(self, node, w):
+        # Cycles' Transparent BSDF: light passes straight through, tinted by Color. The material
+        # turns the grey part of the summed tint into a stochastic cut-out (free, as with Alpha) and
+        # the coloured rest into a straight-through Dirac lobe (see translate()).
+        color = self._color(node, "Color")
+        if color.constant is None:
+            self._warn_node(node, "has a linked Color, not supported on Transparent BSDF; using white")
+            color = tex.ColorInput(constant=(1.0, 1.0, 1.0))
+        self.transparent = tuple(a + b for a, b in zip(self.transparent, _scale(w, color.constant)))
 
     def principled(self, node, w):
         # Approximation of Blender 3.4's Principled BSDF by four lobes and emission.
         # With m = metallic and t = transmission * (1 - m):
-        #   diffuse                  weight base * (1-m) * (1-t)
+        #   diffuse                  weight base * (1-m) * (1-t), Cycles' principled diffuse
+        #                            (Burley's retro-reflection driven by Roughness)
         #   dielectric specular      microfacet, dielectric Fresnel, weight (1-m) * (1-t)
         #   metal                    microfacet, Schlick Fresnel with f0 = base, weight m
         #   glass (transmission)     dielectric, weight base * t, roughness and IOR inputs
@@ -218,8 +254,9 @@ class _Translation:
         # The specular lobe's IOR comes from the Specular input, as Cycles 3.4 does
         # (f0 = 0.08 * specular, ior = 2 / (1 - sqrt(f0)) - 1; Specular 0.5 gives 1.5);
         # the IOR input is used by the glass lobe only, as in Cycles 3.4.
+        #   sheen, clearcoat         Cycles' principled sheen and clearcoat lobes (_sheen, _clearcoat)
         # Ignored (with one warning if not at their neutral values): subsurface, specular
-        # tint, anisotropy, sheen, clearcoat, alpha, transmission roughness, multiscatter.
+        # tint, anisotropy, transmission roughness, multiscatter.
         v = lambda name: self._value(node, name)  # noqa: E731
         base_in = self._color(node, "Base Color")
         m = _clamp01(v("Metallic"))
@@ -230,7 +267,7 @@ class _Translation:
         self._alpha(node)
 
         dielectric_w = (1.0 - m) * (1.0 - t)
-        self._add(_colored("diffuse", _scale(w, dielectric_w), base_in))
+        self._add(_colored("principled_diffuse", _scale(w, dielectric_w), base_in, roughness=rough))
         f0 = min(0.08 * specular, 0.99)
         if f0 > 0.0:
             spec_ior = 2.0 / (1.0 - f0 ** 0.5) - 1.0
@@ -239,12 +276,38 @@ class _Translation:
         self._add(closure("microfacet", _scale(w, m), roughness=rough, fresnel="schlick",
                           f0=base_in.constant or (1.0, 1.0, 1.0), **base_in.closure_keys(to_f0=True)))
         self._add(_colored("dielectric", _scale(w, t), base_in, roughness=rough, ior=v("IOR")))
-        self._add_emission(_scale(_scale(w, v("Emission")), v("Emission Strength")))
+        self._sheen(node, _scale(w, dielectric_w), base_in)
+        self._clearcoat(node, w)
+        self._emit(node, w, "Emission", v("Emission Strength"))
+
+    def _sheen(self, node, w, base_in):
+        # Cycles 3.4: weight Sheen x (1 - metallic)(1 - transmission) x a colour mixed from white to
+        # the base colour's tint (base / luminance) by Sheen Tint; the lobe is LobeKind::Sheen.
+        sheen = max(self._value(node, "Sheen"), 0.0)
+        if sheen <= 0.0:
+            return
+        tint = _clamp01(self._value(node, "Sheen Tint"))
+        base = base_in.constant
+        if base is None:
+            if tint > 0.0:
+                self._warn_node(node, "has Sheen Tint with a linked Base Color; the sheen is untinted")
+            base, tint = (1.0, 1.0, 1.0), 0.0
+        lum = 0.2126 * base[0] + 0.7152 * base[1] + 0.0722 * base[2]  # Rec.709, Blender's default
+        ctint = tuple(c / lum for c in base) if lum > 0.0 else (1.0, 1.0, 1.0)
+        color = tuple(1.0 - tint + c * tint for c in ctint)
+        self._add(closure("sheen", _scale(_scale(w, color), sheen)))
+
+    def _clearcoat(self, node, w):
+        # Cycles 3.4: 0.25 x Clearcoat, IOR 1.5, alpha = Clearcoat Roughness^2, added on top of the
+        # base without taking energy from it (Principled v1 is not energy conserving here either).
+        coat = max(self._value(node, "Clearcoat"), 0.0)
+        if coat > 0.0:
+            self._add(closure("clearcoat", _scale(w, 0.25 * coat), ior=1.5,
+                              roughness=_clamp01(self._value(node, "Clearcoat Roughness"))))
 
     def _warn_principled_extras(self, node, t):
         v = lambda name: self._value(node, name)  # noqa: E731
-        ignored = [name for name in ("Subsurface", "Specular Tint", "Anisotropic", "Sheen",
-                                     "Clearcoat") if v(name) > 0.0]
+        ignored = [name for name in ("Subsurface", "Specular Tint", "Anisotropic") if v(name) > 0.0]
         if t > 0.0 and v("Transmission Roughness") > 0.0:
             ignored.append("Transmission Roughness")
         if node.distribution != 'GGX':
@@ -268,7 +331,33 @@ _HANDLERS = {
     'ShaderNodeBsdfGlass': _Translation.glass,
     'ShaderNodeEmission': _Translation.emission,
     'ShaderNodeBsdfPrincipled': _Translation.principled,
+    'ShaderNodeBsdfTransparent': _Translation.transparent,
 }
+
+
+def _apply_transparency(tr):
+    """Fold the Transparent BSDF weight T into the closures: the grey part g = min(T) passes by the
+    cut-out (kept with probability k = 1 - g, times any Principled Alpha), so the kept hit's closures
+    and emission are divided by k, and the coloured rest T - g becomes a straight-through lobe of
+    weight (T - g) / k. In expectation: k (closures / k) + g = closures + g, and k (T - g) / k + g = T.
+    (Light samples on an emitter are weighted by the material's alpha, so they agree with hits.)"""
+    t = tuple(min(max(c, 0.0), 1.0) for c in tr.transparent)
+    g = min(t)
+    if max(t) <= 0.0:
+        return
+    keep = 1.0 - g
+    if keep <= 1e-6:
+        tr.closures = []
+        tr.emission = BLACK
+    else:
+        tr.closures = [dict(c, weight=_scale(c["weight"], 1.0 / keep)) for c in tr.closures]
+        tr.emission = _scale(tr.emission, 1.0 / keep)  # the engine's emitters see the cut-out too
+        rest = tuple((c - g) / keep for c in t)
+        if max(rest) > 0.0:
+            tr.closures.append(closure("transparent", rest))
+    alpha = dict(tr.alpha) if tr.alpha is not None else {"value": 1.0}
+    alpha["value"] = alpha["value"] * keep
+    tr.alpha = alpha
 
 
 def translate(material, warn, textures=None):
@@ -297,12 +386,15 @@ def translate(material, warn, textures=None):
         # An unlinked Surface renders black, as in Cycles, unless the material has a volume: then
         # the mesh is only the boundary of the medium and rays pass straight through it.
         pass_through = surface is None and volume is not None
+        _apply_transparency(tr)
     desc = dict({"name": name, "closures": tr.closures, "emission": tr.emission, "uv_map": tr.uv_map,
                  "volume": volume, "pass_through": pass_through}, **material_spectral(material))
     if tr.normal_map is not None:
         desc["normal_map"] = tr.normal_map
     if tr.alpha is not None:
         desc["alpha"] = tr.alpha
+    if tr.emission_texture is not None:
+        desc["emission_texture"] = tr.emission_texture
     return desc
 
 
@@ -341,6 +433,27 @@ class MaterialCache:
 
     def warning(self, message):
         self._reporter.warning(message)
+
+    def replace_all(self):
+        """Viewport material edits: translate every material again and replace it in the committed
+        engine scene (Scene.replace_material). False when one of them cannot be replaced in place
+        (the caller then builds a new scene): a material that is gone, reads another UV map, or
+        changes what the scene baked at commit (cut-out, emissive, volume)."""
+        for key, mat_id in self._ids.items():
+            if key is None:
+                continue  # the default grey never changes
+            material = bpy.data.materials.get(key)
+            if material is None:
+                return False
+            desc = translate(material, self._reporter.warning, self._textures)
+            if desc.get("uv_map") != self._uv_maps.get(mat_id):
+                return False
+            try:
+                if not self._scene.replace_material(mat_id, desc):
+                    return False
+            except ValueError:
+                return False
+        return True
 
     def uv_map_for(self, mat_ids):
         """The UV map a mesh with these engine materials must export, or None if none reads UVs."""

@@ -4,8 +4,9 @@ objects an edit invalidates.
 Blender calls view_update() after every edit with the depsgraph's list of updated
 datablocks; only objects whose geometry changed are exported again, every other mesh
 comes from the GeometryCache (keyed by object identity, like Cycles' BlenderSync).
-The engine scene itself is rebuilt from the cached buffers and committed (Embree
-builds a new BVH): the engine scene is immutable while a render reads it.
+Moves, mesh edits, material edits and lamp/world edits update the committed engine scene
+in place (no render reads it then); anything else builds a new engine scene from the
+cached buffers.
 """
 
 import time
@@ -14,8 +15,9 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from . import export_depsgraph
+from . import export_depsgraph, world as sync_world
 from .instances import GeometryCache, instance_matrix, mesh_of, walk_instances
+from .lights import usable_light_dict
 
 
 ORTHO_BACKOFF = 1e4
@@ -57,10 +59,11 @@ def view_camera(region, region_data, width, height):
 class ViewportSync:
     """Engine scenes for one viewport, re-exporting only what edits touched.
 
-    After a full export, edits that only move objects or change meshes are applied to the
-    same engine scene in place (new instance matrices, the changed meshes' prototypes
-    rebuilt); anything else (materials, lights, world, added or removed objects) builds a
-    new scene from the cached meshes."""
+    After a full export, edits that move objects, change meshes, materials, lamps or the
+    world are applied to the same engine scene in place (new instance matrices, the changed
+    meshes' prototypes rebuilt, materials re-translated, the light table rebuilt); anything
+    else (added or removed objects, images, volumes) builds a new scene from the cached
+    meshes."""
 
     def __init__(self):
         self.cache = GeometryCache()
@@ -93,19 +96,30 @@ class ViewportSync:
 
     def _update_in_place(self, depsgraph, reporter):
         changed_geometry = set()
+        materials_changed = lights_changed = False
         for update in depsgraph.updates:
             datablock = update.id
             if isinstance(datablock, bpy.types.Object):
                 if datablock.type == 'LIGHT':
-                    return False
-                if update.is_updated_geometry:
+                    lights_changed = True
+                elif update.is_updated_geometry:
                     changed_geometry.add(datablock.original.name_full)
+            elif isinstance(datablock, bpy.types.Material):
+                materials_changed = True
+            elif isinstance(datablock, (bpy.types.Light, bpy.types.World)):
+                lights_changed = True
+            elif isinstance(datablock, bpy.types.NodeTree):  # a material's or the world's nodes
+                materials_changed = lights_changed = True
             elif not isinstance(datablock, (bpy.types.Mesh, bpy.types.Scene)):
-                return False  # materials, world, lights, collections: a new scene
+                return False  # images, collections, ...: a new scene
+        if materials_changed and not self.export.materials.replace_all():
+            return False
+        if lights_changed and not self._replace_lights(depsgraph, reporter):
+            return False
         keys, matrices, edited = [], [], {}
         for kind, inst, obj in walk_instances(depsgraph, reporter):
             if kind == 'LIGHT':
-                continue  # unchanged: a light edit returned above
+                continue  # lamps: _replace_lights
             key = self.cache.identity(obj)
             if key not in self.cache.mesh_ids:
                 continue  # empty geometry, never added to the engine
@@ -126,3 +140,17 @@ class ViewportSync:
         except (RuntimeError, ValueError):  # e.g. a new material: the committed scene can't take it
             return False
         return bool(scene.set_instance_transforms(np.array(matrices, dtype=np.float64).reshape(-1, 4, 4)))
+
+    def _replace_lights(self, depsgraph, reporter):
+        """Every lamp and the world background exported again (cheap: no geometry) and given to
+        the engine scene, which keeps its emissive triangles. A world volume needs a new scene."""
+        world = sync_world.export_world(depsgraph.scene.world, reporter.warning)
+        if world.get("volume") is not None:
+            return False
+        lamps = [d for d in (usable_light_dict(obj, instance_matrix(inst), reporter)
+                             for kind, inst, obj in walk_instances(depsgraph, reporter) if kind == 'LIGHT')
+                 if d is not None]
+        try:
+            return bool(self.export.scene.replace_lights(lamps, world))
+        except ValueError:
+            return False
