@@ -175,7 +175,7 @@ Color SpectralPathIntegrator::Li(const Scene& scene, const RenderSettings& setti
                                  LocalCounters& counters) const {
     float u = rng.next_float();
     float v = rng.next_float();
-    return trace(scene, settings, ray, u, v, rng, counters);
+    return trace(scene, settings, ray, u, v, rng, rng, counters);
 }
 
 // The offsets of sample s. u from the pixel sequence of s, so that all the wavelengths of the pixel's
@@ -187,20 +187,27 @@ Color SpectralPathIntegrator::Li(const Scene& scene, const RenderSettings& setti
 // Each sample's c is uniform and independent of its u (k and the rotation of u are independent).
 Color SpectralPathIntegrator::pixel_sample(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s,
                                            const Ray& ray, Rng& rng, LocalCounters& counters) const {
-    if (!ctx.settings.spectral_pixel_sequence || !sampler_.follows_offsets())
-        return Li(ctx.scene, ctx.settings, ray, rng, counters);
+    // The wavelengths draw from a stream of their own, so that in every mode the path is driven by
+    // the pixel sample's stream and its stratified prefix (core/stratified.h) alike: modes differ
+    // only in how they choose wavelengths.
+    Rng wavelength_rng = pixel_sample_rng(px, py, s, ctx.settings.seed ^ 0x3a7e1c55u);
+    if (!ctx.settings.spectral_pixel_sequence || !sampler_.follows_offsets()) {
+        float u = wavelength_rng.next_float();
+        float v = wavelength_rng.next_float();
+        return trace(ctx.scene, ctx.settings, ray, u, v, wavelength_rng, rng, counters);
+    }
     constexpr uint64_t kOffsetDimension = 0x5be7a1, kConditioningDimension = 0xc0d1;
     uint32_t seed = ctx.settings.seed, n = uint32_t(sampler_.count());
     float u = pixel_sequence(px, py, s, seed, kOffsetDimension);
     uint32_t k = std::min(uint32_t(pixel_sequence(px, py, 0, seed, kConditioningDimension) * float(n)), n - 1);
     float v = (float((s + s / n + k) % n) + 0.5f) / float(n);
-    return trace(ctx.scene, ctx.settings, ray, u, v, rng, counters);
+    return trace(ctx.scene, ctx.settings, ray, u, v, wavelength_rng, rng, counters);
 }
 
 Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& settings, Ray ray, float u, float v,
-                                    Rng& rng, LocalCounters& counters) const {
+                                    Rng& wavelength_rng, Rng& rng, LocalCounters& counters) const {
     SpectralPath p;
-    p.start(sampler_, u, v, rng);
+    p.start(sampler_, u, v, wavelength_rng);
     float f[kMaxWavelengths];
     Color L(0.0f);
     PathState state;

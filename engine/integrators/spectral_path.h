@@ -24,9 +24,10 @@ protected:
                        LocalCounters& counters) const override;
 
 private:
-    // The path for the wavelength set of offset `u` and conditioning choice `v` (WavelengthSampler).
-    Color trace(const Scene& scene, const RenderSettings& settings, Ray ray, float u, float v, Rng& rng,
-                LocalCounters& counters) const;
+    // The path for the wavelength set of offset `u` and conditioning choice `v` (WavelengthSampler);
+    // the modes' other wavelength draws come from `wavelength_rng`, the path's from `rng`.
+    Color trace(const Scene& scene, const RenderSettings& settings, Ray ray, float u, float v, Rng& wavelength_rng,
+                Rng& rng, LocalCounters& counters) const;
 
     spectral::SpectralScene spectral_;
     spectral::WavelengthSampler sampler_;
