@@ -107,83 +107,71 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         shadow_rays += c.shadow_rays;
     };
 
+    // Two passes, each with one barrier: stages 1-2 and stages 3-4 read only their own pixel's (and,
+    // for 3, neighbours' stage-2) data. Every stage keeps its own random stream.
+    const bool temporal = prev_.size() == n_pixels && history_cap > 0.0f;
     auto t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
+        const size_t i = size_t(y) * w + x;
+        RestirPixel& me = cur[i];
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
-        trace_pixel(scene, settings, ray, rng, local, cur[size_t(y) * w + x]);
+        trace_pixel(scene, settings, ray, rng, local, me);
         ++local.paths;
+        const RestirPixel& old = temporal ? prev_[i] : me;
+        if (!temporal || !me.has_vertex || !old.has_vertex) return;
+        Reservoir history = prev_final_[i];
+        history.M = std::min(history.M, history_cap);
+        const Reservoir initial = me.r;
+        const CandidateEval initial_eval = me.eval;
+        const ReuseInput inputs[2] = {{&initial, &me.sp, &initial_eval}, {&history, &old.sp}};
+        Rng temporal_rng = stage_rng(ctx, x, y, s, kTemporalStream);
+        ReuseCost cost;
+        CombinedReservoir c =
+            combine_reservoirs(scene, me.sp, inputs, 2, settings.restir_mis, visibility_in_mis, temporal_rng, cost);
+        me.r = c.r;
+        me.eval = c.at_q;
+        flush_cost(cost);
     });
     if (ctx.should_stop()) return;  // a partial iteration never reaches the film
     trace_seconds_ += seconds_since(t0);
 
     t0 = StageClock::now();
-    if (prev_.size() == n_pixels && history_cap > 0.0f) {
-        for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters&) {
-            RestirPixel& me = cur[size_t(y) * w + x];
-            const RestirPixel& old = prev_[size_t(y) * w + x];
-            if (!me.has_vertex || !old.has_vertex) return;
-            Reservoir history = old.r;
-            history.M = std::min(history.M, history_cap);
-            const Reservoir initial = me.r;
-            const CandidateEval initial_eval = me.eval;
-            const ReuseInput inputs[2] = {{&initial, &me.sp, &initial_eval}, {&history, &old.sp}};
-            Rng rng = stage_rng(ctx, x, y, s, kTemporalStream);
-            ReuseCost cost;
-            CombinedReservoir c = combine_reservoirs(scene, me.sp, inputs, 2, settings.restir_mis, visibility_in_mis, rng, cost);
-            me.r = c.r;
-            me.eval = c.at_q;
-            flush_cost(cost);
-        });
-        if (ctx.should_stop()) return;
-    }
-    temporal_seconds_ += seconds_since(t0);
-
-    t0 = StageClock::now();
-    std::vector<CombinedReservoir>& final_reservoirs = final_;
-    final_reservoirs.assign(n_pixels, CombinedReservoir{});
+    final_.resize(n_pixels);
     const float radius = std::max(1.0f, settings.restir_radius_px);
-    for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters&) {
-        const size_t i = size_t(y) * w + x;
-        const RestirPixel& me = cur[i];
-        if (!me.has_vertex) return;
-        ++vertices;
-        thread_local std::vector<ReuseInput> inputs;
-        inputs.assign(1, ReuseInput{&me.r, &me.sp, &me.eval});
-        Rng rng = stage_rng(ctx, x, y, s, kSpatialStream);
-        // Up to 2k tries for k neighbours, as Bitterli et al. do, so dissimilar surroundings do not loop.
-        for (int attempt = 0; attempt < 2 * k && int(inputs.size()) <= k; ++attempt) {
-            Point2 d = sample_uniform_disk_concentric({rng.next_float(), rng.next_float()});
-            int nx = x + int(std::lround(d.x * radius)), ny = y + int(std::lround(d.y * radius));
-            if ((nx == x && ny == y) || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-            const RestirPixel& other = cur[size_t(ny) * w + nx];
-            if (other.has_vertex && similar(me, other)) inputs.push_back(ReuseInput{&other.r, &other.sp});
-        }
-        neighbours += inputs.size() - 1;
-        ReuseCost cost;
-        final_reservoirs[i] = combine_reservoirs(scene, me.sp, inputs.data(), int(inputs.size()), settings.restir_mis,
-                                                 visibility_in_mis, rng, cost);
-        flush_cost(cost);
-    });
-    if (ctx.should_stop()) return;
-    spatial_seconds_ += seconds_since(t0);
-
-    t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         const size_t i = size_t(y) * w + x;
-        RestirPixel& me = cur[i];
+        const RestirPixel& me = cur[i];
         Color L = me.fixed;
+        final_[i] = Reservoir{};
         if (me.has_vertex) {
+            ++vertices;
+            thread_local std::vector<ReuseInput> inputs;
+            inputs.assign(1, ReuseInput{&me.r, &me.sp, &me.eval});
+            Rng rng = stage_rng(ctx, x, y, s, kSpatialStream);
+            // Up to 2k tries for k neighbours, as Bitterli et al. do, so dissimilar surroundings do not loop.
+            for (int attempt = 0; attempt < 2 * k && int(inputs.size()) <= k; ++attempt) {
+                Point2 d = sample_uniform_disk_concentric({rng.next_float(), rng.next_float()});
+                int nx = x + int(std::lround(d.x * radius)), ny = y + int(std::lround(d.y * radius));
+                if ((nx == x && ny == y) || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+                const RestirPixel& other = cur[size_t(ny) * w + nx];
+                if (other.has_vertex && similar(me, other)) inputs.push_back(ReuseInput{&other.r, &other.sp});
+            }
+            neighbours += inputs.size() - 1;
+            ReuseCost cost;
+            CombinedReservoir c = combine_reservoirs(scene, me.sp, inputs.data(), int(inputs.size()),
+                                                     settings.restir_mis, visibility_in_mis, rng, cost);
+            flush_cost(cost);
+            final_[i] = c.r;
             // The MIS weights traced the sample's visibility from here already when they include it.
-            const CombinedReservoir& c = final_reservoirs[i];
-            me.r = c.r;
             L += me.beta * (c.visibility_known ? visible_reservoir_contribution(scene, settings, me.sp, c.r, c.at_q)
                                                : reservoir_contribution(scene, settings, me.sp, c.r));
         }
         ctx.film.add(x, y, guard_sample(L, local));
     });
-    shade_seconds_ += seconds_since(t0);
+    reuse_seconds_ += seconds_since(t0);
     std::swap(prev_, cur_);
+    std::swap(prev_final_, final_);
     iterations_++;
     vertices_ += vertices.load();
     neighbours_ += neighbours.load();
@@ -197,9 +185,7 @@ std::map<std::string, double> RestirIntegrator::stats() const {
     return {
         {"iterations", double(iterations_)},
         {"trace_seconds_per_iteration", trace_seconds_ / it},
-        {"temporal_seconds_per_iteration", temporal_seconds_ / it},
-        {"spatial_seconds_per_iteration", spatial_seconds_ / it},
-        {"shade_seconds_per_iteration", shade_seconds_ / it},
+        {"reuse_seconds_per_iteration", reuse_seconds_ / it},
         {"neighbours_per_pixel", double(neighbours_) * per_vertex},
         {"mis_pdf_evaluations_per_pixel", double(pdf_evaluations_) * per_vertex},
         {"mis_shadow_rays_per_pixel", double(mis_shadow_rays_) * per_vertex},
