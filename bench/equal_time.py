@@ -63,7 +63,7 @@ CYCLES = "CYCLES"
 # Many-light direct illumination (issue 8): direct light only (max_bounces 0, as the ReSTIR
 # supplement's Fig. 1), the add-on's default M, k, radius and history cap, stated explicitly.
 RESTIR_COMMON = {"integrator": "PATH", "max_bounces": 0, "ris_candidates": 16, "restir_neighbors": 5,
-                 "restir_radius_px": 5.0, "restir_history_cap": 2}
+                 "restir_radius_px": 3.0, "restir_history_cap": 0}
 VOLUME_COMMON = {"integrator": "PATH", "max_bounces": 1}
 SUITES = {
     "surfaces": {
@@ -94,7 +94,8 @@ SUITES = {
             ("RESTIR_SEED_BIASED", {"direct_light": "RESTIR", "restir_mis": "SEED", "restir_unbiased": False}))},
             # Cycles 3.4 has no light tree (3.5 added one): it samples the lights by power.
             **{CYCLES: None}),
-        "reference": dict(RESTIR_COMMON, direct_light="NEE"),
+        # NEE reads none of the RIS/ReSTIR settings: the reference does not depend on them.
+        "reference": {"integrator": "PATH", "max_bounces": 0, "direct_light": "NEE"},
         "baseline": "NEE", "pair": ("RESTIR_SEED", "RESTIR_TALBOT"), "equal_spp": 16,
     },
     # Single scattering in a fog box (issue 5, West et al. Sec. 6): the path tracer (distance and

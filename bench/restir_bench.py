@@ -10,9 +10,11 @@ direct light only (max_bounces 0) with the add-on's default M, k, radius and his
    both also without visibility reuse (_NOVIS: the supplement's Fig. 1 "without visibility reuse"),
    and the biased RESTIR_NONE (1/M) and RESTIR_SEED_BIASED (no visibility in the MIS)), relMSE /
    SMAPE / MSE against a converged NEE reference, estimators interleaved per budget and seed.
+   Also the error over iterations: RIS, RESTIR_SEED and RESTIR_SEED with reuse across iterations
+   (history cap 2) at 16/64/256 spp, relMSE x spp (constant for independent iterations).
 2. The cost of Talbot's k^2 MIS: SEED and TALBOT (with and without visibility in the MIS) rendered
    side by side at a fixed sample count, interleaved, best of N (the machine is shared): the
-   engine's own timing of the reuse stages (temporal + spatial combine, per iteration), the pdf
+   engine's own timing of the reuse stage (spatial combine and shading, per iteration), the pdf
    evaluations and the shadow rays of the MIS weights per pixel, for k = 5 and k = 10 neighbours.
 3. Bias: the biased variants at a high sample count against the reference (image-mean ratio,
    relMSE), beside the unbiased RESTIR_SEED at the same count and their speed (samples per second).
@@ -46,6 +48,9 @@ DOCS = os.path.join(ROOT, "docs", "bench")
 _INTEGRATOR_STATS = re.compile(r"SMIS integrator: (.*)")
 COST_VARIANTS = ["RESTIR_SEED", "RESTIR_TALBOT", "RESTIR_SEED_NOVIS", "RESTIR_TALBOT_NOVIS"]
 BIAS_VARIANTS = ["RESTIR_SEED", "RESTIR_NONE", "RESTIR_SEED_BIASED"]
+# Reuse across iterations on (history cap 2 x M, the former default) against the default (off).
+CONVERGENCE_VARIANTS = {"RIS": ("RIS", {}), "RESTIR_SEED": ("RESTIR_SEED", {}),
+                        "RESTIR_SEED_HISTORY": ("RESTIR_SEED", {"restir_history_cap": 2})}
 
 
 def log(msg):
@@ -81,7 +86,7 @@ def measure_cost(blend, args):
                                                      restir_neighbors=k), threads=args.threads)
                 st = integrator_stats(run.output)
                 remove(run)
-                reuse = st["temporal_seconds_per_iteration"] + st["spatial_seconds_per_iteration"]
+                reuse = st["reuse_seconds_per_iteration"]
                 if est not in best or reuse < best[est]["reuse_seconds_per_iteration"]:
                     best[est] = {"k": k, "estimator": est, "reuse_seconds_per_iteration": reuse,
                                  "render_seconds": run.seconds, **st}
@@ -108,6 +113,39 @@ def measure_bias(blend, ref, args):
     return rows
 
 
+def measure_convergence(blend, ref, ref_noise, args):
+    """Equal-sample relMSE at growing sample counts: whether reuse across iterations (the history)
+    correlates the iterations so that the error stops falling as 1/spp."""
+    rows = []
+    for spp in args.conv_spp:
+        for seed in args.seeds:
+            for name, (est, extra) in CONVERGENCE_VARIANTS.items():  # interleaved
+                run = render_smis(blend, settings_of(est, samples=spp, seed=seed, time_limit=0.0, **extra),
+                                  threads=args.threads, timeout=7200)
+                m = M.metrics(ref, run.image, args.eps)
+                remove(run)
+                rows.append({"estimator": name, "spp": spp, "seed": seed, "seconds": run.seconds,
+                             "relmse": m["relmse"], "relmse_minus_ref_noise": m["relmse"] - ref_noise})
+                log("convergence %-22s %4d spp seed %d: relMSE %.5f in %.1f s" % (name, spp, seed, m["relmse"],
+                                                                                  run.seconds))
+    return rows
+
+
+def convergence_table(rows, ref_noise):
+    by = {}
+    for r in rows:
+        by.setdefault((r["estimator"], r["spp"]), []).append(r)
+    names = list(CONVERGENCE_VARIANTS)
+    lines = ["| spp | " + " | ".join("%s relMSE (x spp)" % n for n in names) + " | "
+             + " | ".join("%s / RIS" % n for n in names[1:]) + " |", "|---" * (2 * len(names)) + "|"]
+    for spp in sorted({r["spp"] for r in rows}):
+        err = {n: float(np.mean([r["relmse"] for r in by[(n, spp)]])) for n in names}
+        cells = ["%.4g (%.3g)" % (err[n], (err[n] - ref_noise) * spp) for n in names]
+        ratios = ["%.3f" % ((err[n] - ref_noise) / (err["RIS"] - ref_noise)) for n in names[1:]]
+        lines.append("| %d | %s | %s |" % (spp, " | ".join(cells), " | ".join(ratios)))
+    return lines
+
+
 def write_csv(path, rows):
     keys = []
     for r in rows:
@@ -132,12 +170,14 @@ def time_to_reach(agg, est, target):
         if e0 >= target >= e1 and e0 > e1:
             f = np.log(e0 / target) / np.log(e0 / e1)
             return float(np.exp(np.log(t0) + f * np.log(t1 / t0)))
+    # Below the target already at the smallest budget: an unbiased estimator's error falls as 1/time
+    # (a measured segment's slope is too noisy to extrapolate along).
     if pts and pts[0][1] <= target:
-        return pts[0][0]
+        return pts[0][0] * pts[0][1] / target
     return None
 
 
-def summary(path, doc, cost, bias, args):
+def summary(path, doc, cost, bias, conv, args):
     agg, ref = doc["mean"], doc["reference"]
     est = doc["estimators"]
     C = ET.RESTIR_COMMON
@@ -147,7 +187,8 @@ def summary(path, doc, cost, bias, args):
              "(128x128; 144 area lights + 320 emissive triangles, pillars and pergola slats as occluders), "
              "max_bounces %d (direct light only, as the supplement's Fig. 1; RIS/ReSTIR act at the camera path's "
              "first non-specular vertex, deeper vertices would use NEE). M = %d candidates (RIS and ReSTIR), "
-             "k = %d neighbours within %g px, history cap %d x M (the add-on's defaults). The machine is "
+             "k = %d neighbours within %g px, history cap %d x M (0: no reuse across iterations; the add-on's "
+             "defaults). The machine is "
              "shared by 4 processes (2 cores): load average %.2f at the start, %.2f at the end; every "
              "comparison is interleaved, and equal-time results move with the load."
              % (" --quick" if args.quick else "", datetime.datetime.now().strftime("%Y-%m-%d %H:%M"),
@@ -165,16 +206,26 @@ def summary(path, doc, cost, bias, args):
     nee_last = max((a for a in agg if a["kind"] == "time" and a["estimator"] == "NEE"), key=lambda a: a["budget_s"])
     target = nee_last["relmse"]
     lines += ["### Time to reach relMSE %.4g (NEE's error at %g s)" % (target, nee_last["budget_s"]), "",
+              "Interpolated in log-log between budgets; an estimator already below it at the smallest budget "
+              "is extrapolated as error ~ 1/time.", "",
               "| estimator | seconds | speed-up over NEE |", "|---|---|---|"]
     t_nee = time_to_reach(agg, "NEE", target)
     for e in est:
         t = time_to_reach(agg, e, target)
         lines.append("| %s | %s | %s |" % (e, "%.2f" % t if t else "not reached",
                                            "%.2fx" % (t_nee / t) if t and t_nee else "-"))
+    noise = ref["estimated_noise"]["relmse"]
+    lines += ["", "### Error over iterations (equal samples)", "",
+              "Mean relMSE over seeds %s; in brackets (relMSE - the reference's noise %.3g) x spp, which stays "
+              "constant while the iterations are independent and grows when reuse correlates them. "
+              "RESTIR_SEED_HISTORY reuses the previous iteration's reservoir (history cap 2 x M). The ratio "
+              "columns are the noise-corrected relMSE over RIS's at the same spp." % (
+                  ", ".join(map(str, args.seeds)), noise), ""] + convergence_table(conv, noise)
     lines += ["", "## 2. Cost of the MIS: k pdf evaluations (seed, Alg. 1) against k^2 (Talbot, Alg. 2)", "",
-              "Fixed %d spp, best of %d interleaved repetitions; reuse time = the engine's temporal + spatial "
-              "combine stages per iteration (whole image, 2 threads), the pdf evaluations and shadow rays are "
-              "those of the MIS weights per pixel and iteration. Data: `%s`."
+              "Fixed %d spp, best of %d interleaved repetitions; reuse time = the engine's reuse stage per "
+              "iteration (spatial combine and shading, whole image, 2 threads; no temporal reuse at the "
+              "default history cap 0), the pdf evaluations and shadow rays are those of the MIS weights per "
+              "pixel and iteration. Data: `%s`."
               % (args.cost_spp, args.cost_reps, args.cost_rel), "",
               "| k | estimator | neighbours found | reuse s/iteration | pdf evaluations / px | MIS shadow rays / px "
               "| TALBOT / SEED reuse time |", "|---|---|---|---|---|---|---|"]
@@ -213,6 +264,7 @@ def main():
     args.cost_reps = 1 if args.quick else 3
     args.cost_spp = 8 if args.quick else 16
     args.bias_spp = 64 if args.quick else 256
+    args.conv_spp = [4, 16] if args.quick else [16, 64, 256]
     args.eps = M.EPS_RELMSE
     # What equal_time.bench_scene expects of its arguments.
     args.estimators, args.extra, args.resume, args.strict = None, {}, False, False
@@ -226,27 +278,30 @@ def main():
             doc = json.load(f)
     else:
         doc = ET.bench_scene(SCENE, SUITE, args, suffix)
-    ref, _ = ET.reference(SCENE, SUITE, args.ref_spp, args.threads)
+    ref, ref_rec = ET.reference(SCENE, SUITE, args.ref_spp, args.threads)
+    conv = measure_convergence(blend, ref, ref_rec["estimated_noise"]["relmse"], args)
     cost = measure_cost(blend, args)
     bias = measure_bias(blend, ref, args)
     base = os.path.join(ET.RESULTS, "restir")
     write_csv(base + "_cost%s.csv" % suffix, cost)
     write_csv(base + "_bias%s.csv" % suffix, bias)
+    write_csv(base + "_convergence%s.csv" % suffix, conv)
     with open(base + "%s.json" % suffix, "w") as f:
-        json.dump({"cost": cost, "bias": bias}, f, indent=2)
+        json.dump({"cost": cost, "bias": bias, "convergence": conv}, f, indent=2)
 
     out_dir = ET.RESULTS if args.quick else DOCS
     png, csv_path = ET.result_base(SCENE, suffix) + ".png", ET.result_base(SCENE, suffix) + ".csv"
     if not args.quick:
         for src, dst in ((png, "restir_many_lights.png"), (csv_path, "restir_many_lights.csv"),
-                         (base + "_cost.csv", "restir_cost.csv"), (base + "_bias.csv", "restir_bias.csv")):
+                         (base + "_cost.csv", "restir_cost.csv"), (base + "_bias.csv", "restir_bias.csv"),
+                         (base + "_convergence.csv", "restir_convergence.csv")):
             shutil.copy(src, os.path.join(DOCS, dst))
         png, csv_path = os.path.join(DOCS, "restir_many_lights.png"), os.path.join(DOCS, "restir_many_lights.csv")
     args.png_rel, args.csv_rel = os.path.relpath(png, ROOT), os.path.relpath(csv_path, ROOT)
     args.cost_rel = os.path.relpath(os.path.join(out_dir, "restir_cost%s.csv" % suffix) if not args.quick
                                     else base + "_cost_quick.csv", ROOT)
     path = os.path.join(out_dir, "restir_summary%s.md" % suffix)
-    summary(path, doc, cost, bias, args)
+    summary(path, doc, cost, bias, conv, args)
     log("wrote %s" % os.path.relpath(path, ROOT))
 
 

@@ -19,7 +19,8 @@ bool candidate_visible(const Scene& scene, const ShadingPoint& sp, const Candida
     return !scene.occluded(spawn_origin(sp, e.ls.wi), e.ls.wi, tmax);
 }
 
-Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng) {
+Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng,
+                        CandidateEval* chosen_out) {
     Reservoir r;
     const DiscreteDistribution& selection = scene.light_selection();
     r.M = float(std::max(1, candidates));
@@ -34,8 +35,11 @@ Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidat
         // Resampling weight p^(x) / p(x), p(x) = pmf(i) (u is uniform).
         if (r.update(x, e.target / selection.pmf(x.light), u_pick)) chosen = e;
     }
-    if (chosen.target > 0.0f && !(visibility_reuse && !candidate_visible(scene, sp, chosen)))
+    if (chosen.target > 0.0f && !(visibility_reuse && !candidate_visible(scene, sp, chosen))) {
         r.W = r.w_sum / (r.M * chosen.target);
+        r.target = chosen.target;
+    }
+    if (chosen_out) *chosen_out = chosen;
     return r;
 }
 
@@ -44,6 +48,12 @@ Color reservoir_contribution(const Scene& scene, const RenderSettings& settings,
     if (!r.has_sample()) return Color(0.0f);
     CandidateEval e = evaluate_candidate(scene, sp, r.y);
     if (!(e.target > 0.0f) || !candidate_visible(scene, sp, e)) return Color(0.0f);
+    return visible_reservoir_contribution(scene, settings, sp, r, e);
+}
+
+Color visible_reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                                     const Reservoir& r, const CandidateEval& e) {
+    if (!r.has_sample() || !(e.target > 0.0f)) return Color(0.0f);
     float w_light = 1.0f;
     if (!e.ls.delta) {
         float light_pdf = resampled_light_pdf_scale(settings) * scene.light_pmf(r.y.light) * e.ls.pdf;
@@ -54,8 +64,10 @@ Color reservoir_contribution(const Scene& scene, const RenderSettings& settings,
 
 Color ris_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng) {
     // No visibility reuse: the one shadow ray is traced for the contribution itself.
-    Reservoir r = ris_reservoir(scene, sp, settings.ris_candidates, false, rng);
-    return reservoir_contribution(scene, settings, sp, r);
+    CandidateEval chosen;
+    Reservoir r = ris_reservoir(scene, sp, settings.ris_candidates, false, rng, &chosen);
+    if (!r.has_sample() || !candidate_visible(scene, sp, chosen)) return Color(0.0f);
+    return visible_reservoir_contribution(scene, settings, sp, r, chosen);
 }
 
 }  // namespace smis

@@ -39,6 +39,9 @@ struct Reservoir {
     float w_sum = 0.0f;
     float M = 0.0f;
     float W = 0.0f;
+    // p^ of y at the shading point the reservoir belongs to, kept so that reuse does not evaluate it
+    // again (it is one of the MIS pdfs of every combination the reservoir takes part in).
+    float target = 0.0f;
     bool has_sample() const { return W > 0.0f; }
     // Streams one candidate with resampling weight w; u decides whether it replaces y.
     bool update(const LightCandidate& x, float w, float u) {
@@ -53,7 +56,9 @@ struct Reservoir {
 // RIS at one shading point: M candidates from the light selection, resampled by p^/p (Talbot et al.
 // 2005 eq. 4), W = w_sum / (M p^(y)). With `visibility_reuse`, an occluded y gets W = 0 (one shadow
 // ray; Bitterli et al. 2020 Alg. 5 lines 7-9), which makes the reservoir's support the visible set.
-Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng);
+// `chosen`, when given, receives the selected candidate evaluated at sp (so it is not evaluated again).
+Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng,
+                        CandidateEval* chosen = nullptr);
 
 // The direct-light contribution of a reservoir at its shading point: g(y) V(y) W (one shadow ray)
 // times w_light(y), its MIS weight against the vertex's BSDF sample, whose emission gets
@@ -66,6 +71,10 @@ Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidat
 // sampling's 1/d^2 tail (measured 1.5% low at 256 spp on scenes/many_lights.blend).
 Color reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
                              const Reservoir& r);
+// The same for a sample already evaluated and known to be visible at sp (e = evaluate_candidate(sp, r.y)):
+// no evaluation, no shadow ray.
+Color visible_reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                                     const Reservoir& r, const CandidateEval& e);
 // The multiple of the NEE density used for resampled light sampling in the MIS weights (above).
 inline float resampled_light_pdf_scale(const RenderSettings& settings) {
     return float(std::max(1, settings.ris_candidates));

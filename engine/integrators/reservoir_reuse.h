@@ -27,7 +27,8 @@ namespace smis {
 
 struct ReuseInput {
     const Reservoir* r;
-    const ShadingPoint* sp;  // q_i, where r was built
+    const ShadingPoint* sp;                 // q_i, where r was built
+    const CandidateEval* eval = nullptr;    // r->y evaluated at q_i, when known (read for input 0 only)
 };
 
 // Work done by the combiners, for the benchmarks' cost report.
@@ -36,10 +37,22 @@ struct ReuseCost {
     uint64_t shadow_rays = 0;      // visibility in those pdfs
 };
 
-// Combines inputs (input 0 is the pixel's own reservoir at q) into one reservoir at shading point q.
-// visibility_in_mis: the MIS pdfs include the visibility from q_j (unbiased when the inputs dropped
-// their occluded samples); without it no shadow ray is traced.
-Reservoir combine_reservoirs(const Scene& scene, const ShadingPoint& q, const ReuseInput* inputs, int n,
-                             RestirMis mis, bool visibility_in_mis, Rng& rng, ReuseCost& cost);
+// What a combination produced: the reservoir at q and what it learnt about the sample at q on the way.
+struct CombinedReservoir {
+    Reservoir r;
+    CandidateEval at_q;              // evaluate_candidate(q, r.y), when r has a sample
+    bool visibility_known = false;   // the sample's visibility from q was traced for the MIS: it is
+                                     // visible (an occluded one is dropped), shading needs no shadow ray
+};
+
+// Combines inputs (input 0 is the pixel's own reservoir at q: inputs[0].sp is q) into one reservoir at
+// shading point q. visibility_in_mis: the MIS pdfs include the visibility from q_j, which is unbiased
+// when every input's sample is visible from its own q_j (initial reservoirs with visibility reuse, and
+// the outputs of this mode, which drop a sample occluded from q: W' = W V_q(Y) is again an unbiased
+// contribution weight, for the visible part of the integrand). The input's own pdf at its sample,
+// r.target, is then known without evaluation or shadow ray. Without visibility_in_mis no shadow ray
+// is traced.
+CombinedReservoir combine_reservoirs(const Scene& scene, const ShadingPoint& q, const ReuseInput* inputs, int n,
+                                     RestirMis mis, bool visibility_in_mis, Rng& rng, ReuseCost& cost);
 
 }  // namespace smis

@@ -3,13 +3,15 @@
 //   1. trace: per pixel the camera prefix through Dirac bounces to x1, x1's initial RIS reservoir
 //      (M candidates, visibility reuse: an occluded selection is dropped), and the rest of the path
 //      (BSDF sample at x1 and the path tracer from there), which is kept per pixel as `fixed`;
-//   2. temporal: the reservoir is combined with the same pixel's final reservoir of the previous
-//      iteration (a different x1: another sub-pixel position), its M capped at cap x M;
+//   2. temporal (only with a history cap > 0; off by default, see RenderSettings::restir_history_cap):
+//      the reservoir is combined with the same pixel's final reservoir of the previous iteration (a
+//      different x1: another sub-pixel position), its M capped at cap x M;
 //   3. spatial: combined with the reservoirs of k random pixels within a screen radius whose x1 is
 //      similar (normals within ~25 degrees, path length within 10%: decisions from geometry only,
 //      so they select techniques without biasing them);
-//   4. shade: the final reservoir's sample with one shadow ray, plus `fixed`, to the film; the final
-//      reservoirs become the next iteration's history.
+//   4. shade: the final reservoir's sample, plus `fixed`, to the film; the final reservoirs become
+//      the next iteration's history. With visibility in the MIS the combination has traced the
+//      sample's visibility from x1 already (and dropped an occluded one): no shadow ray here.
 // Only the direct light at x1 is resampled (MIS-combined with x1's BSDF sample, see
 // reservoir_contribution); emission along the prefix and everything after x1 is the path
 // tracer's, so the image converges to the path tracer's.
@@ -26,10 +28,14 @@ namespace {
 // Stream offsets of the reuse stages, distinct from the camera sample's stream.
 constexpr uint32_t kTemporalStream = 0x7e3a91c5u, kSpatialStream = 0x2b8d4f17u;
 
-// Stage 1 for one pixel sample.
-RestirPixel trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
-                        LocalCounters& counters) {
-    RestirPixel px;
+// Stage 1 for one pixel sample, written in place (a pixel record is large: no copies).
+void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng, LocalCounters& counters,
+                 RestirPixel& px) {
+    px.has_vertex = false;
+    px.beta = px.fixed = Color(0.0f);
+    px.distance = 0.0f;
+    px.r = Reservoir{};
+    px.eval = CandidateEval{};
     PathState st;
     st.prev_p = ray.o;
     Color beta(1.0f);
@@ -38,21 +44,21 @@ RestirPixel trace_pixel(const Scene& scene, const RenderSettings& settings, Ray 
         SurfaceHit hit;
         bool found = scene.intersect(ray, &hit);
         px.fixed += beta * emission_along(scene, settings, ray, found, hit, st);
-        if (!found || st.depth > settings.max_bounces) return px;
+        if (!found || st.depth > settings.max_bounces) return;
         px.distance += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
-        if (sp.bsdf.empty()) return px;
+        if (sp.bsdf.empty()) return;
         const bool first = !sp.bsdf.is_delta();
         if (first) {
             px.has_vertex = true;
             px.sp = sp;
             px.beta = beta;
-            px.r = ris_reservoir(scene, sp, settings.ris_candidates, settings.restir_visibility_reuse, rng);
+            px.r = ris_reservoir(scene, sp, settings.ris_candidates, settings.restir_visibility_reuse, rng, &px.eval);
         }
         BsdfSample bs = sample_bsdf(sp, rng);
         if (!bs.valid()) {
             ++counters.samples_rejected;
-            return px;
+            return;
         }
         beta *= bs.value / bs.pdf;
         if (bs.transmission) eta_scale *= sqr(bs.eta);
@@ -61,12 +67,12 @@ RestirPixel trace_pixel(const Scene& scene, const RenderSettings& settings, Ray 
         st.prev_pdf = bs.pdf;
         st.prev_p = hit.p;
         ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
-        if (!russian_roulette(st.depth, beta, eta_scale, rng) || is_black(beta)) return px;
+        if (!russian_roulette(st.depth, beta, eta_scale, rng) || is_black(beta)) return;
         if (first) {
             // The rest of the path, with NEE from here on.
             ++st.depth;
             px.fixed += beta * trace_path(scene, settings, ray, st, rng, counters);
-            return px;
+            return;
         }
     }
 }
@@ -93,78 +99,75 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     const bool visibility_in_mis = settings.restir_visibility_reuse && settings.restir_unbiased;
     const int k = std::max(0, settings.restir_neighbors);
     const float history_cap = float(std::max(0, settings.restir_history_cap)) * float(std::max(1, settings.ris_candidates));
-    std::vector<RestirPixel> cur(n_pixels);
+    // The buffers are kept between iterations (a pixel record holds a shading point: allocating and
+    // faulting in a fresh image-sized array per iteration was measurable).
+    std::vector<RestirPixel>& cur = cur_;
+    cur.resize(n_pixels);
     std::atomic<uint64_t> pdf_evaluations{0}, shadow_rays{0}, neighbours{0}, vertices{0};
     auto flush_cost = [&](const ReuseCost& c) {
         pdf_evaluations += c.pdf_evaluations;
         shadow_rays += c.shadow_rays;
     };
 
+    // Two passes, each with one barrier: stages 1-2 and stages 3-4 read only their own pixel's (and,
+    // for 3, neighbours' stage-2) data. Every stage keeps its own random stream.
+    const bool temporal = prev_.size() == n_pixels && history_cap > 0.0f;
     auto t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
+        const size_t i = size_t(y) * w + x;
+        RestirPixel& me = cur[i];
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
-        cur[size_t(y) * w + x] = trace_pixel(scene, settings, ray, rng, local);
+        trace_pixel(scene, settings, ray, rng, local, me);
         ++local.paths;
+        const RestirPixel& old = temporal ? prev_[i] : me;
+        if (!temporal || !me.has_vertex || !old.has_vertex) return;
+        Reservoir history = prev_final_[i];
+        history.M = std::min(history.M, history_cap);
+        const Reservoir initial = me.r;
+        const CandidateEval initial_eval = me.eval;
+        const ReuseInput inputs[2] = {{&initial, &me.sp, &initial_eval}, {&history, &old.sp}};
+        Rng temporal_rng = stage_rng(ctx, x, y, s, kTemporalStream);
+        ReuseCost cost;
+        CombinedReservoir c =
+            combine_reservoirs(scene, me.sp, inputs, 2, settings.restir_mis, visibility_in_mis, temporal_rng, cost);
+        me.r = c.r;
+        me.eval = c.at_q;
+        flush_cost(cost);
     });
     if (ctx.should_stop()) return;  // a partial iteration never reaches the film
     trace_seconds_ += seconds_since(t0);
 
     t0 = StageClock::now();
-    if (prev_.size() == n_pixels && history_cap > 0.0f) {
-        for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters&) {
-            RestirPixel& me = cur[size_t(y) * w + x];
-            const RestirPixel& old = prev_[size_t(y) * w + x];
-            if (!me.has_vertex || !old.has_vertex) return;
-            Reservoir history = old.r;
-            history.M = std::min(history.M, history_cap);
-            const Reservoir initial = me.r;
-            const ReuseInput inputs[2] = {{&initial, &me.sp}, {&history, &old.sp}};
-            Rng rng = stage_rng(ctx, x, y, s, kTemporalStream);
-            ReuseCost cost;
-            me.r = combine_reservoirs(scene, me.sp, inputs, 2, settings.restir_mis, visibility_in_mis, rng, cost);
-            flush_cost(cost);
-        });
-        if (ctx.should_stop()) return;
-    }
-    temporal_seconds_ += seconds_since(t0);
-
-    t0 = StageClock::now();
-    std::vector<Reservoir> final_reservoirs(n_pixels);
+    final_.resize(n_pixels);
     const float radius = std::max(1.0f, settings.restir_radius_px);
-    for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters&) {
-        const size_t i = size_t(y) * w + x;
-        const RestirPixel& me = cur[i];
-        if (!me.has_vertex) return;
-        ++vertices;
-        thread_local std::vector<ReuseInput> inputs;
-        inputs.assign(1, ReuseInput{&me.r, &me.sp});
-        Rng rng = stage_rng(ctx, x, y, s, kSpatialStream);
-        // Up to 2k tries for k neighbours, as Bitterli et al. do, so dissimilar surroundings do not loop.
-        for (int attempt = 0; attempt < 2 * k && int(inputs.size()) <= k; ++attempt) {
-            Point2 d = sample_uniform_disk_concentric({rng.next_float(), rng.next_float()});
-            int nx = x + int(std::lround(d.x * radius)), ny = y + int(std::lround(d.y * radius));
-            if ((nx == x && ny == y) || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-            const RestirPixel& other = cur[size_t(ny) * w + nx];
-            if (other.has_vertex && similar(me, other)) inputs.push_back(ReuseInput{&other.r, &other.sp});
-        }
-        neighbours += inputs.size() - 1;
-        ReuseCost cost;
-        final_reservoirs[i] = combine_reservoirs(scene, me.sp, inputs.data(), int(inputs.size()), settings.restir_mis,
-                                                 visibility_in_mis, rng, cost);
-        flush_cost(cost);
-    });
-    if (ctx.should_stop()) return;
-    spatial_seconds_ += seconds_since(t0);
-
-    t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         const size_t i = size_t(y) * w + x;
-        RestirPixel& me = cur[i];
+        const RestirPixel& me = cur[i];
         Color L = me.fixed;
+        final_[i] = Reservoir{};
         if (me.has_vertex) {
-            me.r = final_reservoirs[i];
-            L += me.beta * reservoir_contribution(scene, settings, me.sp, me.r);
+            ++vertices;
+            thread_local std::vector<ReuseInput> inputs;
+            inputs.assign(1, ReuseInput{&me.r, &me.sp, &me.eval});
+            Rng rng = stage_rng(ctx, x, y, s, kSpatialStream);
+            // Up to 2k tries for k neighbours, as Bitterli et al. do, so dissimilar surroundings do not loop.
+            for (int attempt = 0; attempt < 2 * k && int(inputs.size()) <= k; ++attempt) {
+                Point2 d = sample_uniform_disk_concentric({rng.next_float(), rng.next_float()});
+                int nx = x + int(std::lround(d.x * radius)), ny = y + int(std::lround(d.y * radius));
+                if ((nx == x && ny == y) || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+                const RestirPixel& other = cur[size_t(ny) * w + nx];
+                if (other.has_vertex && similar(me, other)) inputs.push_back(ReuseInput{&other.r, &other.sp});
+            }
+            neighbours += inputs.size() - 1;
+            ReuseCost cost;
+            CombinedReservoir c = combine_reservoirs(scene, me.sp, inputs.data(), int(inputs.size()),
+                                                     settings.restir_mis, visibility_in_mis, rng, cost);
+            flush_cost(cost);
+            final_[i] = c.r;
+            // The MIS weights traced the sample's visibility from here already when they include it.
+            L += me.beta * (c.visibility_known ? visible_reservoir_contribution(scene, settings, me.sp, c.r, c.at_q)
+                                               : reservoir_contribution(scene, settings, me.sp, c.r));
         }
         if (ctx.film.has_aux()) {  // diagnostic pass: the candidates the pixel's reservoir stands for (M)
             Rng camera_rng;
@@ -172,8 +175,9 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         }
         ctx.film.add(x, y, guard_sample(L, local));
     });
-    shade_seconds_ += seconds_since(t0);
-    prev_ = std::move(cur);
+    reuse_seconds_ += seconds_since(t0);
+    std::swap(prev_, cur_);
+    std::swap(prev_final_, final_);
     iterations_++;
     vertices_ += vertices.load();
     neighbours_ += neighbours.load();
@@ -187,9 +191,7 @@ std::map<std::string, double> RestirIntegrator::stats() const {
     return {
         {"iterations", double(iterations_)},
         {"trace_seconds_per_iteration", trace_seconds_ / it},
-        {"temporal_seconds_per_iteration", temporal_seconds_ / it},
-        {"spatial_seconds_per_iteration", spatial_seconds_ / it},
-        {"shade_seconds_per_iteration", shade_seconds_ / it},
+        {"reuse_seconds_per_iteration", reuse_seconds_ / it},
         {"neighbours_per_pixel", double(neighbours_) * per_vertex},
         {"mis_pdf_evaluations_per_pixel", double(pdf_evaluations_) * per_vertex},
         {"mis_shadow_rays_per_pixel", double(mis_shadow_rays_) * per_vertex},

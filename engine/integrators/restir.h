@@ -3,7 +3,7 @@
 #pragma once
 #include <vector>
 
-#include "integrators/direct_lighting.h"
+#include "integrators/reservoir_reuse.h"
 
 namespace smis {
 
@@ -15,6 +15,7 @@ struct RestirPixel {
     Color fixed{0.0f};     // everything but the direct light at the vertex (path-traced)
     float distance = 0.0f; // camera-to-vertex path length, for the neighbour similarity test
     Reservoir r;
+    CandidateEval eval;    // r's sample evaluated at sp (when r has one), for the reuse stages
 };
 
 class RestirIntegrator : public IterativeIntegrator {
@@ -24,8 +25,11 @@ public:
 private:
     void iteration(RenderContext& ctx, uint32_t s) override;
     std::vector<RestirPixel> prev_;  // the last finished iteration (empty before the first)
-    // Measurements, summed over iterations.
-    double trace_seconds_ = 0, temporal_seconds_ = 0, spatial_seconds_ = 0, shade_seconds_ = 0;
+    std::vector<RestirPixel> cur_;   // the iteration being rendered
+    std::vector<Reservoir> prev_final_, final_;  // the pixels' final reservoirs (the history), by iteration
+    // Measurements, summed over iterations: stage 1 (trace, and the temporal reuse when on) and stage
+    // 2 (spatial reuse and shading), wall seconds.
+    double trace_seconds_ = 0, reuse_seconds_ = 0;
     uint64_t iterations_ = 0, vertices_ = 0, neighbours_ = 0, pdf_evaluations_ = 0, mis_shadow_rays_ = 0;
 };
 

@@ -82,6 +82,17 @@ TEST(Restir, UnbiasedTalbotMisConvergesToNee) {
     expect_unbiased(check("RESTIR TALBOT", restir(RestirMis::Talbot), 128, 4, 4000));
 }
 
+TEST(Restir, WithReuseAcrossIterationsBothMisConvergeToNee) {
+    // The history (off by default) combines the previous iteration's final reservoir, whose occluded
+    // samples the reuse dropped: the MIS pdfs of the history include its own visibility.
+    for (RestirMis mis : {RestirMis::Seed, RestirMis::Talbot}) {
+        RenderSettings st = restir(mis);
+        st.restir_history_cap = 2;
+        expect_unbiased(check(mis == RestirMis::Seed ? "RESTIR SEED, history cap 2" : "RESTIR TALBOT, history cap 2",
+                              st, 128, 4, mis == RestirMis::Seed ? 9000 : 10000));
+    }
+}
+
 TEST(Restir, WithoutVisibilityReuseBothMisConvergeToNee) {
     // The supplement's Fig. 1 "without visibility reuse": occluded samples stay in the reservoirs,
     // the MIS pdfs need no shadow rays and the estimator is still unbiased.
@@ -103,7 +114,8 @@ TEST(Restir, BiasedVariantsAreRejected) {
 TEST(Restir, SameSeedSameImageForAnyThreadCount) {
     for (RestirMis mis : {RestirMis::Seed, RestirMis::Talbot}) {
         RenderSettings st = restir(mis);
-        st.samples = 3;  // temporal reuse included
+        st.samples = 3;
+        st.restir_history_cap = 2;  // temporal reuse included
         st.threads = 1;
         auto one = render(scene(), st);
         st.threads = 2;
