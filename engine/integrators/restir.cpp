@@ -169,9 +169,9 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             L += me.beta * (c.visibility_known ? visible_reservoir_contribution(scene, settings, me.sp, c.r, c.at_q)
                                                : reservoir_contribution(scene, settings, me.sp, c.r));
         }
-        if (ctx.film.has_aux()) {  // diagnostic pass: the candidates the pixel's reservoir stands for (M)
+        if (ctx.film.has_aux()) {  // diagnostic pass: the candidates the shaded reservoir stands for (M)
             Rng camera_rng;
-            add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), me.has_vertex ? me.r.M : 0.0f);
+            add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), me.has_vertex ? final_[i].M : 0.0f);
         }
         ctx.film.add(x, y, guard_sample(L, local));
     });
