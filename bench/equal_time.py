@@ -5,7 +5,7 @@
     /usr/bin/python3 bench/equal_time.py --suite psf --estimators PATH PSF_SMIS --budgets 2 --seeds 1
 
 Suites (SUITES below) group scenes with the estimators that apply to them:
-  surfaces  cornell, cornell_diffuse, demo    PATH, CYCLES
+  surfaces  cornell, cornell_diffuse, demo, principled_coat    PATH, CYCLES
   psf       psf_glossy, psf_room              PATH, PSF_KELLER, PSF_SMIS, CYCLES  (West et al. Figs. 4-5)
   restir    many_lights                       NEE, RIS, RESTIR_*, CYCLES (bench/restir_bench.py runs it)
   volume    volume_planes                     PATH, PLANES_UNWEIGHTED/CMIS/SMIS_EXACT, CYCLES
@@ -67,7 +67,7 @@ RESTIR_COMMON = {"integrator": "PATH", "max_bounces": 0, "ris_candidates": 16, "
 VOLUME_COMMON = {"integrator": "PATH", "max_bounces": 1}
 SUITES = {
     "surfaces": {
-        "scenes": ["cornell", "cornell_diffuse", "demo"],
+        "scenes": ["cornell", "cornell_diffuse", "demo", "principled_coat"],
         "estimators": {"PATH": {"integrator": "PATH"}, CYCLES: None},
         "baseline": "PATH", "equal_spp": 64,
     },
