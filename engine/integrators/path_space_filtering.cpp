@@ -15,14 +15,34 @@
 // of the SMIS denominator (eq. 17).
 #include "integrators/path_space_filtering.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "integrators/aux_passes.h"
 #include "integrators/hash_grid.h"
 #include "integrators/path_tracing.h"
+#include "integrators/psf_density.h"
 #include "integrators/tiles.h"
 
 namespace smis {
+
+namespace psf_detail {
+// Two versions, AVX2 (8 lanes) and the baseline x86-64 (SSE2, 4 lanes), picked by the loader on the
+// machine at hand. Both compute every lane with the same IEEE operations (no FMA: AVX2 alone does not
+// allow contracting a * b + c), so the images do not depend on which one runs.
+[[gnu::target_clones("avx2", "default")]] void model_densities(const float* const* fields, size_t n, const Vec3& z,
+                                                                 const Vec3& z_ng, float* out) {
+    const float* const* f = fields;
+    const float zx = z.x, zy = z.y, zz = z.z, wx = z_ng.x, wy = z_ng.y, wz = z_ng.z;  // in registers
+    // `out` never overlaps the fields (ivdep spares the compiler 21 run-time alias checks).
+#pragma GCC ivdep
+    for (size_t j = 0; j < n; ++j)
+        out[j] = model_density(zx - f[0][j], zy - f[1][j], zz - f[2][j], f[3][j], f[4][j], f[5][j], f[6][j], f[7][j],
+                               f[8][j], f[9][j], f[10][j], f[11][j], f[12][j], f[13][j], f[14][j], f[15][j], f[16][j],
+                               f[17][j], f[18][j], f[19][j], f[20][j], wx, wy, wz);
+}
+}  // namespace psf_detail
+
 namespace {
 
 // Everything stage 2 needs about one pixel's path. Shading state is stored, not the Bsdf, and
@@ -59,10 +79,13 @@ Bsdf bsdf_at(const Scene& scene, uint32_t material, const Vec3& ns, const Vec3& 
     return scene.material(material).make_bsdf(Frame(ns), ng, backfacing, attr);
 }
 
-// Stage 1 for one pixel sample.
+// Stage 1 for one pixel sample; `model` receives x1's technique density model (psf_density.h), built
+// here once per stored vertex rather than once per pixel that gathers it.
 PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
-                        LocalCounters& counters, const Camera& camera, RecordAttribs* attribs) {
+                        LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
+                        TechniqueDensity* model) {
     PathRecord rec;
+    *model = TechniqueDensity{};
     PathState st;
     st.prev_p = ray.o;
     Color beta(1.0f);
@@ -99,6 +122,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         rec.backfacing = sp.backfacing;
         if (attribs) attribs->x1 = hit.attr;
         rec.radius = settings.psf_radius_px * camera.pixel_footprint(prefix_length);
+        *model = TechniqueDensity::of(sp.bsdf, hit.p, sp.wo);
         DirectSample ds = sample_direct(scene, settings, sp, rng, counters);
         if (ds.valid) rec.fixed += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
         BsdfSample bs = sample_bsdf(sp, rng);
@@ -133,6 +157,10 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         BsdfSample bs1 = sample_bsdf(sp1, rng);
         if (bs1.valid()) {
             PathState st2{st1.depth + 1, bs1.delta, bs1.pdf, h1.p};
+            // Russian roulette in the suffix sees the whole path's throughput, as in PATH: a suffix
+            // traced as if it started with throughput 1 would survive longer, costing more per path.
+            float eta2 = eta_scale * (bs.transmission ? sqr(bs.eta) : 1.0f) * (bs1.transmission ? sqr(bs1.eta) : 1.0f);
+            st2.rr_scale = max_component(bsdf_weight * bs1.value / bs1.pdf) * eta2;
             Color L_in = trace_path(scene, settings, Ray{spawn_origin(sp1, bs1.wi), bs1.wi, 0.0f, kInf}, st2, rng,
                                     counters);
             rec.next_dir = bs1.wi;
@@ -154,8 +182,8 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
     }
 }
 
-// Density of technique `tech` (a prefix endpoint with its BSDF) producing suffix vertex z, in the
-// area measure at z: p_omega(wo, omega) |cos theta_z| / d^2, assuming visibility.
+// A technique with its full BSDF, for the unbiased variant, which evaluates every density exactly
+// (through Bsdf::pdf) and tests visibility: p(z | ybar_j) in the area measure at z.
 struct Technique {
     const PathRecord* rec;
     Bsdf bsdf;
@@ -169,71 +197,44 @@ float area_density(const Technique& t, const Vec3& z, const Vec3& z_ng) {
     return t.bsdf.pdf(t.wo, w) * absdot(w, z_ng) / dist2;
 }
 
-bool all_diffuse(const Bsdf& b) {
-    for (int i = 0; i < b.lobe_count(); ++i)
-        if (b.lobe(i).kind != LobeKind::Diffuse) return false;
-    return true;
+// Per-thread scratch of the gather. Reached through a function that is not inlined: a thread_local
+// used in the hot loops costs a TLS lookup per use in a shared library (the compiler recomputes its
+// address rather than keeping it in a register).
+struct GatherScratch {
+    std::vector<uint32_t> in_ball, nb;
+    std::vector<Technique> techniques;
+    DensitySum density_sum;
+};
+[[gnu::noinline]] GatherScratch* gather_scratch() {
+    static thread_local GatherScratch scratch;
+    return &scratch;
 }
 
-// The denominator of eq. (17), sum_j p(z | y_j) over the gathered techniques, is k^2 densities per
-// pixel and dominates the gather. Techniques whose BSDF is Lambertian only (most of a diffuse
-// scene) have the density cos_j / pi * |cos_z| / d^2 (cosine sampling; the sidedness test of
-// Bsdf::pdf reduces to both cosines being positive since wo is on the normals' side), which is
-// evaluated here for all of them at once from structure-of-arrays data the compiler vectorises.
-// Other techniques take Bsdf::pdf. Both give the same values as area_density().
-class DensitySum {
-public:
-    void reset() {
-        for (auto* v : {&px_, &py_, &pz_, &nx_, &ny_, &nz_, &gx_, &gy_, &gz_}) v->clear();
-        general_.clear();
-    }
-    void add(const Technique& t) {
-        const Vec3 &p = t.rec->p, &ns = t.bsdf.frame().n, &ng = t.bsdf.ng();
-        if (!all_diffuse(t.bsdf)) {
-            general_.push_back(&t);
-            return;
-        }
-        // Lambert lobes only answer wo on the side of both normals (else every density is 0).
-        if (!(dot(t.wo.wo, ns) > 0.0f) || !(dot(t.wo.wo, ng) > 0.0f)) return;
-        px_.push_back(p.x), py_.push_back(p.y), pz_.push_back(p.z);
-        nx_.push_back(ns.x), ny_.push_back(ns.y), nz_.push_back(ns.z);
-        gx_.push_back(ng.x), gy_.push_back(ng.y), gz_.push_back(ng.z);
-    }
-    float operator()(const Vec3& z, const Vec3& z_ng) const {
-        // Densities into a buffer first, summed afterwards: a float reduction inside the loop
-        // would keep the compiler from vectorising it (it may not reorder the additions).
-        const size_t n = px_.size();
-        pj_.resize(n);
-        float* out = pj_.data();
-        for (size_t j = 0; j < n; ++j) {
-            float dx = z.x - px_[j], dy = z.y - py_[j], dz = z.z - pz_[j];
-            float d2 = dx * dx + dy * dy + dz * dz;
-            float cos_s = dx * nx_[j] + dy * ny_[j] + dz * nz_[j];  // times d
-            float cos_g = dx * gx_[j] + dy * gy_[j] + dz * gz_[j];
-            float cos_z = std::fabs(dx * z_ng.x + dy * z_ng.y + dz * z_ng.z);
-            // (cos_s / d) / pi * (cos_z / d) / d^2
-            float p = cos_s * cos_z * kInvPi / (d2 * d2);
-            out[j] = (cos_s > 0.0f && cos_g > 0.0f && d2 > 0.0f) ? p : 0.0f;
-        }
-        float sum = 0.0f;
-        for (size_t j = 0; j < n; ++j) sum += out[j];
-        for (const Technique* t : general_) sum += area_density(*t, z, z_ng);
-        return std::isfinite(sum) ? sum : 0.0f;
-    }
+}  // namespace
 
-private:
-    std::vector<float> px_, py_, pz_, nx_, ny_, nz_, gx_, gy_, gz_;
-    std::vector<const Technique*> general_;
-    mutable std::vector<float> pj_;
+struct PathSpaceFilteringIntegrator::IterationBuffers {
+    std::vector<PathRecord> records;
+    std::vector<TechniqueDensity> models;  // records[k]'s x1 as a technique
+    std::vector<uint32_t> stored;
+    std::vector<Vec3> positions;
+    std::vector<float> radii;
+    HashGrid grid;
 };
 
-}  // namespace
+PathSpaceFilteringIntegrator::PathSpaceFilteringIntegrator(PsfWeighting weighting) : weighting_(weighting) {}
+PathSpaceFilteringIntegrator::~PathSpaceFilteringIntegrator() = default;
 
 void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     const Scene& scene = ctx.scene;
     const RenderSettings& settings = ctx.settings;
     const int w = ctx.film.width(), h = ctx.film.height();
-    std::vector<PathRecord> records(size_t(w) * h);
+    // The per-pixel buffers live across iterations: reallocating ~15 MB of records every iteration
+    // costs page faults comparable to the grid build.
+    if (!buffers_) buffers_ = std::make_unique<IterationBuffers>();
+    std::vector<PathRecord>& records = buffers_->records;
+    std::vector<TechniqueDensity>& models = buffers_->models;
+    records.resize(size_t(w) * h);
+    models.resize(records.size());
     std::vector<RecordAttribs> attribs(scene.has_varying_materials() ? records.size() : 0);
     auto x1_attr = [&](size_t k) { return attribs.empty() ? SurfaceAttribs{} : attribs[k].x1; };
 
@@ -243,7 +244,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
         const size_t k = size_t(y) * w + x;
-        records[k] = trace_record(scene, settings, ray, rng, local, scene.camera(), attribs.empty() ? nullptr : &attribs[k]);
+        records[k] = trace_record(scene, settings, ray, rng, local, scene.camera(),
+                                  attribs.empty() ? nullptr : &attribs[k], &models[k]);
         ++local.paths;
     });
     if (ctx.should_stop()) return;  // a partial iteration never reaches the film
@@ -252,9 +254,12 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     // The radius shrinks over iterations like progressive photon mapping's (Knaus & Zwicker 2011):
     // r_i = r_0 (i + 1)^((alpha - 1) / 2), so the bias vanishes as iterations accumulate.
     const float shrink = std::pow(float(s) + 1.0f, 0.5f * (settings.psf_radius_alpha - 1.0f));
-    std::vector<uint32_t> stored;
-    std::vector<Vec3> positions(records.size());
-    std::vector<float> radii;
+    std::vector<uint32_t>& stored = buffers_->stored;
+    std::vector<Vec3>& positions = buffers_->positions;
+    std::vector<float>& radii = buffers_->radii;
+    stored.clear();
+    radii.clear();
+    positions.resize(records.size());
     for (size_t i = 0; i < records.size(); ++i) {
         if (!records[i].has_vertex) continue;
         records[i].radius *= shrink;
@@ -264,7 +269,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     }
 
     t0 = StageClock::now();
-    HashGrid grid;
+    HashGrid& grid = buffers_->grid;
     if (weighting_ != PsfWeighting::Path && !stored.empty()) {
         // Cells the size of the typical radius: a query visits 2-3 cells per axis (measured faster
         // than half-radius cells, whose 4-5 per axis cost more in lookups than they save in points).
@@ -277,6 +282,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     t0 = StageClock::now();
     std::atomic<uint64_t> gathered{0}, accepted{0};
     const int max_n = std::max(1, settings.psf_max_neighbors);
+    const bool exact = weighting_ == PsfWeighting::SmisUnbiased;
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         const size_t k = size_t(y) * w + x;
         const PathRecord& q = records[k];
@@ -291,41 +297,53 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 if (pdf > 0.0f) L += q.beta * b.eval(q.wo, d) * q.L_out / pdf;
             }
         } else if (q.has_vertex) {
+            GatherScratch& scratch = *gather_scratch();
             // The techniques: x1 endpoints within the radius, own first; beyond max_n a uniform
-            // random subset (reservoir sampling), chosen from positions only, never from the suffixes,
-            // so the estimator stays a multi-sample balance heuristic over a fixed set (unbiased).
-            Rng pick = pixel_sample_rng(x + scene.camera().window_x0(), y + scene.camera().window_y0(), s,
-                                        settings.seed ^ 0x5a5a5a5au);
-            // Per-thread scratch buffers: no allocation per pixel in the hot loop.
-            thread_local std::vector<uint32_t> nb;
-            thread_local std::vector<Technique> techniques;
+            // random subset (a partial Fisher-Yates shuffle), chosen from positions only, never from
+            // the suffixes, so the estimator stays a multi-sample balance heuristic over a fixed set
+            // (unbiased).
+            std::vector<uint32_t>& in_ball = scratch.in_ball;
+            std::vector<uint32_t>& nb = scratch.nb;
+            in_ball.clear();
+            grid.query_ball(q.p, q.radius, in_ball);
+            in_ball.erase(std::remove(in_ball.begin(), in_ball.end(), static_cast<uint32_t>(k)), in_ball.end());
             nb.assign(1, static_cast<uint32_t>(k));
-            uint32_t seen = 0;
-            const float r2 = q.radius * q.radius;
-            grid.query(q.p, q.radius, [&](uint32_t j) {
-                // positions[], not records[]: 12 bytes per point instead of a 200-byte record.
-                if (j == k || length_sq(positions[j] - q.p) > r2) return;
-                ++seen;
-                if (nb.size() < size_t(max_n)) nb.push_back(j);
-                else {
-                    uint32_t slot = pick.next_u32() % seen;
-                    if (slot < uint32_t(max_n - 1)) nb[1 + slot] = j;
+            const size_t others = std::min(in_ball.size(), size_t(max_n - 1));
+            if (others < in_ball.size()) {
+                Rng pick = pixel_sample_rng(x + scene.camera().window_x0(), y + scene.camera().window_y0(), s,
+                                            settings.seed ^ 0x5a5a5a5au);
+                for (size_t i = 0; i < others; ++i) {
+                    size_t j = i + size_t((uint64_t(pick.next_u32()) * (in_ball.size() - i)) >> 32);
+                    std::swap(in_ball[i], in_ball[j]);
                 }
-            });
-            gathered += nb.size();
-            techniques.resize(nb.size());
-            for (size_t jj = 0; jj < nb.size(); ++jj) {
-                const PathRecord& t = records[nb[jj]];
-                techniques[jj].rec = &t;
-                techniques[jj].bsdf = bsdf_at(scene, t.material, t.ns, t.ng, t.backfacing, x1_attr(nb[jj]));
-                techniques[jj].wo = techniques[jj].bsdf.fix_wo(t.wo);
             }
-            const Bsdf& own = techniques[0].bsdf;
-            const bool exact = weighting_ == PsfWeighting::SmisUnbiased;
-            thread_local DensitySum density_sum;
-            if (weighting_ == PsfWeighting::Smis) {
+            nb.insert(nb.end(), in_ball.begin(), in_ball.begin() + others);
+            gathered += nb.size();
+
+            const Bsdf own = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, x1_attr(k));
+            // A technique's BSDF when its density model cannot express it (General kind).
+            auto general_bsdf = [&](uint32_t j) {
+                const PathRecord& t = records[j];
+                return bsdf_at(scene, t.material, t.ns, t.ng, t.backfacing, x1_attr(j));
+            };
+            auto technique = [&](uint32_t j) {
+                Technique t{&records[j], general_bsdf(j), {}};
+                t.wo = t.bsdf.fix_wo(records[j].wo);
+                return t;
+            };
+            std::vector<Technique>& techniques = scratch.techniques;
+            DensitySum& density_sum = scratch.density_sum;
+            if (exact) {
+                techniques.clear();
+                for (uint32_t j : nb) techniques.push_back(technique(j));
+            } else if (weighting_ == PsfWeighting::Smis) {
                 density_sum.reset();
-                for (const Technique& t : techniques) density_sum.add(t);
+                for (uint32_t j : nb) {
+                    if (models[j].kind == TechniqueDensity::General)
+                        density_sum.add_general(records[j].p, general_bsdf(j), records[j].wo);
+                    else
+                        density_sum.add(models[j]);
+                }
             }
             Color sum(0.0f);
             uint32_t n_accepted = 0;
@@ -363,7 +381,11 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 }
                 Color contribution = f * L_z * (absdot(wdir, smp.z_ng) / dist2);
                 if (weighting_ == PsfWeighting::Keller) {
-                    float p_own = area_density(techniques[ii], smp.z, smp.z_ng);
+                    // Keller's estimator divides by the sample's own density only.
+                    const TechniqueDensity& m = models[nb[ii]];
+                    float p_own = m.kind == TechniqueDensity::General
+                                      ? area_density(technique(nb[ii]), smp.z, smp.z_ng)
+                                      : m.area_density(smp.z, smp.z_ng);
                     if (p_own > 0.0f) sum += contribution / p_own;
                     continue;
                 }
@@ -409,7 +431,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     stored_vertices_ += stored.size();
     gathered_ += gathered.load();
     accepted_ += accepted.load();
-    bytes_per_vertex_ = sizeof(PathRecord) + (stored.empty() ? 0.0 : double(grid.memory_bytes()) / stored.size());
+    bytes_per_vertex_ = sizeof(PathRecord) + sizeof(TechniqueDensity) +
+                        (stored.empty() ? 0.0 : double(grid.memory_bytes()) / stored.size());
 }
 
 std::map<std::string, double> PathSpaceFilteringIntegrator::stats() const {

@@ -2,6 +2,7 @@
 // weighting and plain path tracing on the same paths as baselines.
 #pragma once
 #include <atomic>
+#include <memory>
 
 #include "integrators/integrator.h"
 
@@ -16,7 +17,8 @@ enum class PsfWeighting {
 
 class PathSpaceFilteringIntegrator : public IterativeIntegrator {
 public:
-    explicit PathSpaceFilteringIntegrator(PsfWeighting weighting) : weighting_(weighting) {}
+    explicit PathSpaceFilteringIntegrator(PsfWeighting weighting);
+    ~PathSpaceFilteringIntegrator() override;
     std::map<std::string, double> stats() const override;
     void add_skipped(const RenderSettings&, std::vector<std::string>* skipped) const override {
         if (weighting_ == PsfWeighting::Path) skipped->push_back("filtering");  // no grid, no gather
@@ -25,6 +27,9 @@ public:
 private:
     void iteration(RenderContext& ctx, uint32_t s) override;
     PsfWeighting weighting_;
+    // Records, technique models and the grid, kept across iterations (path_space_filtering.cpp).
+    struct IterationBuffers;
+    std::unique_ptr<IterationBuffers> buffers_;
     // Measurements, summed over iterations.
     double stage1_seconds_ = 0, grid_seconds_ = 0, gather_seconds_ = 0;
     uint64_t iterations_ = 0, stored_vertices_ = 0, gathered_ = 0, accepted_ = 0;

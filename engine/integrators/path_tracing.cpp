@@ -117,7 +117,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         state.prev_pdf = bs.pdf;
         state.prev_p = hit.p;
         ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
-        if (!russian_roulette(state.depth, beta, eta_scale, rng) || is_black(beta)) break;
+        if (!russian_roulette(state.depth, beta, eta_scale * state.rr_scale, rng) || is_black(beta)) break;
     }
     return L;
 }

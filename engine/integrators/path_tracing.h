@@ -35,6 +35,10 @@ struct PathState {
     // The previous vertex's light-sampling density, for MIS, as a multiple of the NEE density
     // (pmf x light pdf): M for resampled light sampling (RIS, ReSTIR), see reservoir_contribution.
     float light_pdf_scale = 1.0f;
+    // Throughput of the path before the ray this state starts with (max component, refraction
+    // scaling included), for Russian roulette only: a path traced in pieces (path-space filtering's
+    // suffix) then stops with the same probabilities as the whole path would.
+    float rr_scale = 1.0f;
 };
 struct RayMedia;
 // Transmittance along a ray's media up to t / to its end (defined with RayMedia in volume.cpp).
