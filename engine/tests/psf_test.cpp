@@ -35,6 +35,9 @@ TEST(PathSpaceFiltering, UnbiasedSmisConvergesToThePathTracer) {
     double acc = accepted_fraction(unbiased, ref);
     std::printf("PSF_SMIS_UNBIASED: %.4f of pixels agree with PATH\n", acc);
     EXPECT_GE(acc, 0.99);
+    stats::ZTest mean = stats::z_test_difference(unbiased.image, ref.image);
+    std::printf("image mean: z = %.2f\n", mean.z);
+    EXPECT_GE(mean.p_value, 0.001);
 }
 
 TEST(PathSpaceFiltering, BiasedVariantsAreDetectablyBiased) {
