@@ -3,6 +3,8 @@
 #pragma once
 #include <cstdint>
 
+#include "core/features.h"
+
 namespace smis {
 
 inline uint64_t mix64(uint64_t z) {  // splitmix64 finaliser
@@ -34,7 +36,7 @@ public:
     // Uniform in [0, 1): 24 random mantissa bits, never rounds up to 1. The first values can come
     // from a stratified prefix (set_prefix, core/stratified.h) instead of the PCG stream.
     float next_float() {
-        if (prefix_next_ < prefix_size_) return prefix_[prefix_next_++];
+        if (kWithStratified && prefix_next_ < prefix_size_) return prefix_[prefix_next_++];
         return static_cast<float>(next_u32() >> 8) * 0x1p-24f;
     }
     // The next n (<= kMaxPrefix) calls of next_float() return v[0..n); the PCG stream is untouched.

@@ -453,7 +453,7 @@ LobeTerms lobe_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
             break;
         case LobeKind::Microfacet: t = microfacet_terms(lobe, wo, wi); break;
         case LobeKind::Dielectric: t = dielectric_terms(lobe, wo, wi); break;
-        default: t = extra_terms(lobe, wo, wi); break;
+        default: t = kWithPrincipledExtras ? extra_terms(lobe, wo, wi) : LobeTerms{}; break;
     }
     if (!std::isfinite(t.geom) || !std::isfinite(t.pdf) || !(t.pdf >= 0.0f)) return {};
     return t;
@@ -467,7 +467,7 @@ BsdfSample lobe_sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event
         case LobeKind::Diffuse: s = sample_diffuse(lobe, wo, u); break;
         case LobeKind::Microfacet: s = sample_microfacet(lobe, wo, u); break;
         case LobeKind::Dielectric: s = sample_dielectric(lobe, wo, u, u_event); break;
-        default: s = extra_sample(lobe, wo, u); break;
+        default: s = kWithPrincipledExtras ? extra_sample(lobe, wo, u) : BsdfSample{}; break;
     }
     if (!s.valid()) return BsdfSample{};
     return s;
