@@ -96,7 +96,8 @@ struct Material {
     }
 
 private:
-    Bsdf build_bsdf(const Frame& frame, const Vec3& ng, bool backfacing, const SurfaceAttribs& attr) const {
+    // Out of line: make_bsdf() at every vertex should not pay for this path's register pressure.
+    [[gnu::noinline]] Bsdf build_bsdf(const Frame& frame, const Vec3& ng, bool backfacing, const SurfaceAttribs& attr) const {
         Bsdf bsdf(frame, ng);
         for (size_t i = 0; i < lobes.size(); ++i) {
             Lobe lobe = lobes[i];

@@ -607,17 +607,23 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
     hit->ns = ns;
     hit->material = mesh.materials[prim];
     if (kWithTextures) hit->attr.object_color = inst.object_color;
-    if (kWithTextures && !mesh.uvs.empty()) {
-        const Point2* uv = &mesh.uvs[3 * prim];
-        hit->attr.uv = {uv[0].x * w + uv[1].x * u + uv[2].x * v, uv[0].y * w + uv[1].y * u + uv[2].y * v};
-        const Material& mat = materials_[hit->material];
-        if (mat.normal_map) hit->ns = apply_normal_map(mat, mesh, inst, prim, ns, ng, hit->attr.uv);
-    }
     hit->light = -1;
     if (inst.light_base >= 0) {
         int32_t local = emissive_local_[inst.mesh][prim];
         if (local >= 0) hit->light = inst.light_base + local;
     }
+    // Last and out of line: with a call in the middle, every hit paid for keeping the floats above
+    // alive across it (SSE registers are caller-saved), textured or not (+1.1% instructions).
+    if (kWithTextures && !mesh.uvs.empty()) fill_uv_attribs(mesh, inst, prim, u, v, hit);
+}
+
+void Scene::fill_uv_attribs(const Mesh& mesh, const Instance& inst, uint32_t prim, float u, float v,
+                            SurfaceHit* hit) const {
+    const Point2* uv = &mesh.uvs[3 * prim];
+    float w = 1.0f - u - v;
+    hit->attr.uv = {uv[0].x * w + uv[1].x * u + uv[2].x * v, uv[0].y * w + uv[1].y * u + uv[2].y * v};
+    const Material& mat = materials_[hit->material];
+    if (mat.normal_map) hit->ns = apply_normal_map(mat, mesh, inst, prim, hit->ns, hit->ng, hit->attr.uv);
 }
 
 // Blender's Normal Map node in tangent space: the tangent follows the UV map's u direction on the

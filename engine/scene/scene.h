@@ -172,6 +172,9 @@ private:
     void set_skipped(const char* what, bool skipped);  // adds or removes a skipped() entry
     void update_skipped();
     void fill_hit(const Ray& ray, const struct RTCRayHit& rh, SurfaceHit* hit) const;
+    // The UV and normal-map part of fill_hit, for meshes with UVs (textured materials).
+    [[gnu::noinline]] void fill_uv_attribs(const Mesh& mesh, const Instance& inst, uint32_t prim, float u, float v,
+                                           SurfaceHit* hit) const;
 
     std::string embree_error_;
     RTCDevice device_ = nullptr;
