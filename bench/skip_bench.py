@@ -2,6 +2,7 @@
 
     /usr/bin/python3 bench/skip_bench.py [--baseline REV] [--repeats 5] [--quick]
     /usr/bin/python3 bench/skip_bench.py --instructions     # load-independent: callgrind counts
+    /usr/bin/python3 bench/skip_bench.py --per-feature [--rev HEAD] [--jobs 1]   # each feature on its own
 
 The engine analyses each scene before rendering and switches off what the scene does not use
 (media tracking without media, spectral sampling without spectral content in AUTO mode, the
@@ -22,10 +23,19 @@ repeatable to a few parts per million and independent of the machine's load, whi
 shared machine is not. Both builds trace the same rays (the random streams are the same), so the
 difference is the cost of the code around them. Instructions are not time (a cache miss costs more
 than an add), so both measures are reported. Writes bench/results/skip_bench_instructions.{json,csv,md}.
+
+--per-feature measures each feature on its own, in instructions: the engine at --rev is built (into
+/tmp, once per commit and feature set) with every feature, without all of them, and without each one
+(cmake -DSMIS_WITHOUT=<feature>, engine/core/features.h: the feature's hot-path checks become
+compile-time constants and its code is dropped). The cost of a feature is the build with every
+feature against the build with every feature but that one, on scenes that do not use it; the last
+rows compare against the build with none. Every build renders with the random sampling pattern (the
+stratified one is a feature). Writes bench/results/skip_bench_features.{json,csv,md}.
 """
 import argparse
 import csv
 import datetime
+import hashlib
 import json
 import os
 import re
@@ -56,6 +66,28 @@ INSTRUCTION_CASES = [
     ("psf_glossy", {"integrator": "PSF_SMIS", "samples": 2}, "no media, no spectral content (filtering on)"),
     ("many_lights", {"integrator": "PATH", "samples": 4}, "no media, no spectral content, NEE (no RIS/ReSTIR)"),
 ]
+# --per-feature: the features of engine/core/features.h (as cmake -DSMIS_WITHOUT spells them), what
+# they are, and the cases beyond FEATURE_CASES where they have code on the hot path.
+FEATURES = [
+    ("volumes", "media tracking, single scattering, photon planes", []),
+    ("spectral", "spectral path tracer (per-sample hook)", []),
+    ("resampled_lights", "RIS / ReSTIR at the first vertex", ["many_lights"]),
+    ("textures", "image textures, normal maps, Object Info colour", ["psf_glossy"]),
+    ("textured_emission", "emission colour from an image", []),
+    ("cutouts", "Principled Alpha < 1", []),
+    ("principled_extras", "clearcoat, sheen, Burley diffuse, Transparent BSDF", []),
+    ("depth_of_field", "thin-lens camera", []),
+    ("aux_passes", "Depth / Normal / Albedo / diagnostic passes", []),
+    ("stratified", "stratified sampling pattern", ["psf_glossy"]),
+]
+FEATURE_CASES = ["cornell", "psf_room"]
+# Every feature unused: the random sampling pattern, since the stratified one is a feature too (a
+# build without it refuses STRATIFIED; both patterns trace the same number of rays).
+FEATURE_SETTINGS = {"cornell": {"integrator": "PATH", "samples": 8}, "psf_room": {"integrator": "PATH", "samples": 2},
+                    "many_lights": {"integrator": "PATH", "samples": 4},
+                    "psf_glossy": {"integrator": "PSF_SMIS", "samples": 2}}
+FEATURE_COMMON = dict(COMMON, sampling_pattern="RANDOM")
+GOAL_PERCENT = 2.0
 CALLGRIND = ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", "--collect-atstart=no",
              "--toggle-collect=smis::RenderSession::render_loop*"]
 
@@ -68,20 +100,23 @@ def git(*args, cwd=ROOT):
     return subprocess.run(["git", "-C", cwd, *args], check=True, capture_output=True, text=True).stdout.strip()
 
 
-def build_baseline(rev):
-    """Builds the engine at `rev` (once; cached by commit) and returns its user-scripts folder."""
+def build_tree(rev, without=(), prefix="smis_skip_", jobs=None):
+    """Builds the engine at `rev` without the features `without` (cmake -DSMIS_WITHOUT, engine/core/
+    features.h) into /tmp, once (cached by commit and feature set), and returns (commit, user-scripts
+    folder). Each build has its own source tree: the module is written into the add-on's folder."""
     commit = git("rev-parse", "--short", rev)
-    base = os.path.join("/tmp", "smis_skip_baseline_" + commit)
+    base = os.path.join("/tmp", prefix + commit + ("_without_" + "-".join(sorted(without)) if without else ""))
     src = os.path.join(base, "src")
     if not os.path.exists(os.path.join(src, "CMakeLists.txt")):
         os.makedirs(src, exist_ok=True)
         archive = subprocess.run(["git", "-C", ROOT, "archive", commit], check=True, capture_output=True).stdout
         subprocess.run(["tar", "-x", "-C", src], input=archive, check=True)
     build = os.path.join(base, "build")
-    log("building the baseline %s in %s" % (commit, build))
-    subprocess.run(["cmake", "-S", src, "-B", build, "-DCMAKE_BUILD_TYPE=Release"], check=True,
+    log("building %s%s in %s" % (commit, " without " + ", ".join(without) if without else "", build))
+    options = ["-DSMIS_WITHOUT=" + ";".join(without)] if without else []
+    subprocess.run(["cmake", "-S", src, "-B", build, "-DCMAKE_BUILD_TYPE=Release", *options], check=True,
                    capture_output=True)
-    subprocess.run(["cmake", "--build", build, "-j", str(os.cpu_count()), "--target", "_smis"], check=True,
+    subprocess.run(["cmake", "--build", build, "-j", str(jobs or os.cpu_count()), "--target", "_smis"], check=True,
                    capture_output=True)
     scripts = os.path.join(base, "scripts")
     os.makedirs(os.path.join(scripts, "addons"), exist_ok=True)
@@ -89,6 +124,11 @@ def build_baseline(rev):
     if not os.path.islink(link):
         os.symlink(os.path.join(src, "addon", "smis_render"), link)
     return commit, scripts
+
+
+def build_baseline(rev, jobs=None):
+    """The baseline build (before the features existed): see build_tree."""
+    return build_tree(rev, prefix="smis_skip_baseline_", jobs=jobs)
 
 
 def current_scripts():
@@ -103,27 +143,35 @@ def current_scripts():
 
 
 def count_instructions(blend, settings, scripts):
-    """Instructions executed by the engine's render loop (callgrind, one thread)."""
+    """Instructions executed by the engine's render loop (callgrind, one thread), the run, and the
+    image's SHA-1 (two builds that trace the same rays write the same image)."""
     run = render_smis(blend, settings, threads=1, addon_scripts=scripts, wrapper=CALLGRIND, retries=0)
+    digest = hashlib.sha1(run.image.tobytes()).hexdigest()[:12]
     remove(run)
     found = re.findall(r"Collected\s*:\s*(\d+)", run.output)
     if not found:
         raise RuntimeError("no callgrind total in Blender's output:\n" + run.output[-2000:])
-    return int(found[-1]), run
+    return int(found[-1]), run, digest
 
 
-def write_results(name, doc, rows, unit, title, intro, value_format):
-    """bench/results/<name>.{json,csv,md}: the document, one CSV row per case, a Markdown table whose
-    baseline / this / cost cells are formatted by `value_format` (rows hold baseline_<unit>, this_<unit>)."""
+def write_files(name, doc, rows, csv_fields, markdown):
+    """bench/results/<name>.{json,csv,md}: the document, the rows' `csv_fields`, the Markdown lines."""
     out = os.path.join(HERE, "results")
     os.makedirs(out, exist_ok=True)
     with open(os.path.join(out, name + ".json"), "w") as f:
         json.dump(doc, f, indent=2)
     with open(os.path.join(out, name + ".csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=["scene", "unused", "baseline_" + unit, "this_" + unit, "cost_percent"],
-                           extrasaction="ignore")
+        w = csv.DictWriter(f, fieldnames=csv_fields, extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
+    with open(os.path.join(out, name + ".md"), "w") as f:
+        f.write("\n".join(markdown) + "\n")
+    log("wrote bench/results/%s.{json,csv,md}" % name)
+
+
+def write_results(name, doc, rows, unit, title, intro, value_format):
+    """The baseline comparison's files: one CSV row per case, a Markdown table whose baseline / this /
+    cost cells are formatted by `value_format` (rows hold baseline_<unit>, this_<unit>)."""
     header = "baseline instructions | this" if unit == "instructions" else "baseline s | this s"
     lines = [title, "", intro, "", "| scene | integrator, spp | unused here | %s | cost | stats line |" % header,
              "|---|---|---|---|---|---|---|"]
@@ -132,13 +180,11 @@ def write_results(name, doc, rows, unit, title, intro, value_format):
         lines.append("| %s | %s, %d | %s %s %s |"
                      % (r["scene"], r["settings"]["integrator"], r["settings"]["samples"], r["unused"], values,
                         r["stats_line_skipped"].replace("|", "/")[:160] or "-"))
-    with open(os.path.join(out, name + ".md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
-    log("wrote bench/results/%s.{json,csv,md}" % name)
+    write_files(name, doc, rows, ["scene", "unused", "baseline_" + unit, "this_" + unit, "cost_percent"], lines)
 
 
 def instructions_main(args):
-    commit, base_scripts = build_baseline(args.baseline)
+    commit, base_scripts = build_baseline(args.baseline, args.jobs)
     builds = {"baseline": base_scripts, "this": current_scripts()}
     rows = []
     this_only = dict(kv.split("=", 1) for kv in args.this_set)
@@ -147,7 +193,7 @@ def instructions_main(args):
         s = dict(COMMON, **settings)
         counts, skipped_line = {}, ""
         for name, scripts in builds.items():
-            counts[name], run = count_instructions(blend, dict(s, **this_only) if name == "this" else s, scripts)
+            counts[name], run, _ = count_instructions(blend, dict(s, **this_only) if name == "this" else s, scripts)
             if name == "this":
                 skipped_line = next((ln.strip() for ln in run.output.splitlines() if "skipped" in ln), "")
         cost = counts["this"] / counts["baseline"] - 1.0
@@ -171,6 +217,70 @@ def instructions_main(args):
                   "| %d | %d | %+.2f%% |")
 
 
+def per_feature_main(args):
+    """Each feature's cost when present but unused: the build with every feature (the one that ships)
+    against the build with every feature but that one, on the scenes where it has hot-path code; and
+    the build with none of them, for the total."""
+    features = [f for f in FEATURES if not args.features or f[0] in args.features.split(",")]
+    names = [f for f, _, _ in FEATURES]
+    builds = {"all": build_tree(args.rev, jobs=args.jobs)[1], "none": build_tree(args.rev, names, jobs=args.jobs)[1]}
+    for f, _, _ in features:
+        builds["without " + f] = build_tree(args.rev, [f], jobs=args.jobs)[1]
+    commit = git("rev-parse", "--short", args.rev)
+    cases = {f: FEATURE_CASES + extra for f, _, extra in features}
+    scenes = list(dict.fromkeys(c for f, _, _ in features for c in cases[f]))
+    counts, digests, skipped, refused = {}, {}, {}, {}
+
+    def count(build, scene):
+        if (build, scene) not in counts:
+            s = dict(FEATURE_COMMON, **FEATURE_SETTINGS[scene])
+            n, run, digest = count_instructions(os.path.join(ROOT, "scenes", scene + ".blend"), s, builds[build])
+            counts[build, scene], digests[build, scene] = n, digest
+            # The add-on replaces what a build refuses (a material, ...) and warns: the scene uses the feature.
+            refused[build, scene] = "is not in this build" in run.output
+            skipped[scene] = skipped.get(scene) or next(
+                (ln.strip().split("skipped: ")[-1] for ln in run.output.splitlines() if "skipped: " in ln), "")
+            log("%s, %s: %d instructions, image %s" % (scene, build, n, digest))
+        return counts[build, scene]
+
+    def row(feature, what, scene, absent_build):
+        present, absent = count("all", scene), count(absent_build, scene)
+        cost = 100.0 * (present / absent - 1.0)
+        return {"feature": feature, "what": what, "scene": scene, "settings": dict(FEATURE_COMMON, **FEATURE_SETTINGS[scene]),
+                "present_instructions": present, "absent_instructions": absent, "cost_percent": cost,
+                "scene_uses_it": refused[absent_build, scene], "meets_goal": cost <= GOAL_PERCENT,
+                "same_image": digests["all", scene] == digests[absent_build, scene]}
+
+    rows = [row(f, what, scene, "without " + f) for f, what, _ in features for scene in cases[f]]
+    rows += [row("all of them", "every feature above", scene, "none") for scene in scenes]
+    doc = {"commit": commit, "measure": "callgrind Ir of RenderSession::render_loop, 1 thread",
+           "compared": "every feature present (the shipped build) against every feature but one absent "
+                       "(cmake -DSMIS_WITHOUT=<feature>); last rows: against all of them absent",
+           "goal_percent": GOAL_PERCENT, "written": datetime.datetime.now().isoformat(timespec="seconds"),
+           "stats_line_skipped": skipped, "rows": rows}
+    lines = ["# Cost of each present-but-unused feature, in instructions", "",
+             "Generated by `bench/skip_bench.py --per-feature` on %s (commit %s): instructions executed by the "
+             "render loop (callgrind, 1 thread) of the build with every feature against the build without the "
+             "feature (cmake -DSMIS_WITHOUT=<feature>, engine/core/features.h), on scenes that do not use it, "
+             "same settings and seed (sampling pattern RANDOM, %s). Cost = present / absent - 1; goal <= %.0f%%. "
+             "Same image: both builds wrote the identical image (the same rays were traced); where the build "
+             "without the feature refused part of the scene (the add-on substitutes it and warns), the scene "
+             "uses the feature and the row measures nothing."
+             % (doc["written"], commit, ", ".join("%s %s" % kv for kv in sorted(COMMON.items())), GOAL_PERCENT), "",
+             "| feature | what | scene | integrator, spp | present | absent | cost | <= %.0f%% | same image |"
+             % GOAL_PERCENT, "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append("| %s | %s | %s | %s, %d | %d | %d | %+.3f%% | %s | %s |"
+                     % (r["feature"], r["what"], r["scene"], r["settings"]["integrator"], r["settings"]["samples"],
+                        r["present_instructions"], r["absent_instructions"], r["cost_percent"],
+                        "(scene uses it)" if r["scene_uses_it"] else "yes" if r["meets_goal"] else "**no**",
+                        "yes" if r["same_image"] else "no"))
+    lines += ["", "Stats line of the build with every feature (skipped work):", ""]
+    lines += ["* %s: `skipped: %s`" % kv for kv in skipped.items()]
+    write_files("skip_bench_features", doc, rows, ["feature", "scene", "present_instructions", "absent_instructions",
+                                                   "cost_percent", "meets_goal", "same_image"], lines)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--baseline", default=BASELINE, help="git revision without the features (default %(default)s)")
@@ -179,14 +289,22 @@ def main():
     ap.add_argument("--threads", type=int, default=0)
     ap.add_argument("--instructions", action="store_true",
                     help="count instructions with callgrind instead of timing (load-independent)")
+    ap.add_argument("--per-feature", action="store_true",
+                    help="instructions of the build with every feature against the build without each one "
+                         "(built from --rev into /tmp, cached)")
+    ap.add_argument("--features", default="", help="--per-feature: a comma-separated subset of the features")
+    ap.add_argument("--rev", default="HEAD", help="--per-feature: the commit to build (default %(default)s)")
+    ap.add_argument("--jobs", type=int, default=0, help="parallel compile jobs (default: every core)")
     ap.add_argument("--this-set", action="append", default=[], metavar="KEY=VALUE",
                     help="--instructions: a scene.smis setting for this build only (one the baseline does not "
                          "have), e.g. sampling_pattern=RANDOM to leave a default-on feature unused")
     args = ap.parse_args()
+    if args.per_feature:
+        return per_feature_main(args)
     if args.instructions:
         return instructions_main(args)
     repeats = 2 if args.quick else args.repeats
-    commit, base_scripts = build_baseline(args.baseline)
+    commit, base_scripts = build_baseline(args.baseline, args.jobs)
     builds = {"baseline": base_scripts, "this": current_scripts()}
     rows = []
     load_start = os.getloadavg()

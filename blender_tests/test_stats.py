@@ -18,13 +18,27 @@ def skipped(run):
     return line.split("skipped: ")[1].split(", ") if "skipped: " in line else []
 
 
+# What the default cube scene never uses: no textures, no cut-outs, a pinhole camera, no passes.
+UNUSED = {"textures", "cut-outs", "depth of field", "passes"}
+
+
 def test_stats_line_lists_skipped_work():
-    # No lights, no filtering, no spectral content, no media: all four are skipped.
-    assert set(skipped(render(setup=UNLIT.format(integrator="PATH")))) == {
-        "NEE (no lights)", "filtering", "spectral", "volumes"}
+    # No lights, no filtering, no spectral content, no media, plain NEE: all are skipped.
+    assert set(skipped(render(setup=UNLIT.format(integrator="PATH")))) == UNUSED | {
+        "NEE (no lights)", "filtering", "spectral", "volumes", "RIS/ReSTIR"}
 
 
 def test_stats_line_omits_work_that_runs():
     # A light and a filtering integrator: NEE and filtering run, spectral and volume work still not.
     found = skipped(render(setup=UNLIT.format(integrator="PSF_SMIS") + "\nbpy.ops.object.light_add(type='POINT')"))
-    assert set(found) == {"spectral", "volumes"}, found
+    assert set(found) == UNUSED | {"spectral", "volumes"}, found
+
+
+def test_stats_line_lists_settings_left_off():
+    # Depth of field on, random sampling pattern, photon planes without SMIS.
+    found = skipped(render(setup=UNLIT.format(integrator="PATH") + """
+scene.camera.data.dof.use_dof = True
+scene.smis.sampling_pattern = 'RANDOM'
+scene.smis.volume_estimator = 'PLANES_CMIS'
+"""))
+    assert "depth of field" not in found and {"stratified sampling", "second plane"} <= set(found), found

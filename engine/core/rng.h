@@ -3,6 +3,8 @@
 #pragma once
 #include <cstdint>
 
+#include "core/features.h"
+
 namespace smis {
 
 inline uint64_t mix64(uint64_t z) {  // splitmix64 finaliser
@@ -17,7 +19,7 @@ public:
     Rng() { seed(0, 0); }
     Rng(uint64_t seq, uint64_t offset) { seed(seq, offset); }
     void seed(uint64_t seq, uint64_t offset) {
-        prefix_size_ = prefix_next_ = 0;
+        prefix_left_ = 0;
         state_ = 0u;
         inc_ = (seq << 1u) | 1u;
         next_u32();
@@ -34,15 +36,15 @@ public:
     // Uniform in [0, 1): 24 random mantissa bits, never rounds up to 1. The first values can come
     // from a stratified prefix (set_prefix, core/stratified.h) instead of the PCG stream.
     float next_float() {
-        if (prefix_next_ < prefix_size_) return prefix_[prefix_next_++];
+        if (kWithStratified && prefix_left_ != 0) return prefix_[--prefix_left_];
         return static_cast<float>(next_u32() >> 8) * 0x1p-24f;
     }
     // The next n (<= kMaxPrefix) calls of next_float() return v[0..n); the PCG stream is untouched.
     static constexpr int kMaxPrefix = 10;
     void set_prefix(const float* v, int n) {
-        prefix_size_ = static_cast<uint8_t>(n < kMaxPrefix ? n : kMaxPrefix);
-        prefix_next_ = 0;
-        for (int i = 0; i < prefix_size_; ++i) prefix_[i] = v[i];
+        prefix_left_ = static_cast<uint8_t>(n < kMaxPrefix ? n : kMaxPrefix);
+        // Stored last first, so that next_float() tests one counter (every call pays for the test).
+        for (int i = 0; i < prefix_left_; ++i) prefix_[prefix_left_ - 1 - i] = v[i];
     }
     double next_double() {
         uint64_t v = (static_cast<uint64_t>(next_u32()) << 32) | next_u32();
@@ -51,7 +53,7 @@ public:
 
 private:
     uint64_t state_ = 0, inc_ = 1;
-    uint8_t prefix_size_ = 0, prefix_next_ = 0;
+    uint8_t prefix_left_ = 0;
     float prefix_[kMaxPrefix];
 };
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/features.h"
 #include "core/math.h"
 
 namespace smis {
@@ -40,7 +41,7 @@ public:
     }
     // Auxiliary passes cost nothing (no memory, no rays) unless enabled before rendering.
     void enable_aux();
-    bool has_aux() const { return !aux_count_.empty(); }
+    bool has_aux() const { return kWithAuxPasses && !aux_count_.empty(); }
     void add_aux(int x, int y, const AuxSample& a) {
         size_t i = size_t(y) * width_ + x;
         double* s = &aux_sum_[kAuxChannels * i];

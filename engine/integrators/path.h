@@ -7,8 +7,9 @@ namespace smis {
 // power heuristic, lecture notes "MIS for direct lighting"), Russian roulette, Cycles' bounce limit.
 class PathIntegrator : public PixelIntegrator {
 public:
-    void add_skipped(const RenderSettings&, std::vector<std::string>* skipped) const override {
+    void add_skipped(const RenderSettings& settings, std::vector<std::string>* skipped) const override {
         skipped->push_back("filtering");
+        if (settings.direct_light == DirectLightStrategy::Nee) skipped->push_back("RIS/ReSTIR");
     }
 
 protected:

@@ -93,7 +93,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         if (sp.bsdf.empty()) break;
 
         bool resample = false;
-        if (state.first_vertex_ahead && !sp.bsdf.is_delta()) {
+        if (kWithResampledLights && state.first_vertex_ahead && !sp.bsdf.is_delta()) {
             state.first_vertex_ahead = false;
             resample = settings.direct_light == DirectLightStrategy::Ris;
         }

@@ -66,9 +66,10 @@ template <class Add>
 void for_each_emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
                              const SurfaceHit& hit, const PathState& state, Add&& add,
                              const RayMedia* media = nullptr) {
+    const float light_pdf_scale = kWithResampledLights ? state.light_pdf_scale : 1.0f;
     auto weight = [&](float light_pmf, float light_pdf) {
         return state.prev_delta ? 1.0f
-                                : mis_weight(settings.mis, state.prev_pdf, state.light_pdf_scale * light_pmf * light_pdf);
+                                : mis_weight(settings.mis, state.prev_pdf, light_pdf_scale * light_pmf * light_pdf);
     };
     Ray to_hit = ray;
     to_hit.tmax = found ? hit.t : kInf;

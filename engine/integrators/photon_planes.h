@@ -20,6 +20,11 @@ class PhotonPlanesIntegrator : public IterativeIntegrator {
 public:
     explicit PhotonPlanesIntegrator(PlaneWeighting weighting) : weighting_(weighting) {}
     std::map<std::string, double> stats() const override;
+    // Only SMIS with n >= 2 weighs a crossing with its partner orientations (eq. 27).
+    void add_skipped(const RenderSettings& settings, std::vector<std::string>* skipped) const override {
+        bool smis = weighting_ == PlaneWeighting::SmisCos || weighting_ == PlaneWeighting::SmisExact;
+        if (!smis || settings.smis_planes < 2) skipped->push_back("second plane");
+    }
 
 private:
     void iteration(RenderContext& ctx, uint32_t s) override;

@@ -50,6 +50,12 @@ std::unique_ptr<Integrator> make_volume_integrator(const RenderSettings& setting
 
 std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, const Scene& scene) {
     std::string spectral = resolve_spectral_mode(settings, scene);
+    // Measurement builds without some feature (core/features.h) refuse the settings that need it.
+    if (spectral != "RGB") require_feature(kWithSpectral, "spectral rendering", "spectral");
+    if (settings.direct_light != DirectLightStrategy::Nee)
+        require_feature(kWithResampledLights, "RIS/ReSTIR", "resampled_lights");
+    if (settings.volume_estimator != "PATH") require_feature(kWithVolumes, "photon planes", "volumes");
+    if (settings.stratified) require_feature(kWithStratified, "the stratified sampling pattern", "stratified");
     // RIS / ReSTIR live in the RGB surface path tracer: their resampling knows neither transmittance
     // nor spectra, so those combinations are refused rather than rendered wrong.
     if (settings.direct_light != DirectLightStrategy::Nee && (scene.has_media() || spectral != "RGB"))

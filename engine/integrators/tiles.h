@@ -61,7 +61,7 @@ inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s, Rng* r
     const Camera& cam = ctx.scene.camera();
     int fx = x + cam.window_x0(), fy = y + cam.window_y0();
     *rng = pixel_sample_rng(fx, fy, s, ctx.settings.seed);
-    if (ctx.settings.stratified) set_stratified_prefix(rng, fx, fy, s, ctx.settings.seed, cam.has_aperture());
+    if (kWithStratified && ctx.settings.stratified) set_stratified_prefix(rng, fx, fy, s, ctx.settings.seed, cam.has_aperture());
     Point2 off = ctx.filter.sample({rng->next_float(), rng->next_float()});
     if (!cam.has_aperture()) return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y);
     Point2 u_lens{rng->next_float(), rng->next_float()};

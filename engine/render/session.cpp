@@ -14,7 +14,10 @@ RenderSession::RenderSession(std::shared_ptr<const Scene> scene, RenderSettings 
       integrator_(make_integrator(settings_, *scene_)) {
     if (settings_.samples == 0) settings_.samples = 1;
     if (settings_.max_bounces < 0) settings_.max_bounces = 0;
-    if (settings_.aux_passes) film_.enable_aux();
+    if (settings_.aux_passes) {
+        require_feature(kWithAuxPasses, "render passes", "aux_passes");
+        film_.enable_aux();
+    }
 }
 
 std::vector<std::string> RenderSession::skipped() const {
@@ -27,6 +30,8 @@ std::vector<std::string> RenderSession::skipped() const {
     else if (settings_.integrator != "PATH")
         out.push_back("spectral (only PATH renders spectrally: RGB here)");
     if (!scene_->has_media()) out.push_back("volumes");
+    if (!settings_.aux_passes) out.push_back("passes");
+    if (!settings_.stratified) out.push_back("stratified sampling");
     integrator_->add_skipped(settings_, &out);
     return out;
 }

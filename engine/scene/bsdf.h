@@ -11,6 +11,7 @@
 //    throughput multiplier of that event; eval()/pdf() return 0 for them.
 //  * Radiance transport: refraction from IOR eta_i into eta_t scales radiance by (eta_i/eta_t)^2.
 #pragma once
+#include "core/features.h"
 #include "core/math.h"
 #include "core/sampling.h"
 
@@ -95,7 +96,7 @@ inline bool lobe_is_delta(const Lobe& lobe) {
         case LobeKind::Microfacet: return !(lobe.alpha >= kDeltaAlpha);
         case LobeKind::Dielectric:
             return !(lobe.alpha >= kDeltaAlpha) || !(std::fabs(lobe.eta - 1.0f) >= kIndexMatchedEps);
-        default: return extra_is_delta(lobe);
+        default: return kWithPrincipledExtras && extra_is_delta(lobe);
     }
 }
 

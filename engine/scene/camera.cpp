@@ -54,6 +54,7 @@ Camera::Camera(const CameraDesc& desc) : desc_(desc) {
     shift_y_ = desc.shift_y * 2.0f * fitted_half;
 
     if (desc.fstop != 0.0f) {
+        require_feature(kWithDepthOfField, "depth of field", "depth_of_field");
         // Cycles' thin lens: aperture radius = focal length / (2 f-stop), the focal length in metres
         // (lens is in mm); an orthographic camera takes 1 / (2 f-stop) world units.
         if (!(desc.fstop > 0.0f) || !std::isfinite(desc.fstop)) throw std::invalid_argument("camera f-stop invalid");

@@ -2,6 +2,7 @@
 // (intern/cycles/blender/camera.cpp: sensor fit, shift in units of the fitted dimension).
 #pragma once
 #include <string>
+#include "core/features.h"
 #include "core/math.h"
 #include "core/sampling.h"
 
@@ -38,7 +39,7 @@ public:
     // (fx, fy): continuous coordinates on the full frame in pixels, y from the bottom row; u_lens
     // picks the point on the aperture (ignored by a pinhole camera).
     Ray generate_ray(float fx, float fy, Point2 u_lens = {0.5f, 0.5f}) const;
-    bool has_aperture() const { return aperture_radius_ > 0.0f; }
+    bool has_aperture() const { return kWithDepthOfField && aperture_radius_ > 0.0f; }
     float aperture_radius() const { return aperture_radius_; }  // world units
     int width() const { return desc_.width; }
     int height() const { return desc_.height; }

@@ -284,7 +284,7 @@ LightSample TriangleLight::sample(const Vec3& ref, Point2 u) const {
     s.wi = d / s.dist;
     s.pdf = area_to_solid_angle(1.0f / area_, dist_sq, absdot(s.wi, n_));
     if (s.pdf > 0.0f) s.L = radiance_;
-    if (texture_) {
+    if (kWithTexturedEmission && texture_) {
         float w = 1.0f - b.x - b.y;
         Point2 uv{uv_[0].x * w + uv_[1].x * b.x + uv_[2].x * b.y, uv_[0].y * w + uv_[1].y * b.x + uv_[2].y * b.y};
         s.L *= texture_->lookup(uv).rgb;

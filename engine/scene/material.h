@@ -48,7 +48,9 @@ struct Material {
     Color emission{0.0f};  // radiance, emitted from both sides like Cycles' mesh emission
     // Emission Color fed by an Image Texture: the radiance at a point is emission x its RGB.
     std::shared_ptr<const Texture> emission_texture;
-    Color emission_at(Point2 uv) const { return emission_texture ? emission * emission_texture->lookup(uv).rgb : emission; }
+    Color emission_at(Point2 uv) const {
+        return kWithTexturedEmission && emission_texture ? emission * emission_texture->lookup(uv).rgb : emission;
+    }
     MaterialSpectral spectral;
     // Volume: the medium inside the closed mesh (Scene::medium id), -1 for none. A material with
     // no surface shader (only a Volume output) is an index-matched boundary rays pass straight
@@ -77,7 +79,7 @@ struct Material {
     // The BSDF at a hit. `frame` faces the incoming direction (Cycles flips the normal of back-facing
     // hits); a back-facing hit on glass means the ray is leaving the medium, so eta is inverted.
     Bsdf make_bsdf(const Frame& frame, const Vec3& ng, bool backfacing, const SurfaceAttribs& attr = {}) const {
-        if (prepared_) return Bsdf(frame, ng, backfacing ? back_ : front_);
+        if (!kWithTextures || prepared_) return Bsdf(frame, ng, backfacing ? back_ : front_);
         return build_bsdf(frame, ng, backfacing, attr);
     }
 
@@ -94,7 +96,8 @@ struct Material {
     }
 
 private:
-    Bsdf build_bsdf(const Frame& frame, const Vec3& ng, bool backfacing, const SurfaceAttribs& attr) const {
+    // Out of line: make_bsdf() at every vertex should not pay for this path's register pressure.
+    [[gnu::noinline]] Bsdf build_bsdf(const Frame& frame, const Vec3& ng, bool backfacing, const SurfaceAttribs& attr) const {
         Bsdf bsdf(frame, ng);
         for (size_t i = 0; i < lobes.size(); ++i) {
             Lobe lobe = lobes[i];

@@ -105,7 +105,7 @@ public:
     const Camera& camera() const { return camera_; }
     const Material& material(uint32_t id) const { return materials_[id]; }
     // Some material's lobes vary over surfaces (textures, object colour): hits' SurfaceAttribs matter.
-    bool has_varying_materials() const { return varying_materials_; }
+    bool has_varying_materials() const { return kWithTextures && varying_materials_; }
     const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
     const Light& light(uint32_t i) const { return *lights_[i]; }
     const DiscreteDistribution& light_selection() const { return light_selection_; }
@@ -122,7 +122,7 @@ public:
     bool has_spectral_content() const { return spectral_content_; }
     // Media: false when no material has a volume or is a pass-through boundary and the world has no
     // volume; integrators then take their surface-only code paths.
-    bool has_media() const { return has_media_; }
+    bool has_media() const { return kWithVolumes && has_media_; }
     const Medium& medium(int32_t id) const { return media_[id]; }
     int32_t world_medium() const { return world_medium_; }
     int32_t camera_medium() const { return camera_medium_; }
@@ -169,7 +169,12 @@ private:
     void rebuild_lights();
     void finish_lights();  // world light, selection table, spectral flag: the end of commit()
     void update_spectral_content();
+    void set_skipped(const char* what, bool skipped);  // adds or removes a skipped() entry
+    void update_skipped();
     void fill_hit(const Ray& ray, const struct RTCRayHit& rh, SurfaceHit* hit) const;
+    // The UV and normal-map part of fill_hit, for meshes with UVs (textured materials).
+    [[gnu::noinline]] void fill_uv_attribs(const Mesh& mesh, const Instance& inst, uint32_t prim, float u, float v,
+                                           SurfaceHit* hit) const;
 
     std::string embree_error_;
     RTCDevice device_ = nullptr;
