@@ -182,27 +182,12 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
     }
 }
 
-// A technique with its full BSDF, for the unbiased variant, which evaluates every density exactly
-// (through Bsdf::pdf) and tests visibility: p(z | ybar_j) in the area measure at z.
-struct Technique {
-    const PathRecord* rec;
-    Bsdf bsdf;
-    Bsdf::FixedWo wo;
-};
-float area_density(const Technique& t, const Vec3& z, const Vec3& z_ng) {
-    Vec3 d = z - t.rec->p;
-    float dist2 = length_sq(d);
-    if (!(dist2 > 0.0f)) return 0.0f;
-    Vec3 w = d / std::sqrt(dist2);
-    return t.bsdf.pdf(t.wo, w) * absdot(w, z_ng) / dist2;
-}
-
 // Per-thread scratch of the gather. Reached through a function that is not inlined: a thread_local
 // used in the hot loops costs a TLS lookup per use in a shared library (the compiler recomputes its
 // address rather than keeping it in a register).
 struct GatherScratch {
     std::vector<uint32_t> in_ball, nb;
-    std::vector<Technique> techniques;
+    std::vector<BsdfTechnique> techniques;  // the unbiased variant's
     DensitySum density_sum;
 };
 [[gnu::noinline]] GatherScratch* gather_scratch() {
@@ -326,12 +311,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 const PathRecord& t = records[j];
                 return bsdf_at(scene, t.material, t.ns, t.ng, t.backfacing, x1_attr(j));
             };
-            auto technique = [&](uint32_t j) {
-                Technique t{&records[j], general_bsdf(j), {}};
-                t.wo = t.bsdf.fix_wo(records[j].wo);
-                return t;
-            };
-            std::vector<Technique>& techniques = scratch.techniques;
+            auto technique = [&](uint32_t j) { return BsdfTechnique(records[j].p, general_bsdf(j), records[j].wo); };
+            std::vector<BsdfTechnique>& techniques = scratch.techniques;
             DensitySum& density_sum = scratch.density_sum;
             if (exact) {
                 techniques.clear();
@@ -384,7 +365,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     // Keller's estimator divides by the sample's own density only.
                     const TechniqueDensity& m = models[nb[ii]];
                     float p_own = m.kind == TechniqueDensity::General
-                                      ? area_density(technique(nb[ii]), smp.z, smp.z_ng)
+                                      ? technique(nb[ii]).area_density(smp.z, smp.z_ng)
                                       : m.area_density(smp.z, smp.z_ng);
                     if (p_own > 0.0f) sum += contribution / p_own;
                     continue;
@@ -398,7 +379,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 float denom = 0.0f;
                 for (size_t jj = 0; jj < nb.size(); ++jj) {
                     const PathRecord& t = records[nb[jj]];
-                    float pj = area_density(techniques[jj], smp.z, smp.z_ng);
+                    float pj = techniques[jj].area_density(smp.z, smp.z_ng);
                     if (pj > 0.0f && jj != ii) {
                         Vec3 dz = smp.z - t.p;
                         float dd = length(dz);

@@ -116,15 +116,27 @@ inline float TechniqueDensity::area_density(const Vec3& z, const Vec3& z_ng) con
     return std::isfinite(v) ? v : 0.0f;
 }
 
+// A technique with its full BSDF (wo fixed): the density routine of Bsdf, for the techniques the model
+// cannot express and for the unbiased variant, which evaluates every density exactly.
+struct BsdfTechnique {
+    Vec3 p;
+    Bsdf bsdf;
+    Bsdf::FixedWo wo;
+    BsdfTechnique(const Vec3& p_, const Bsdf& bsdf_, const Vec3& wo_) : p(p_), bsdf(bsdf_), wo(bsdf_.fix_wo(wo_)) {}
+    // p(z | this technique) in the area measure at z.
+    float area_density(const Vec3& z, const Vec3& z_ng) const {
+        Vec3 d = z - p;
+        float dist2 = length_sq(d);
+        if (!(dist2 > 0.0f)) return 0.0f;
+        Vec3 w = d / std::sqrt(dist2);
+        return bsdf.pdf(wo, w) * absdot(w, z_ng) / dist2;
+    }
+};
+
 // sum_j p(z | ybar_j) over a pixel's gathered techniques: the Model ones from structure-of-arrays
 // data in one vectorised loop, the General ones through their Bsdf.
 class DensitySum {
 public:
-    struct GeneralTechnique {
-        Vec3 p;
-        Bsdf bsdf;
-        Bsdf::FixedWo wo;
-    };
     DensitySum() = default;
     DensitySum(const DensitySum&) = delete;  // fields_ points into soa_
     DensitySum& operator=(const DensitySum&) = delete;
@@ -142,7 +154,7 @@ public:
         ++n_;
     }
     // A technique the model cannot express: its BSDF at p, the pdf routine of Bsdf.
-    void add_general(const Vec3& p, const Bsdf& bsdf, const Vec3& wo) { general_.push_back({p, bsdf, bsdf.fix_wo(wo)}); }
+    void add_general(const Vec3& p, const Bsdf& bsdf, const Vec3& wo) { general_.emplace_back(p, bsdf, wo); }
 
     float operator()(const Vec3& z, const Vec3& z_ng) const {
         const size_t n = n_;
@@ -152,13 +164,7 @@ public:
         psf_detail::model_densities(fields_, n, z, z_ng, out);
         float sum = 0.0f;
         for (size_t j = 0; j < n; ++j) sum += out[j];
-        for (const GeneralTechnique& g : general_) {
-            Vec3 d = z - g.p;
-            float dist2 = length_sq(d);
-            if (!(dist2 > 0.0f)) continue;
-            Vec3 w = d / std::sqrt(dist2);
-            sum += g.bsdf.pdf(g.wo, w) * absdot(w, z_ng) / dist2;
-        }
+        for (const BsdfTechnique& g : general_) sum += g.area_density(z, z_ng);
         return std::isfinite(sum) ? sum : 0.0f;
     }
 
@@ -178,7 +184,7 @@ private:
     const float* fields_[kFields] = {};  // soa_'s field arrays
     mutable std::vector<float> out_;
     size_t n_ = 0, cap_ = 0;
-    std::vector<GeneralTechnique> general_;
+    std::vector<BsdfTechnique> general_;
 };
 
 }  // namespace smis
