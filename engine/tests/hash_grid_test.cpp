@@ -33,7 +33,8 @@ TEST(HashGrid, BallQueryIsExactlyTheBruteForceSet) {
         for (int q = 0; q < 30; ++q) {
             Vec3 c(rng.next_float() * 5.0f - 0.5f, rng.next_float() * 5.0f - 0.5f, rng.next_float() * 5.0f - 0.5f);
             float r = q == 0 ? 0.0f : (q == 1 ? 1e4f : cell * 3.0f * rng.next_float());
-            if (q == 2) c = points[indices[0]];
+            // Centred on stored points: with r = 0 the point itself (and its duplicates) is in the ball.
+            if (q == 0 || q == 2) c = points[indices[q]];
             std::vector<uint32_t> got;
             grid.query_ball(c, r, got);
             std::vector<uint32_t> want;
