@@ -39,6 +39,7 @@ BLENDER = os.environ.get("BLENDER", "blender")
 _SMIS_STATS = re.compile(
     r"(Done|Cancelled)\s*\u00b7\s*(\d+)/(\d+) samples\s*\u00b7\s*([0-9.]+) s"
     r"(?:\s*\u00b7\s*export ([0-9.]+) s)?")
+_INTEGRATOR_STATS = re.compile(r"SMIS integrator: (.*)")
 _BLENDER_TIME = re.compile(r"^\s*Time: ([0-9:.]+)(?: \(Saving: ([0-9:.]+)\))?", re.M)
 _LOAD_FAILURE = re.compile(r"could not be loaded|file too short|undefined symbol|engine not found",
                            re.I)
@@ -96,6 +97,19 @@ def parse_smis_stats(output):
         return None
     state, done, total, secs, export = found[-1]
     return state, int(done), int(total), float(secs), (float(export) if export else None)
+
+
+def integrator_stats(output):
+    """The engine's per-integrator measurements (its `SMIS integrator: key value, ...` line) as a
+    dict, keys with underscores."""
+    found = _INTEGRATOR_STATS.findall(output)
+    if not found:
+        return {}
+    out = {}
+    for item in found[-1].split(", "):
+        key, _, value = item.rpartition(" ")
+        out[key.replace(" ", "_")] = float(value)
+    return out
 
 
 def parse_blender_time(output):
@@ -184,8 +198,9 @@ _HEADER = ["import bpy", "scene = bpy.context.scene",
 
 
 def render_smis(blend, settings=None, out_dir=None, threads=0, timeout=3600, frame=1, retries=3,
-                addon_scripts=None, wrapper=None):
-    """Render `blend` with our engine; `settings` are applied to scene.smis. Returns a RenderRun.
+                addon_scripts=None, wrapper=None, render=None):
+    """Render `blend` with our engine; `settings` are applied to scene.smis and `render` (e.g.
+    resolution_x) to scene.render. Returns a RenderRun.
 
     `addon_scripts`: a Blender user-scripts folder whose addons/smis_render is the add-on to use
     (another build of the engine, for side-by-side comparisons); default: the installed one.
@@ -193,7 +208,7 @@ def render_smis(blend, settings=None, out_dir=None, threads=0, timeout=3600, fra
     settings = dict(settings or {})
     out_dir = out_dir or tempfile.mkdtemp(prefix="smis_bench_")
     os.makedirs(out_dir, exist_ok=True)
-    code = _HEADER + _settings_code("scene.smis", settings)
+    code = _HEADER + _settings_code("scene.render", render or {}) + _settings_code("scene.smis", settings)
     cmd = list(wrapper or []) + _command(blend, "SMIS", out_dir, code, threads, frame)
     env = dict(os.environ, BLENDER_USER_SCRIPTS=addon_scripts) if addon_scripts else None
     path, wall, output = _run(cmd, out_dir, frame, timeout, retries,

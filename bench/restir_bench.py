@@ -28,7 +28,6 @@ import csv
 import datetime
 import json
 import os
-import re
 import shutil
 import sys
 import time
@@ -40,12 +39,11 @@ ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import equal_time as ET  # noqa: E402
 import metrics as M  # noqa: E402
-from render import remove, render_smis  # noqa: E402
+from render import integrator_stats, remove, render_smis  # noqa: E402
 
 SCENE = "many_lights"
 SUITE = ET.SUITES["restir"]
 DOCS = os.path.join(ROOT, "docs", "bench")
-_INTEGRATOR_STATS = re.compile(r"SMIS integrator: (.*)")
 COST_VARIANTS = ["RESTIR_SEED", "RESTIR_TALBOT", "RESTIR_SEED_NOVIS", "RESTIR_TALBOT_NOVIS"]
 BIAS_VARIANTS = ["RESTIR_SEED", "RESTIR_NONE", "RESTIR_SEED_BIASED"]
 # Reuse across iterations on (history cap 2 x M, the former default) against the default (off).
@@ -56,17 +54,6 @@ CONVERGENCE_VARIANTS = {"RIS": ("RIS", {}), "RESTIR_SEED": ("RESTIR_SEED", {}),
 def log(msg):
     print("[restir_bench %s] %s" % (time.strftime("%H:%M:%S"), msg), flush=True)
 
-
-def integrator_stats(output):
-    """The engine's per-integrator measurements from Blender's output, as a dict."""
-    found = _INTEGRATOR_STATS.findall(output)
-    if not found:
-        return {}
-    out = {}
-    for item in found[-1].split(", "):
-        key, _, value = item.rpartition(" ")
-        out[key.replace(" ", "_")] = float(value)
-    return out
 
 
 def settings_of(estimator, **extra):
