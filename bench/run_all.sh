@@ -29,6 +29,8 @@ if [ ${#QUICK[@]} -gt 0 ]; then
     "${BL[@]}" --python bench/planes_bench.py -- --quick
     step "many lights (ReSTIR)"
     $PY bench/restir_bench.py --quick
+    step "path-space filtering cost against image size"
+    $PY bench/psf_cost.py --sizes 256 512 --iterations 2 --out bench/results/psf_cost_quick.md
     step "unused features"
     $PY bench/skip_bench.py --quick
     # Fig. 2 is checked by ctest (engine/tests/mis_fig2_test.cpp); its plot is only redrawn in full.
@@ -41,6 +43,8 @@ else
     $PY bench/spectral_bench.py
     step "photon planes"
     "${BL[@]}" --python bench/planes_bench.py
+    step "path-space filtering cost against image size (256^2 and 1024^2)"
+    $PY bench/psf_cost.py
     step "many lights (ReSTIR)"
     $PY bench/restir_bench.py
     step "unused features (time, then instruction counts)"

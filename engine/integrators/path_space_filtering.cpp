@@ -186,8 +186,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
 // used in the hot loops costs a TLS lookup per use in a shared library (the compiler recomputes its
 // address rather than keeping it in a register).
 struct GatherScratch {
-    std::vector<uint32_t> nb;
-    HashGrid::SampleScratch ball;
+    std::vector<uint32_t> in_ball, nb;
     std::vector<BsdfTechnique> techniques;  // the unbiased variant's
     DensitySum density_sum;
 };
@@ -285,13 +284,25 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         } else if (q.has_vertex) {
             GatherScratch& scratch = *gather_scratch();
             // The techniques: x1 endpoints within the radius, own first; beyond max_n a uniform
-            // random subset, chosen from positions only, never from the suffixes, so the estimator
-            // stays a multi-sample balance heuristic over a fixed set (unbiased).
+            // random subset (a partial Fisher-Yates shuffle), chosen from positions only, never from
+            // the suffixes, so the estimator stays a multi-sample balance heuristic over a fixed set
+            // (unbiased).
+            std::vector<uint32_t>& in_ball = scratch.in_ball;
             std::vector<uint32_t>& nb = scratch.nb;
+            in_ball.clear();
+            grid.query_ball(q.p, q.radius, in_ball);
+            in_ball.erase(std::remove(in_ball.begin(), in_ball.end(), static_cast<uint32_t>(k)), in_ball.end());
             nb.assign(1, static_cast<uint32_t>(k));
-            Rng pick = pixel_sample_rng(x + scene.camera().window_x0(), y + scene.camera().window_y0(), s,
-                                        settings.seed ^ 0x5a5a5a5au);
-            grid.sample_ball(q.p, q.radius, size_t(max_n - 1), static_cast<uint32_t>(k), pick, scratch.ball, nb);
+            const size_t others = std::min(in_ball.size(), size_t(max_n - 1));
+            if (others < in_ball.size()) {
+                Rng pick = pixel_sample_rng(x + scene.camera().window_x0(), y + scene.camera().window_y0(), s,
+                                            settings.seed ^ 0x5a5a5a5au);
+                for (size_t i = 0; i < others; ++i) {
+                    size_t j = i + size_t((uint64_t(pick.next_u32()) * (in_ball.size() - i)) >> 32);
+                    std::swap(in_ball[i], in_ball[j]);
+                }
+            }
+            nb.insert(nb.end(), in_ball.begin(), in_ball.begin() + others);
             gathered += nb.size();
 
             const Bsdf own = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, x1_attr(k));
