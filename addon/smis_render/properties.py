@@ -111,6 +111,13 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
                     "cost the square of this per pixel",
         default=16, min=1, soft_max=128,
     )
+    psf_light_samples: IntProperty(
+        name="Light Samples",
+        description="Light samples per iteration at each path's first non-specular vertex, whose "
+                    "direct light stays per pixel while the indirect light is shared (multi-sample "
+                    "MIS with the BSDF sample). More cost a shadow ray each",
+        default=4, min=1, soft_max=16,
+    )
     psf_keller_normal_cos: FloatProperty(
         name="Keller Normal Cosine",
         description="Keller et al. weighting: accept a neighbour only if the cosine between the "
@@ -297,6 +304,7 @@ def session_settings(scene):
         "psf_radius_px": float(s.psf_radius_px),
         "psf_radius_alpha": float(s.psf_radius_alpha),
         "psf_max_neighbors": s.psf_max_neighbors,
+        "psf_light_samples": s.psf_light_samples,
         "psf_keller_normal_cos": float(s.psf_keller_normal_cos),
         "psf_keller_plane": float(s.psf_keller_plane),
         "filter_width": float(s.filter_width),

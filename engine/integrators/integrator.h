@@ -42,6 +42,11 @@ struct RenderSettings {
     float psf_radius_px = 6.0f;        // gather radius in screen pixels, projected to world at the vertex
     float psf_radius_alpha = 2.0f / 3.0f;  // radius shrink: r_i = r_0 (i + 1)^((alpha - 1) / 2)
     int psf_max_neighbors = 16;        // techniques gathered per pixel (random subset beyond this)
+    // Light samples at each path's prefix endpoint x1 per iteration. The direct light there stays per
+    // pixel while the indirect light is shared, so it becomes the larger part of the error: at 8
+    // iterations (seeds 1-3) 4 samples take psf_glossy's SMAPE from 0.074 to 0.053 and psf_room's MSE
+    // from 0.0020 to 0.0015, for 17% / 11% more time per iteration (8 samples: 0.047, +48%).
+    int psf_light_samples = 4;
     float psf_keller_normal_cos = 0.9f;    // Keller et al. 2014 acceptance: normals within ~26 degrees
     float psf_keller_plane = 0.1f;     // ... and within 0.1 radius of the query's tangent plane
     // Spectral rendering (paper §5): AUTO, RGB, UNIFORM, SPECTRAL_IS, HERO, SMIS, SMIS_INDEPENDENT,

@@ -79,11 +79,18 @@ Bsdf bsdf_at(const Scene& scene, uint32_t material, const Vec3& ns, const Vec3& 
     return scene.material(material).make_bsdf(Frame(ns), ng, backfacing, attr);
 }
 
+// The pixel sample's place in the stratified sampler (for the extra light samples at x1).
+struct PixelStrata {
+    uint64_t key;
+    uint32_t sample;
+};
+
 // Stage 1 for one pixel sample; `model` receives x1's technique density model (psf_density.h), built
-// here once per stored vertex rather than once per pixel that gathers it.
+// here once per stored vertex rather than once per pixel that gathers it. `strata` is null when the
+// sampler is not stratified.
 PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
                         LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
-                        TechniqueDensity* model) {
+                        TechniqueDensity* model, const PixelStrata* strata) {
     PathRecord rec;
     *model = TechniqueDensity{};
     PathState st;
@@ -123,14 +130,27 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         if (attribs) attribs->x1 = hit.attr;
         rec.radius = settings.psf_radius_px * camera.pixel_footprint(prefix_length);
         *model = TechniqueDensity::of(sp.bsdf, hit.p, sp.wo);
-        DirectSample ds = sample_direct(scene, settings, sp, rng, counters);
+        // Direct light at x1, per pixel: psf_light_samples light samples and the one BSDF sample,
+        // combined by multi-sample MIS (the light density counted that many times in both weights).
+        // The first light sample and the BSDF sample take the stratified prefix of the pixel sample's
+        // stream; the extra light samples are drawn after them, stratified on their own. The BSDF
+        // sample's weight reads the count from PathState::light_pdf_scale, which a build without
+        // resampled lights ignores, so such a build takes one light sample.
+        const int light_samples = kWithResampledLights ? std::max(1, settings.psf_light_samples) : 1;
+        DirectSample ds = sample_direct(scene, settings, sp, rng, counters, -1, light_samples);
         if (ds.valid) rec.fixed += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
         BsdfSample bs = sample_bsdf(sp, rng);
+        for (int i = 1; i < light_samples; ++i) {
+            if (strata) set_extra_light_sample_prefix(&rng, strata->key, strata->sample, uint32_t(i - 1), uint32_t(light_samples - 1));
+            DirectSample extra = sample_direct(scene, settings, sp, rng, counters, -1, light_samples);
+            if (extra.valid) rec.fixed += beta * sp.bsdf.eval(sp.wo, extra.wi) * extra.weighted;
+        }
         if (!bs.valid()) {
             ++counters.samples_rejected;
             return rec;
         }
         PathState st1{st.depth + 1, bs.delta, bs.pdf, hit.p};
+        st1.light_pdf_scale = float(light_samples);
         Ray r1{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
         Color bsdf_weight = beta * bs.value / bs.pdf;
         if (bs.delta) {
@@ -229,8 +249,12 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
         const size_t k = size_t(y) * w + x;
+        const PixelStrata strata{stratified_pixel_key(uint32_t(x + scene.camera().window_x0()),
+                                                      uint32_t(y + scene.camera().window_y0()), settings.seed),
+                                 s};
+        const bool stratified = kWithStratified && settings.stratified;
         records[k] = trace_record(scene, settings, ray, rng, local, scene.camera(),
-                                  attribs.empty() ? nullptr : &attribs[k], &models[k]);
+                                  attribs.empty() ? nullptr : &attribs[k], &models[k], stratified ? &strata : nullptr);
         ++local.paths;
     });
     if (ctx.should_stop()) return;  // a partial iteration never reaches the film

@@ -54,8 +54,11 @@ struct DirectSample {
 };
 // With media (Scene::has_media()), `medium` is the medium the path arrived in and the shadow ray
 // carries transmittance; without, it is ignored and the shadow ray is a plain occlusion test.
+// `light_samples`: how many light samples the vertex takes (each weighted against the one BSDF
+// sample with the light density scaled by this count, Veach's multi-sample MIS with n_light samples);
+// `weighted` is then one sample's share, to be summed over the samples.
 DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
-                           LocalCounters& counters, int32_t medium = -1);
+                           LocalCounters& counters, int32_t medium = -1, int light_samples = 1);
 
 // Emission reaching the ray's origin from lights that are not geometry (area, point, spot) in front
 // of the first hit, from that hit if it emits, or from lights at infinity when nothing is hit;

@@ -43,8 +43,11 @@ void for_each_pixel_in_tiles(RenderContext& ctx, Fn&& fn) {
 // 1D, direction 2D). The two 1D choices share one 2D group. Every integrator that starts with
 // camera_ray() gets it; one that draws in another order stays unbiased (each value is uniform and
 // independent of the others on its own) and only loses the stratification.
+inline uint64_t stratified_pixel_key(uint32_t fx, uint32_t fy, uint32_t seed) {
+    return mix64(mix64((uint64_t(fy) << 32) | fx) ^ (uint64_t(seed) * 0xd1b54a32d192ed03ull));
+}
 inline void set_stratified_prefix(Rng* rng, uint32_t fx, uint32_t fy, uint32_t s, uint32_t seed, bool lens) {
-    const uint64_t key = mix64(mix64((uint64_t(fy) << 32) | fx) ^ (uint64_t(seed) * 0xd1b54a32d192ed03ull));
+    const uint64_t key = stratified_pixel_key(fx, fy, seed);
     float v[Rng::kMaxPrefix], choices[2];
     int n = 0;
     stratified::sample_2d(s, key, 0, v + n), n += 2;
@@ -55,6 +58,19 @@ inline void set_stratified_prefix(Rng* rng, uint32_t fx, uint32_t fy, uint32_t s
     v[n++] = choices[1];
     stratified::sample_2d(s, key, 4, v + n), n += 2;
     rng->set_prefix(v, n);
+}
+
+// Extra light samples at the first vertex (path-space filtering takes several): light sample i of
+// n - 1 extra ones of pixel sample s draws its light choice and point from dimension groups 5 and 6
+// at index s (n - 1) + i, so a pixel's extra samples over all its pixel samples are one stratified
+// set, as its first light sample is over the pixel samples (groups 2 and 3). Sets the next three
+// numbers of `rng` in sample_direct's order: choice, then the point.
+inline void set_extra_light_sample_prefix(Rng* rng, uint64_t pixel_key, uint32_t s, uint32_t i, uint32_t n_extra) {
+    float point[2], choice[2];
+    stratified::sample_2d(s * n_extra + i, pixel_key, 5, point);
+    stratified::sample_2d(s * n_extra + i, pixel_key, 6, choice);
+    const float v[3] = {choice[0], point[0], point[1]};
+    rng->set_prefix(v, 3);
 }
 
 inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s, Rng* rng) {

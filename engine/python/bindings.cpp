@@ -134,6 +134,7 @@ RenderSettings parse_settings(const py::dict& d) {
     s.psf_radius_px = get<float>(d, "psf_radius_px", s.psf_radius_px);
     s.psf_radius_alpha = get<float>(d, "psf_radius_alpha", s.psf_radius_alpha);
     s.psf_max_neighbors = get<int>(d, "psf_max_neighbors", s.psf_max_neighbors);
+    s.psf_light_samples = get<int>(d, "psf_light_samples", s.psf_light_samples);
     s.psf_keller_normal_cos = get<float>(d, "psf_keller_normal_cos", s.psf_keller_normal_cos);
     s.psf_keller_plane = get<float>(d, "psf_keller_plane", s.psf_keller_plane);
     s.spectral = get<std::string>(d, "spectral", s.spectral);
