@@ -87,7 +87,7 @@ struct PixelStrata {
 
 // Stage 1 for one pixel sample; `model` receives x1's technique density model (psf_density.h), built
 // here once per stored vertex rather than once per pixel that gathers it. `strata` is null when the
-// sampler is not stratified.
+// sampler is not stratified or there are no extra light samples.
 PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
                         LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
                         TechniqueDensity* model, const PixelStrata* strata) {
@@ -134,16 +134,17 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         // combined by multi-sample MIS (the light density counted that many times in both weights).
         // The first light sample and the BSDF sample take the stratified prefix of the pixel sample's
         // stream; the extra light samples are drawn after them, stratified on their own. The BSDF
-        // sample's weight reads the count from PathState::light_pdf_scale, which a build without
-        // resampled lights ignores, so such a build takes one light sample.
-        const int light_samples = kWithResampledLights ? std::max(1, settings.psf_light_samples) : 1;
-        DirectSample ds = sample_direct(scene, settings, sp, rng, counters, -1, light_samples);
-        if (ds.valid) rec.fixed += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
+        // sample's weight reads the count from PathState::light_pdf_scale (set on st1 below).
+        const int light_samples = std::max(1, settings.psf_light_samples);
+        auto add_light_sample = [&] {
+            DirectSample ds = sample_direct(scene, settings, sp, rng, counters, -1, light_samples);
+            if (ds.valid) rec.fixed += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
+        };
+        add_light_sample();
         BsdfSample bs = sample_bsdf(sp, rng);
         for (int i = 1; i < light_samples; ++i) {
             if (strata) set_extra_light_sample_prefix(&rng, strata->key, strata->sample, uint32_t(i - 1), uint32_t(light_samples - 1));
-            DirectSample extra = sample_direct(scene, settings, sp, rng, counters, -1, light_samples);
-            if (extra.valid) rec.fixed += beta * sp.bsdf.eval(sp.wo, extra.wi) * extra.weighted;
+            add_light_sample();
         }
         if (!bs.valid()) {
             ++counters.samples_rejected;
@@ -244,17 +245,19 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     auto x1_attr = [&](size_t k) { return attribs.empty() ? SurfaceAttribs{} : attribs[k].x1; };
 
     // Stage 1: one full path per pixel.
+    const bool extra_strata = kWithStratified && settings.stratified && settings.psf_light_samples > 1;
     auto t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
         const size_t k = size_t(y) * w + x;
-        const PixelStrata strata{stratified_pixel_key(uint32_t(x + scene.camera().window_x0()),
-                                                      uint32_t(y + scene.camera().window_y0()), settings.seed),
-                                 s};
-        const bool stratified = kWithStratified && settings.stratified;
+        PixelStrata strata{};
+        if (extra_strata)
+            strata = {stratified_pixel_key(uint32_t(x + scene.camera().window_x0()),
+                                           uint32_t(y + scene.camera().window_y0()), settings.seed),
+                      s};
         records[k] = trace_record(scene, settings, ray, rng, local, scene.camera(),
-                                  attribs.empty() ? nullptr : &attribs[k], &models[k], stratified ? &strata : nullptr);
+                                  attribs.empty() ? nullptr : &attribs[k], &models[k], extra_strata ? &strata : nullptr);
         ++local.paths;
     });
     if (ctx.should_stop()) return;  // a partial iteration never reaches the film

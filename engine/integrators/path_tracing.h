@@ -33,7 +33,8 @@ struct PathState {
     // A camera path before its first non-specular vertex, where settings.direct_light applies.
     bool first_vertex_ahead = false;
     // The previous vertex's light-sampling density, for MIS, as a multiple of the NEE density
-    // (pmf x light pdf): M for resampled light sampling (RIS, ReSTIR), see reservoir_contribution.
+    // (pmf x light pdf): M for resampled light sampling (RIS, ReSTIR), see reservoir_contribution;
+    // n for n light samples (path-space filtering's psf_light_samples at x1).
     float light_pdf_scale = 1.0f;
     // Throughput of the path before the ray this state starts with (max component, refraction
     // scaling included), for Russian roulette only: a path traced in pieces (path-space filtering's
@@ -69,10 +70,9 @@ template <class Add>
 void for_each_emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
                              const SurfaceHit& hit, const PathState& state, Add&& add,
                              const RayMedia* media = nullptr) {
-    const float light_pdf_scale = kWithResampledLights ? state.light_pdf_scale : 1.0f;
     auto weight = [&](float light_pmf, float light_pdf) {
         return state.prev_delta ? 1.0f
-                                : mis_weight(settings.mis, state.prev_pdf, light_pdf_scale * light_pmf * light_pdf);
+                                : mis_weight(settings.mis, state.prev_pdf, state.light_pdf_scale * light_pmf * light_pdf);
     };
     Ray to_hit = ray;
     to_hit.tmax = found ? hit.t : kInf;
