@@ -118,6 +118,13 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
                     "MIS with the BSDF sample). More cost a shadow ray each",
         default=4, min=1, soft_max=16,
     )
+    psf_extra_paths: IntProperty(
+        name="Extra Paths",
+        description="Most extra paths per iteration from a pixel's first non-specular vertex where "
+                    "the filter cannot share its path (sharp lobes, thin or curved glossy objects): "
+                    "in proportion to the weight its own path keeps in its estimate. 0 = off",
+        default=4, min=0, max=255, soft_max=16,
+    )
     psf_keller_normal_cos: FloatProperty(
         name="Keller Normal Cosine",
         description="Keller et al. weighting: accept a neighbour only if the cosine between the "
@@ -305,6 +312,7 @@ def session_settings(scene):
         "psf_radius_alpha": float(s.psf_radius_alpha),
         "psf_max_neighbors": s.psf_max_neighbors,
         "psf_light_samples": s.psf_light_samples,
+        "psf_extra_paths": s.psf_extra_paths,
         "psf_keller_normal_cos": float(s.psf_keller_normal_cos),
         "psf_keller_plane": float(s.psf_keller_plane),
         "filter_width": float(s.filter_width),

@@ -47,6 +47,11 @@ struct RenderSettings {
     // iterations (seeds 1-3) 4 samples take psf_glossy's SMAPE from 0.074 to 0.053 and psf_room's MSE
     // from 0.0020 to 0.0015, for 17% / 11% more time per iteration (8 samples: 0.047, +48%).
     int psf_light_samples = 4;
+    // Extra paths per iteration from x1 where the filter cannot share the pixel's suffix (sharp
+    // lobes, thin or curved glossy objects): up to this many, in proportion to the own suffix's weight
+    // in the pixel's estimate averaged over the past iterations; kept by the pixel (see
+    // path_space_filtering.cpp). 0 = off.
+    int psf_extra_paths = 4;
     float psf_keller_normal_cos = 0.9f;    // Keller et al. 2014 acceptance: normals within ~26 degrees
     float psf_keller_plane = 0.1f;     // ... and within 0.1 radius of the query's tangent plane
     // Spectral rendering (paper §5): AUTO, RGB, UNIFORM, SPECTRAL_IS, HERO, SMIS, SMIS_INDEPENDENT,

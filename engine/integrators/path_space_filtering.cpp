@@ -79,20 +79,103 @@ Bsdf bsdf_at(const Scene& scene, uint32_t material, const Vec3& ns, const Vec3& 
     return scene.material(material).make_bsdf(Frame(ns), ng, backfacing, attr);
 }
 
-// The pixel sample's place in the stratified sampler (for the extra light samples at x1).
+// The pixel sample's place in the stratified sampler (for the extra light and BSDF samples at x1).
 struct PixelStrata {
     uint64_t key;
     uint32_t sample;
+    uint32_t extra_bsdf;  // the pixel's extra BSDF samples taken in earlier iterations
 };
+
+// One of x1's own BSDF samples and the suffix it starts: the path's own sample (stored for sharing)
+// or one of the pixel's private extra samples.
+struct SuffixSample {
+    Color fixed{0.0f};  // its per-pixel part: the emission it finds at z1, or a Dirac lobe's whole path
+    bool has_suffix = false;
+    Vec3 z, z_ng, z_ns;
+    uint32_t z_material = 0;
+    SurfaceAttribs z_attr;
+    Color L_out{0.0f};  // radiance leaving z1 towards x1, emission at z1 excluded
+    Vec3 nee_dir, next_dir;
+    Color nee_weighted{0.0f}, next_weighted{0.0f};
+};
+
+// A private extra suffix: kept by its pixel, in the area measure at z1 like the shared ones.
+struct PrivateSuffix {
+    Vec3 z, z_ng;
+    Color contribution{0.0f};  // f_1(x1 -> z1) L_out |cos theta_z1| / d^2 (0: the sample found no z1)
+};
+
+// The suffix started by BSDF sample `bs` at x1 (shading point sp, prefix throughput beta). x1 takes
+// `light_samples` light samples and `own_samples` BSDF samples per iteration, combined by
+// multi-sample MIS, so this sample carries 1/own_samples of the BSDF technique's per-pixel part.
+SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, int depth,
+                          const BsdfSample& bs, const Color& beta, float eta_scale, int light_samples,
+                          int own_samples, Rng& rng, LocalCounters& counters) {
+    SuffixSample out;
+    if (!bs.valid()) {
+        ++counters.samples_rejected;
+        return out;
+    }
+    PathState st1{depth + 1, bs.delta, bs.pdf, sp.hit.p};
+    st1.light_pdf_scale = float(light_samples) / float(own_samples);
+    Ray r1{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
+    const Color path_weight = beta * bs.value / bs.pdf;
+    const Color bsdf_weight = path_weight / float(own_samples);
+    if (bs.delta) {
+        // A Dirac lobe of a mixed BSDF: its suffix has no density to share, so the pixel keeps it.
+        out.fixed = bsdf_weight * trace_path(scene, settings, r1, st1, rng, counters);
+        return out;
+    }
+    SurfaceHit h1;
+    bool found1 = scene.intersect(r1, &h1);
+    out.fixed = bsdf_weight * emission_along(scene, settings, r1, found1, h1, st1);
+    if (!found1 || st1.depth > settings.max_bounces) return out;
+
+    // z1: shade it once, keeping its NEE and BSDF estimators apart for re-evaluation.
+    ShadingPoint sp1 = make_shading_point(scene, h1, r1.d);
+    if (sp1.bsdf.empty()) return out;
+    DirectSample ds1 = sample_direct(scene, settings, sp1, rng, counters);
+    if (ds1.valid) {
+        out.nee_dir = ds1.wi;
+        out.nee_weighted = ds1.weighted;
+        out.L_out += sp1.bsdf.eval(sp1.wo, ds1.wi) * ds1.weighted;
+    }
+    BsdfSample bs1 = sample_bsdf(sp1, rng);
+    if (bs1.valid()) {
+        PathState st2{st1.depth + 1, bs1.delta, bs1.pdf, h1.p};
+        // Russian roulette in the suffix sees the whole path's throughput, as in PATH: a suffix
+        // traced as if it started with throughput 1 would survive longer, costing more per path.
+        float eta2 = eta_scale * (bs.transmission ? sqr(bs.eta) : 1.0f) * (bs1.transmission ? sqr(bs1.eta) : 1.0f);
+        st2.rr_scale = max_component(path_weight * bs1.value / bs1.pdf) * eta2;
+        Color L_in = trace_path(scene, settings, Ray{spawn_origin(sp1, bs1.wi), bs1.wi, 0.0f, kInf}, st2, rng,
+                                counters);
+        out.next_dir = bs1.wi;
+        // Dirac lobes at z1 cannot be re-evaluated for another direction (eval() is 0 for them):
+        // the unbiased variant loses them, which is stated where it is selected.
+        out.next_weighted = bs1.delta ? Color(0.0f) : L_in / bs1.pdf;
+        out.L_out += bs1.value / bs1.pdf * L_in;
+    } else {
+        ++counters.samples_rejected;
+    }
+    out.has_suffix = true;
+    out.z = h1.p;
+    out.z_ng = h1.ng;
+    out.z_ns = h1.ns;
+    out.z_material = h1.material;
+    out.z_attr = h1.attr;
+    return out;
+}
 
 // Stage 1 for one pixel sample; `model` receives x1's technique density model (psf_density.h), built
 // here once per stored vertex rather than once per pixel that gathers it. `strata` is null when the
-// sampler is not stratified or there are no extra light samples.
+// sampler is not stratified or there are no extra samples at x1. `extra` receives the pixel's
+// `extra_paths` private suffixes.
 PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
                         LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
-                        TechniqueDensity* model, const PixelStrata* strata) {
+                        TechniqueDensity* model, const PixelStrata* strata, int extra_paths, PrivateSuffix* extra) {
     PathRecord rec;
     *model = TechniqueDensity{};
+    for (int m = 0; m < extra_paths; ++m) extra[m] = PrivateSuffix{};
     PathState st;
     st.prev_p = ray.o;
     Color beta(1.0f);
@@ -130,14 +213,16 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         if (attribs) attribs->x1 = hit.attr;
         rec.radius = settings.psf_radius_px * camera.pixel_footprint(prefix_length);
         *model = TechniqueDensity::of(sp.bsdf, hit.p, sp.wo);
-        // Direct light at x1, per pixel: psf_light_samples light samples and the one BSDF sample,
-        // combined by multi-sample MIS (the light density counted that many times in both weights).
-        // The first light sample and the BSDF sample take the stratified prefix of the pixel sample's
-        // stream; the extra light samples are drawn after them, stratified on their own. The BSDF
-        // sample's weight reads the count from PathState::light_pdf_scale (set on st1 below).
+        // Direct light at x1, per pixel: psf_light_samples light samples and the pixel's BSDF samples
+        // (its path's own and its extra paths'), combined by multi-sample MIS (each density counted
+        // that many times in both weights). The first light sample and the path's BSDF sample take
+        // the stratified prefix of the pixel sample's stream; the extra light and BSDF samples are
+        // drawn after them, stratified on their own. The BSDF samples' weights read the counts from
+        // PathState::light_pdf_scale (trace_suffix).
         const int light_samples = std::max(1, settings.psf_light_samples);
+        const int own_samples = 1 + extra_paths;
         auto add_light_sample = [&] {
-            DirectSample ds = sample_direct(scene, settings, sp, rng, counters, -1, light_samples);
+            DirectSample ds = sample_direct(scene, settings, sp, rng, counters, -1, light_samples, own_samples);
             if (ds.valid) rec.fixed += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
         };
         add_light_sample();
@@ -146,61 +231,49 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
             if (strata) set_extra_light_sample_prefix(&rng, strata->key, strata->sample, uint32_t(i - 1), uint32_t(light_samples - 1));
             add_light_sample();
         }
-        if (!bs.valid()) {
-            ++counters.samples_rejected;
-            return rec;
+        SuffixSample own =
+            trace_suffix(scene, settings, sp, st.depth, bs, beta, eta_scale, light_samples, own_samples, rng, counters);
+        rec.fixed += own.fixed;
+        if (own.has_suffix) {
+            rec.has_suffix = true;
+            rec.z = own.z;
+            rec.z_ng = own.z_ng;
+            rec.z_ns = own.z_ns;
+            rec.z_material = own.z_material;
+            if (attribs) attribs->z1 = own.z_attr;
+            rec.L_out = own.L_out;
+            rec.nee_dir = own.nee_dir;
+            rec.next_dir = own.next_dir;
+            rec.nee_weighted = own.nee_weighted;
+            rec.next_weighted = own.next_weighted;
         }
-        PathState st1{st.depth + 1, bs.delta, bs.pdf, hit.p};
-        st1.light_pdf_scale = float(light_samples);
-        Ray r1{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
-        Color bsdf_weight = beta * bs.value / bs.pdf;
-        if (bs.delta) {
-            // A Dirac lobe of a mixed BSDF: its suffix has no density to share, so the pixel keeps it.
-            if (bs.transmission) eta_scale *= sqr(bs.eta);
-            rec.fixed += bsdf_weight * trace_path(scene, settings, r1, st1, rng, counters);
-            return rec;
+        // The private extra paths: more samples of this pixel's own technique, where the filter has
+        // little to share (see iteration()).
+        for (int m = 0; m < extra_paths; ++m) {
+            if (strata) set_extra_bsdf_sample_prefix(&rng, strata->key, strata->extra_bsdf + uint32_t(m));
+            SuffixSample e = trace_suffix(scene, settings, sp, st.depth, sample_bsdf(sp, rng), beta, eta_scale,
+                                          light_samples, own_samples, rng, counters);
+            rec.fixed += e.fixed;
+            if (!e.has_suffix) continue;
+            Vec3 d = e.z - hit.p;
+            float dist2 = length_sq(d);
+            if (!(dist2 > 0.0f)) continue;
+            Vec3 wdir = d / std::sqrt(dist2);
+            extra[m].z = e.z;
+            extra[m].z_ng = e.z_ng;
+            extra[m].contribution = sp.bsdf.eval(sp.wo, wdir) * e.L_out * (absdot(wdir, e.z_ng) / dist2);
         }
-        SurfaceHit h1;
-        bool found1 = scene.intersect(r1, &h1);
-        rec.fixed += bsdf_weight * emission_along(scene, settings, r1, found1, h1, st1);
-        if (!found1 || st1.depth > settings.max_bounces) return rec;
-
-        // z1: shade it once, keeping its NEE and BSDF estimators apart for re-evaluation.
-        ShadingPoint sp1 = make_shading_point(scene, h1, r1.d);
-        if (sp1.bsdf.empty()) return rec;
-        DirectSample ds1 = sample_direct(scene, settings, sp1, rng, counters);
-        Color L_out(0.0f);
-        if (ds1.valid) {
-            rec.nee_dir = ds1.wi;
-            rec.nee_weighted = ds1.weighted;
-            L_out += sp1.bsdf.eval(sp1.wo, ds1.wi) * ds1.weighted;
-        }
-        BsdfSample bs1 = sample_bsdf(sp1, rng);
-        if (bs1.valid()) {
-            PathState st2{st1.depth + 1, bs1.delta, bs1.pdf, h1.p};
-            // Russian roulette in the suffix sees the whole path's throughput, as in PATH: a suffix
-            // traced as if it started with throughput 1 would survive longer, costing more per path.
-            float eta2 = eta_scale * (bs.transmission ? sqr(bs.eta) : 1.0f) * (bs1.transmission ? sqr(bs1.eta) : 1.0f);
-            st2.rr_scale = max_component(bsdf_weight * bs1.value / bs1.pdf) * eta2;
-            Color L_in = trace_path(scene, settings, Ray{spawn_origin(sp1, bs1.wi), bs1.wi, 0.0f, kInf}, st2, rng,
-                                    counters);
-            rec.next_dir = bs1.wi;
-            // Dirac lobes at z1 cannot be re-evaluated for another direction (eval() is 0 for them):
-            // the unbiased variant loses them, which is stated where it is selected.
-            rec.next_weighted = bs1.delta ? Color(0.0f) : L_in / bs1.pdf;
-            L_out += bs1.value / bs1.pdf * L_in;
-        } else {
-            ++counters.samples_rejected;
-        }
-        rec.has_suffix = true;
-        rec.z = h1.p;
-        rec.z_ng = h1.ng;
-        rec.z_ns = h1.ns;
-        rec.z_material = h1.material;
-        if (attribs) attribs->z1 = h1.attr;
-        rec.L_out = L_out;
         return rec;
     }
+}
+
+// How far the own suffix's weight w in its pixel's estimate, among n gathered techniques, is from
+// an even share: 0 at w = 1/n (the filter shares the pixel's suffix as well as it can), 1 at w = 1
+// (it shares nothing). The extra paths are proportional to it.
+float excess_weight(float w, size_t n) {
+    if (n <= 1) return 1.0f;
+    const float even = 1.0f / float(n);
+    return std::clamp((w - even) / (1.0f - even), 0.0f, 1.0f);
 }
 
 // Per-thread scratch of the gather. Reached through a function that is not inlined: a thread_local
@@ -225,6 +298,15 @@ struct PathSpaceFilteringIntegrator::IterationBuffers {
     std::vector<Vec3> positions;
     std::vector<float> radii;
     HashGrid grid;
+    // Per pixel, across iterations: the weight of the pixel's own suffix in its estimate, summed over
+    // the iterations that measured it (own_weight_n), and the extra BSDF samples taken so far (the
+    // index of the next one in its stratified set).
+    std::vector<float> own_weight_sum;
+    std::vector<uint32_t> own_weight_n, extra_bsdf_taken;
+    // This iteration's private extra suffixes: pixel k's are extras[extra_offset[k] ...], extra_paths[k] of them.
+    std::vector<uint8_t> extra_paths;
+    std::vector<uint32_t> extra_offset;
+    std::vector<PrivateSuffix> extras;
 };
 
 PathSpaceFilteringIntegrator::PathSpaceFilteringIntegrator(PsfWeighting weighting) : weighting_(weighting) {}
@@ -244,8 +326,39 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     std::vector<RecordAttribs> attribs(scene.has_varying_materials() ? records.size() : 0);
     auto x1_attr = [&](size_t k) { return attribs.empty() ? SurfaceAttribs{} : attribs[k].x1; };
 
-    // Stage 1: one full path per pixel.
-    const bool extra_strata = kWithStratified && settings.stratified && settings.psf_light_samples > 1;
+    // Extra paths. Where the pixel's own suffix keeps most of the weight in its estimate (a sharp lobe
+    // at x1, or glossy surfaces too thin or curved for neighbours to share its lobe), the filter cannot
+    // lower the indirect light's variance, and the pixel gets up to psf_extra_paths more paths from x1
+    // per iteration, in proportion to that weight's excess over an even share (excess_weight) averaged
+    // over the past iterations (none in the first). They are more samples of the pixel's own technique: its density counts 1 + extra times
+    // in the pixel's SMIS denominators (Veach's multi-sample balance heuristic with sample counts; the
+    // neighbours, which see only the one shared suffix, count it once), so the estimator keeps eq. 17's
+    // form and PSF_SMIS_UNBIASED stays unbiased (the counts are fixed before the iteration's samples).
+    // The count is measured without the extra samples (density counted once), so extra paths do not
+    // feed their own demand.
+    const size_t pixels = records.size();
+    IterationBuffers& b = *buffers_;
+    if (b.own_weight_sum.size() != pixels) {
+        b.own_weight_sum.assign(pixels, 0.0f);
+        b.own_weight_n.assign(pixels, 0);
+        b.extra_bsdf_taken.assign(pixels, 0);
+    }
+    const int max_extra = std::clamp(settings.psf_extra_paths, 0, 255);
+    b.extra_paths.assign(pixels, 0);
+    b.extra_offset.resize(pixels);
+    uint32_t extra_total = 0;
+    for (size_t k = 0; k < pixels; ++k) {
+        b.extra_offset[k] = extra_total;
+        if (max_extra == 0 || b.own_weight_n[k] == 0) continue;
+        float mean = b.own_weight_sum[k] / float(b.own_weight_n[k]);
+        b.extra_paths[k] = uint8_t(std::clamp(int(float(max_extra) * mean + 0.5f), 0, max_extra));
+        extra_total += b.extra_paths[k];
+    }
+    b.extras.resize(extra_total);
+
+    // Stage 1: one full path per pixel, and the pixel's extra paths.
+    const bool extra_strata =
+        kWithStratified && settings.stratified && (settings.psf_light_samples > 1 || max_extra > 0);
     auto t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         Rng rng;
@@ -255,9 +368,12 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         if (extra_strata)
             strata = {stratified_pixel_key(uint32_t(x + scene.camera().window_x0()),
                                            uint32_t(y + scene.camera().window_y0()), settings.seed),
-                      s};
+                      s, b.extra_bsdf_taken[k]};
+        const int extra = b.extra_paths[k];
         records[k] = trace_record(scene, settings, ray, rng, local, scene.camera(),
-                                  attribs.empty() ? nullptr : &attribs[k], &models[k], extra_strata ? &strata : nullptr);
+                                  attribs.empty() ? nullptr : &attribs[k], &models[k], extra_strata ? &strata : nullptr,
+                                  extra, b.extras.data() + b.extra_offset[k]);
+        b.extra_bsdf_taken[k] += uint32_t(extra);
         ++local.paths;
     });
     if (ctx.should_stop()) return;  // a partial iteration never reaches the film
@@ -300,14 +416,34 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         const PathRecord& q = records[k];
         Color L = q.fixed;
         float reused = 0.0f;  // other paths' suffixes combined here: the diagnostic pass
+        const int extra = b.extra_paths[k];
+        const float own_count = float(1 + extra);  // samples of the pixel's own technique
+        const PrivateSuffix* private_suffixes = b.extras.data() + b.extra_offset[k];
+        // The own suffix's weight in the pixel's estimate with its density counted once (what the
+        // extra paths are proportional to); 1 when nothing is shared.
+        float own_weight = -1.0f;
         if (q.has_vertex && weighting_ == PsfWeighting::Path) {
+            // The path tracer's own estimate: f cos / p_omega times the suffix radiance, averaged over
+            // the pixel's own samples.
+            Bsdf bx = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, x1_attr(k));
+            Color sum(0.0f);
+            auto add = [&](const Vec3& z, const Vec3& z_ng, const Color& contribution) {
+                Vec3 d = z - q.p;
+                float dist2 = length_sq(d);
+                if (!(dist2 > 0.0f)) return;
+                Vec3 wdir = d / std::sqrt(dist2);
+                float p_area = bx.pdf(q.wo, wdir) * absdot(wdir, z_ng) / dist2;
+                if (p_area > 0.0f) sum += contribution / p_area;
+            };
             if (q.has_suffix) {
-                // The path tracer's own estimate: f cos / p_omega times the suffix radiance.
-                Bsdf b = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, x1_attr(k));
-                Vec3 d = normalize(q.z - q.p);
-                float pdf = b.pdf(q.wo, d);
-                if (pdf > 0.0f) L += q.beta * b.eval(q.wo, d) * q.L_out / pdf;
+                Vec3 wdir = normalize(q.z - q.p);
+                add(q.z, q.z_ng, bx.eval(q.wo, wdir) * q.L_out * (absdot(wdir, q.z_ng) / length_sq(q.z - q.p)));
             }
+            own_weight = 1.0f;  // nothing is shared
+            for (int m = 0; m < extra; ++m)
+                if (!is_black(private_suffixes[m].contribution))
+                    add(private_suffixes[m].z, private_suffixes[m].z_ng, private_suffixes[m].contribution);
+            L += q.beta * sum / own_count;
         } else if (q.has_vertex) {
             GatherScratch& scratch = *gather_scratch();
             // The techniques: x1 endpoints within the radius, own first; beyond max_n a uniform
@@ -346,13 +482,42 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 for (uint32_t j : nb) techniques.push_back(technique(j));
             } else if (weighting_ == PsfWeighting::Smis) {
                 density_sum.reset();
-                for (uint32_t j : nb) {
+                for (size_t jj = 0; jj < nb.size(); ++jj) {
+                    const uint32_t j = nb[jj];
+                    const float count = jj == 0 ? own_count : 1.0f;  // nb[0] is the pixel's own technique
                     if (models[j].kind == TechniqueDensity::General)
-                        density_sum.add_general(records[j].p, general_bsdf(j), records[j].wo);
+                        density_sum.add_general(records[j].p, general_bsdf(j), records[j].wo, count);
                     else
-                        density_sum.add(models[j]);
+                        density_sum.add(models[j], count);
                 }
             }
+            // p(z | the pixel's own technique), counted once.
+            auto own_density = [&](const Vec3& z, const Vec3& z_ng) {
+                if (exact) return techniques[0].area_density(z, z_ng);
+                return models[k].kind == TechniqueDensity::General ? technique(uint32_t(k)).area_density(z, z_ng)
+                                                                   : models[k].area_density(z, z_ng);
+            };
+            // Eq. (17)'s denominator at z: the sampled techniques' densities, the own one counted once
+            // per own sample. The unbiased variant tests the visibility of z from every technique but
+            // the one that sampled it (`sampled_by`).
+            auto denominator = [&](const Vec3& z, const Vec3& z_ng, size_t sampled_by) {
+                if (!exact) return density_sum(z, z_ng);
+                float denom = 0.0f;
+                for (size_t jj = 0; jj < nb.size(); ++jj) {
+                    const PathRecord& t = records[nb[jj]];
+                    float pj = techniques[jj].area_density(z, z_ng);
+                    if (pj > 0.0f && jj != sampled_by) {
+                        Vec3 dz = z - t.p;
+                        float dd = length(dz);
+                        Vec3 wz = dz / dd;
+                        if (scene.occluded(offset_ray_origin(t.p, dot(wz, t.ng) > 0 ? t.ng : -t.ng), wz,
+                                           dd * (1.0f - 1e-4f)))
+                            pj = 0.0f;
+                    }
+                    denom += jj == 0 ? own_count * pj : pj;
+                }
+                return denom;
+            };
             Color sum(0.0f);
             uint32_t n_accepted = 0;
             for (size_t ii = 0; ii < nb.size(); ++ii) {
@@ -398,35 +563,44 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     continue;
                 }
                 // Eq. (17): the balance heuristic normalised over the sampled techniques.
-                if (!exact) {
-                    float denom = density_sum(smp.z, smp.z_ng);
-                    if (denom > 0.0f) sum += contribution / denom;
+                float denom = denominator(smp.z, smp.z_ng, ii);
+                if (!(denom > 0.0f)) continue;
+                sum += contribution / denom;
+                if (ii == 0) {
+                    float p = own_density(smp.z, smp.z_ng);
+                    float once = denom - (own_count - 1.0f) * p;
+                    own_weight = once > 0.0f ? std::min(1.0f, p / once) : 1.0f;
+                    own_weight = excess_weight(own_weight, nb.size());
+                }
+            }
+            if (weighting_ == PsfWeighting::Keller && q.has_suffix && n_accepted > 0)
+                own_weight = excess_weight(1.0f / float(n_accepted), nb.size());  // Keller's weights: 1 / accepted
+            const uint32_t shared_accepted = n_accepted;
+            // The private extra suffixes, sampled by the own technique.
+            for (int m = 0; m < extra; ++m) {
+                const PrivateSuffix& ps = private_suffixes[m];
+                if (weighting_ == PsfWeighting::Keller) {
+                    ++n_accepted;  // every own sample is similar to its pixel
+                    float p_own = is_black(ps.contribution) ? 0.0f : own_density(ps.z, ps.z_ng);
+                    if (p_own > 0.0f) sum += ps.contribution / p_own;
                     continue;
                 }
-                float denom = 0.0f;
-                for (size_t jj = 0; jj < nb.size(); ++jj) {
-                    const PathRecord& t = records[nb[jj]];
-                    float pj = techniques[jj].area_density(smp.z, smp.z_ng);
-                    if (pj > 0.0f && jj != ii) {
-                        Vec3 dz = smp.z - t.p;
-                        float dd = length(dz);
-                        Vec3 wz = dz / dd;
-                        if (scene.occluded(offset_ray_origin(t.p, dot(wz, t.ng) > 0 ? t.ng : -t.ng), wz,
-                                           dd * (1.0f - 1e-4f)))
-                            pj = 0.0f;
-                    }
-                    denom += pj;
-                }
-                if (denom > 0.0f) sum += contribution / denom;
+                if (is_black(ps.contribution)) continue;
+                float denom = denominator(ps.z, ps.z_ng, 0);
+                if (denom > 0.0f) sum += ps.contribution / denom;
             }
             if (weighting_ == PsfWeighting::Keller) {
                 accepted += n_accepted;
                 if (n_accepted > 0) sum = sum / float(n_accepted);
-                reused = n_accepted > 0 ? float(n_accepted - 1) : 0.0f;
+                reused = shared_accepted > 0 ? float(shared_accepted - 1) : 0.0f;
             } else {
                 reused = float(nb.size() - 1);
             }
             L += q.beta * sum;
+        }
+        if (own_weight >= 0.0f) {
+            b.own_weight_sum[k] += own_weight;
+            ++b.own_weight_n[k];
         }
         if (ctx.film.has_aux()) {
             Rng camera_rng;
@@ -439,6 +613,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     stored_vertices_ += stored.size();
     gathered_ += gathered.load();
     accepted_ += accepted.load();
+    extra_paths_ += extra_total;
+    pixels_ += pixels;
     bytes_per_vertex_ = sizeof(PathRecord) + sizeof(TechniqueDensity) +
                         (stored.empty() ? 0.0 : double(grid.memory_bytes()) / stored.size());
 }
@@ -455,6 +631,7 @@ std::map<std::string, double> PathSpaceFilteringIntegrator::stats() const {
         {"techniques_per_query", stored_vertices_ ? double(gathered_) / stored_vertices_ : 0.0},
         {"keller_accepted_per_query", stored_vertices_ ? double(accepted_) / stored_vertices_ : 0.0},
         {"bytes_per_stored_vertex", bytes_per_vertex_},
+        {"extra_paths_per_pixel", pixels_ ? double(extra_paths_) / double(pixels_) : 0.0},
     };
 }
 

@@ -32,7 +32,7 @@ private:
     std::unique_ptr<IterationBuffers> buffers_;
     // Measurements, summed over iterations.
     double stage1_seconds_ = 0, grid_seconds_ = 0, gather_seconds_ = 0;
-    uint64_t iterations_ = 0, stored_vertices_ = 0, gathered_ = 0, accepted_ = 0;
+    uint64_t iterations_ = 0, stored_vertices_ = 0, gathered_ = 0, accepted_ = 0, extra_paths_ = 0, pixels_ = 0;
     double bytes_per_vertex_ = 0;
 };
 

@@ -17,7 +17,7 @@ ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const
 }
 
 DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
-                           LocalCounters& counters, int32_t medium, int light_samples) {
+                           LocalCounters& counters, int32_t medium, int light_samples, int bsdf_samples) {
     DirectSample ds;
     const DiscreteDistribution& selection = scene.light_selection();
     // Draw the random numbers even when unused, so later decisions of the path keep their streams.
@@ -43,7 +43,7 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
     }
     float light_pdf = pmf * ls.pdf;
     const float n = float(light_samples);
-    float w = ls.delta ? 1.0f : mis_weight(settings.mis, n * light_pdf, sp.bsdf.pdf(sp.wo, ls.wi));
+    float w = ls.delta ? 1.0f : mis_weight(settings.mis, n * light_pdf, float(bsdf_samples) * sp.bsdf.pdf(sp.wo, ls.wi));
     ds.wi = ls.wi;
     ds.light = li;
     ds.weighted = ls.L * tr * (w / (n * light_pdf));

@@ -34,7 +34,8 @@ struct PathState {
     bool first_vertex_ahead = false;
     // The previous vertex's light-sampling density, for MIS, as a multiple of the NEE density
     // (pmf x light pdf): M for resampled light sampling (RIS, ReSTIR), see reservoir_contribution;
-    // n for n light samples (path-space filtering's psf_light_samples at x1).
+    // n_light / n_bsdf for n_light light and n_bsdf BSDF samples (path-space filtering's
+    // psf_light_samples and extra paths at x1).
     float light_pdf_scale = 1.0f;
     // Throughput of the path before the ray this state starts with (max component, refraction
     // scaling included), for Russian roulette only: a path traced in pieces (path-space filtering's
@@ -55,11 +56,12 @@ struct DirectSample {
 };
 // With media (Scene::has_media()), `medium` is the medium the path arrived in and the shadow ray
 // carries transmittance; without, it is ignored and the shadow ray is a plain occlusion test.
-// `light_samples`: how many light samples the vertex takes (each weighted against the one BSDF
-// sample with the light density scaled by this count, Veach's multi-sample MIS with n_light samples);
-// `weighted` is then one sample's share, to be summed over the samples.
+// `light_samples` and `bsdf_samples`: how many light and BSDF samples the vertex takes (Veach's
+// multi-sample MIS: each density counted that many times in the weights); `weighted` is then one
+// light sample's share, to be summed over the light samples.
 DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
-                           LocalCounters& counters, int32_t medium = -1, int light_samples = 1);
+                           LocalCounters& counters, int32_t medium = -1, int light_samples = 1,
+                           int bsdf_samples = 1);
 
 // Emission reaching the ray's origin from lights that are not geometry (area, point, spot) in front
 // of the first hit, from that hit if it emits, or from lights at infinity when nothing is hit;

@@ -73,6 +73,18 @@ inline void set_extra_light_sample_prefix(Rng* rng, uint64_t pixel_key, uint32_t
     rng->set_prefix(v, 3);
 }
 
+// Extra BSDF samples at the first vertex (path-space filtering's extra paths): a pixel's i-th extra
+// BSDF sample over the whole render draws its lobe choice and direction from dimension groups 7 and 8
+// at index i, so they form one stratified set per pixel. Sets the next three numbers in sample_bsdf's
+// order: lobe, then the direction.
+inline void set_extra_bsdf_sample_prefix(Rng* rng, uint64_t pixel_key, uint32_t i) {
+    float dir[2], choice[2];
+    stratified::sample_2d(i, pixel_key, 7, dir);
+    stratified::sample_2d(i, pixel_key, 8, choice);
+    const float v[3] = {choice[0], dir[0], dir[1]};
+    rng->set_prefix(v, 3);
+}
+
 inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s, Rng* rng) {
     const Camera& cam = ctx.scene.camera();
     int fx = x + cam.window_x0(), fy = y + cam.window_y0();

@@ -26,6 +26,12 @@ PixelStats psf_renders(const std::shared_ptr<Scene>& scene, const std::string& i
     return across_renders(scene, st, renders, spp, seed0);
 }
 
+PixelStats psf_renders_with(const std::shared_ptr<Scene>& scene, RenderSettings st, const std::string& integrator,
+                            int renders, uint32_t spp, uint32_t seed0) {
+    st.integrator = integrator;
+    return across_renders(scene, st, renders, spp, seed0);
+}
+
 }  // namespace
 
 TEST(PathSpaceFiltering, UnbiasedSmisConvergesToThePathTracer) {
@@ -68,9 +74,12 @@ TEST(PathSpaceFiltering, ExtraLightSamplesKeepTheDirectLightUnbiased) {
     // multi-sample MIS: both weights must count the light density that many times, or the direct
     // light is over- or under-counted where both techniques matter. A rough glossy floor under a
     // large, close area light (the highlight is where they both matter), direct light only; PSF_PATH
-    // (no reuse) with 4 light samples against PATH's 1. A weight that forgets the count is caught:
-    // checked by counting one light sample in the BSDF sample's weight (image-mean z = 40) or no
-    // count in the light samples' (z = 145).
+    // (no reuse) with 4 light samples against PATH's 1. PSF_PATH shares nothing, so from the second
+    // iteration on its pixels also take psf_extra_paths' 4 extra BSDF samples at x1, which the weights
+    // must count too. A weight that forgets a count is caught: checked by counting one light sample
+    // in the BSDF samples' weight (image-mean z = -87; z = 40 before the extra paths) or one BSDF
+    // sample in the light samples' (z = 65), and, before the extra paths, no count in the light
+    // samples' (z = 145).
     auto s = std::make_shared<Scene>();
     uint32_t floor = s->add_material(glossy(Color(0.8f), 0.3f));
     add_box(*s, {-3.0f, -3.0f, -0.1f}, {3.0f, 3.0f, 0.0f}, floor);
@@ -94,6 +103,57 @@ TEST(PathSpaceFiltering, ExtraLightSamplesKeepTheDirectLightUnbiased) {
     double acc = accepted_fraction(four, ref);
     stats::ZTest mean = stats::z_test_difference(four.image, ref.image);
     std::printf("PSF_PATH with 4 light samples: %.4f of pixels agree with PATH, image mean z = %.2f\n", acc, mean.z);
+    EXPECT_GE(acc, 0.99);
+    EXPECT_GE(mean.p_value, 0.001);
+}
+
+TEST(PathSpaceFiltering, ExtraPathsKeepTheUnbiasedVariantUnbiased) {
+    // Pixels whose own suffix the filter cannot share take extra paths from x1 (psf_extra_paths):
+    // more samples of their own technique, counted that many times in their SMIS denominators and in
+    // x1's direct-light MIS. A sharp glossy floor at a large radius (neighbours' lobes miss each
+    // other's samples) makes most pixels take them; PSF_SMIS_UNBIASED must still converge to PATH.
+    // Checked by counting the own technique once in the denominators (image-mean z = 10.4; the count
+    // in x1's direct-light weights is checked by ExtraLightSamplesKeepTheDirectLightUnbiased).
+    auto s = std::make_shared<Scene>();
+    uint32_t white = s->add_material(diffuse(Color(0.7f)));
+    uint32_t red = s->add_material(diffuse(Color(0.7f, 0.15f, 0.1f)));
+    uint32_t mirror = s->add_material(glossy(Color(0.9f), 0.05f));
+    add_box(*s, {-1.1f, -1.1f, -0.1f}, {1.1f, 1.1f, 0.0f}, mirror);  // floor
+    add_box(*s, {-1.1f, -1.1f, 2.0f}, {1.1f, 1.1f, 2.1f}, white);    // ceiling
+    add_box(*s, {-1.1f, 1.0f, 0.0f}, {1.1f, 1.1f, 2.0f}, white);     // back
+    add_box(*s, {-1.1f, -1.1f, 0.0f}, {-1.0f, 1.1f, 2.0f}, red);     // left
+    add_box(*s, {1.0f, -1.1f, 0.0f}, {1.1f, 1.1f, 2.0f}, white);     // right
+    add_box(*s, {-1.1f, -3.1f, 0.0f}, {1.1f, -3.0f, 2.0f}, white);   // front, behind the camera
+    LightDesc light;
+    light.type = "AREA";
+    light.shape = "SQUARE";
+    light.size = 0.6f;
+    light.power = 60.0f;
+    light.to_world.m[2][3] = 1.98f;
+    s->add_light(light);
+    s->set_camera(camera_along_y({0.0f, -2.9f, 0.6f}, kW, kH, 30.0f));
+    s->commit();
+
+    RenderSettings st;
+    st.max_bounces = 4;
+    st.psf_radius_px = 12.0f;
+    st.psf_max_neighbors = 32;
+    st.psf_radius_alpha = 1.0f;
+    st.psf_extra_paths = 4;
+    st.integrator = "PSF_SMIS_UNBIASED";
+    st.samples = 8;
+    RenderSession probe(s, st);
+    probe.run();
+    const double extra = probe.integrator_stats().at("extra_paths_per_pixel");
+    std::printf("extra paths per pixel and iteration: %.2f\n", extra);
+    EXPECT_GT(extra, 0.5);  // the test exercises them (none in the first iteration)
+
+    PixelStats ref = psf_renders_with(s, st, "PATH", 16, 64, 1000);
+    PixelStats unbiased = psf_renders_with(s, st, "PSF_SMIS_UNBIASED", 32, 4, 2000);
+    double acc = accepted_fraction(unbiased, ref);
+    stats::ZTest mean = stats::z_test_difference(unbiased.image, ref.image);
+    std::printf("PSF_SMIS_UNBIASED with extra paths: %.4f of pixels agree with PATH, image mean z = %.2f\n", acc,
+                mean.z);
     EXPECT_GE(acc, 0.99);
     EXPECT_GE(mean.p_value, 0.001);
 }
