@@ -615,8 +615,12 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     accepted_ += accepted.load();
     extra_paths_ += extra_total;
     pixels_ += pixels;
+    // The extra paths' per-pixel state and private suffixes are counted in, shared over the vertices.
+    // (own_weight_sum, own_weight_n, extra_bsdf_taken, extra_offset, extra_paths per pixel)
+    const double extra_bytes = double(pixels) * (sizeof(float) + 3 * sizeof(uint32_t) + sizeof(uint8_t)) +
+                               double(extra_total) * sizeof(PrivateSuffix);
     bytes_per_vertex_ = sizeof(PathRecord) + sizeof(TechniqueDensity) +
-                        (stored.empty() ? 0.0 : double(grid.memory_bytes()) / stored.size());
+                        (stored.empty() ? 0.0 : (double(grid.memory_bytes()) + extra_bytes) / stored.size());
 }
 
 std::map<std::string, double> PathSpaceFilteringIntegrator::stats() const {
