@@ -45,9 +45,21 @@ namespace psf_detail {
 
 namespace {
 
-// Everything stage 2 needs about one pixel's path. Shading state is stored, not the Bsdf, and
-// rebuilt on demand from the material (cheap, and keeps the record small).
-struct PathRecord {
+// A suffix's first vertex z1 and what it carried back, as stage 2 reads it.
+struct SuffixVertex {
+    Vec3 z, z_ng, z_ns;       // z1, its geometric and shading normals (both on the geometric side)
+    uint32_t z_material = 0;
+    Color L_out{0.0f};        // radiance leaving z1 towards x1, emission at z1 excluded
+    // z1's own estimators, kept so the unbiased variant can re-evaluate z1's BSDF for another x1:
+    // L_out(wo) = f(wo, nee_dir) nee_weighted + f(wo, next_dir) next_weighted.
+    Vec3 nee_dir, next_dir;
+    Color nee_weighted{0.0f}, next_weighted{0.0f};
+};
+
+// Everything stage 2 needs about one pixel's path: its prefix endpoint x1, and its suffix (the
+// SuffixVertex base, valid with has_suffix). Shading state is stored, not the Bsdf, and rebuilt on
+// demand from the material (cheap, and keeps the record small).
+struct PathRecord : SuffixVertex {
     Color fixed{0.0f};   // per-pixel part: prefix emission, NEE at x1, emission found by x1's sample
     bool has_vertex = false;
     bool has_suffix = false;
@@ -57,14 +69,6 @@ struct PathRecord {
     uint32_t material = 0;
     bool backfacing = false;
     float radius = 0.0f;
-    // Suffix: its first vertex z1.
-    Vec3 z, z_ng, z_ns;       // z1, its geometric and shading normals (both on the geometric side)
-    uint32_t z_material = 0;
-    Color L_out{0.0f};        // radiance leaving z1 towards x1, emission at z1 excluded
-    // z1's own estimators, kept so the unbiased variant can re-evaluate z1's BSDF for another x1:
-    // L_out(wo) = f(wo, nee_dir) nee_weighted + f(wo, next_dir) next_weighted.
-    Vec3 nee_dir, next_dir;
-    Color nee_weighted{0.0f}, next_weighted{0.0f};
 };
 
 // Texture coordinates and object colours of a record's x1 and z1, kept beside the records and only
@@ -88,16 +92,30 @@ struct PixelStrata {
 
 // One of x1's own BSDF samples and the suffix it starts: the path's own sample (stored for sharing)
 // or one of the pixel's private extra samples.
-struct SuffixSample {
+struct SuffixSample : SuffixVertex {
     Color fixed{0.0f};  // its per-pixel part: the emission it finds at z1, or a Dirac lobe's whole path
     bool has_suffix = false;
-    Vec3 z, z_ng, z_ns;
-    uint32_t z_material = 0;
     SurfaceAttribs z_attr;
-    Color L_out{0.0f};  // radiance leaving z1 towards x1, emission at z1 excluded
-    Vec3 nee_dir, next_dir;
-    Color nee_weighted{0.0f}, next_weighted{0.0f};
 };
+
+// The geometry of connecting x1 at p to a suffix vertex z (normal z_ng): the direction, the squared
+// distance and the area-measure factor |cos theta_z| / d^2. Invalid when z coincides with p.
+struct Connection {
+    Vec3 dir;
+    float dist2 = 0.0f;
+    float g = 0.0f;
+    bool valid() const { return dist2 > 0.0f; }
+};
+Connection connect(const Vec3& p, const Vec3& z, const Vec3& z_ng) {
+    Connection c;
+    Vec3 d = z - p;
+    float dist2 = length_sq(d);
+    if (!(dist2 > 0.0f)) return c;
+    c.dist2 = dist2;
+    c.dir = d / std::sqrt(dist2);
+    c.g = absdot(c.dir, z_ng) / dist2;
+    return c;
+}
 
 // A private extra suffix: kept by its pixel, in the area measure at z1 like the shared ones.
 struct PrivateSuffix {
@@ -236,16 +254,8 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         rec.fixed += own.fixed;
         if (own.has_suffix) {
             rec.has_suffix = true;
-            rec.z = own.z;
-            rec.z_ng = own.z_ng;
-            rec.z_ns = own.z_ns;
-            rec.z_material = own.z_material;
+            static_cast<SuffixVertex&>(rec) = own;
             if (attribs) attribs->z1 = own.z_attr;
-            rec.L_out = own.L_out;
-            rec.nee_dir = own.nee_dir;
-            rec.next_dir = own.next_dir;
-            rec.nee_weighted = own.nee_weighted;
-            rec.next_weighted = own.next_weighted;
         }
         // The private extra paths: more samples of this pixel's own technique, where the filter has
         // little to share (see iteration()).
@@ -255,13 +265,11 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
                                           light_samples, own_samples, rng, counters);
             rec.fixed += e.fixed;
             if (!e.has_suffix) continue;
-            Vec3 d = e.z - hit.p;
-            float dist2 = length_sq(d);
-            if (!(dist2 > 0.0f)) continue;
-            Vec3 wdir = d / std::sqrt(dist2);
+            Connection c = connect(hit.p, e.z, e.z_ng);
+            if (!c.valid()) continue;
             extra[m].z = e.z;
             extra[m].z_ng = e.z_ng;
-            extra[m].contribution = sp.bsdf.eval(sp.wo, wdir) * e.L_out * (absdot(wdir, e.z_ng) / dist2);
+            extra[m].contribution = sp.bsdf.eval(sp.wo, c.dir) * e.L_out * c.g;
         }
         return rec;
     }
@@ -427,22 +435,22 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             // the pixel's own samples.
             Bsdf bx = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, x1_attr(k));
             Color sum(0.0f);
-            auto add = [&](const Vec3& z, const Vec3& z_ng, const Color& contribution) {
-                Vec3 d = z - q.p;
-                float dist2 = length_sq(d);
-                if (!(dist2 > 0.0f)) return;
-                Vec3 wdir = d / std::sqrt(dist2);
-                float p_area = bx.pdf(q.wo, wdir) * absdot(wdir, z_ng) / dist2;
+            // Contributions are in the area measure at z1: divide by the density in the same measure.
+            auto add = [&](const Connection& c, const Color& contribution) {
+                float p_area = bx.pdf(q.wo, c.dir) * c.g;
                 if (p_area > 0.0f) sum += contribution / p_area;
             };
             if (q.has_suffix) {
-                Vec3 wdir = normalize(q.z - q.p);
-                add(q.z, q.z_ng, bx.eval(q.wo, wdir) * q.L_out * (absdot(wdir, q.z_ng) / length_sq(q.z - q.p)));
+                Connection c = connect(q.p, q.z, q.z_ng);
+                if (c.valid()) add(c, bx.eval(q.wo, c.dir) * q.L_out * c.g);
             }
             own_weight = 1.0f;  // nothing is shared
-            for (int m = 0; m < extra; ++m)
-                if (!is_black(private_suffixes[m].contribution))
-                    add(private_suffixes[m].z, private_suffixes[m].z_ng, private_suffixes[m].contribution);
+            for (int m = 0; m < extra; ++m) {
+                const PrivateSuffix& ps = private_suffixes[m];
+                if (is_black(ps.contribution)) continue;
+                Connection c = connect(q.p, ps.z, ps.z_ng);
+                if (c.valid()) add(c, ps.contribution);
+            }
             L += q.beta * sum / own_count;
         } else if (q.has_vertex) {
             GatherScratch& scratch = *gather_scratch();
@@ -532,17 +540,16 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 }
                 if (!smp.has_suffix) continue;
                 // Connection f_1(ybar_k, zbar_i) in the area measure at z1.
-                Vec3 d = smp.z - q.p;
-                float dist2 = length_sq(d);
-                if (!(dist2 > 0.0f)) continue;
-                Vec3 wdir = d / std::sqrt(dist2);
+                const Connection c = connect(q.p, smp.z, smp.z_ng);
+                if (!c.valid()) continue;
+                const Vec3& wdir = c.dir;
                 Color f = own.eval(q.wo, wdir);
                 if (is_black(f)) continue;
                 Color L_z = smp.L_out;
                 if (exact) {
                     // Visibility and z1's scattering for the new direction (§4.2).
                     if (scene.occluded(offset_ray_origin(q.p, dot(wdir, q.ng) > 0 ? q.ng : -q.ng), wdir,
-                                       std::sqrt(dist2) * (1.0f - 1e-4f)))
+                                       std::sqrt(c.dist2) * (1.0f - 1e-4f)))
                         continue;
                     Vec3 z_wo = -wdir;
                     bool back = dot(z_wo, smp.z_ng) < 0.0f;
@@ -552,7 +559,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                                       attribs.empty() ? SurfaceAttribs{} : attribs[nb[ii]].z1);
                     L_z = bz.eval(z_wo, smp.nee_dir) * smp.nee_weighted + bz.eval(z_wo, smp.next_dir) * smp.next_weighted;
                 }
-                Color contribution = f * L_z * (absdot(wdir, smp.z_ng) / dist2);
+                Color contribution = f * L_z * c.g;
                 if (weighting_ == PsfWeighting::Keller) {
                     // Keller's estimator divides by the sample's own density only.
                     const TechniqueDensity& m = models[nb[ii]];

@@ -83,14 +83,7 @@ TEST(PathSpaceFiltering, ExtraLightSamplesKeepTheDirectLightUnbiased) {
     auto s = std::make_shared<Scene>();
     uint32_t floor = s->add_material(glossy(Color(0.8f), 0.3f));
     add_box(*s, {-3.0f, -3.0f, -0.1f}, {3.0f, 3.0f, 0.0f}, floor);
-    LightDesc light;
-    light.type = "AREA";
-    light.shape = "SQUARE";
-    light.size = 1.0f;
-    light.power = 40.0f;
-    light.to_world.m[1][3] = 0.5f;
-    light.to_world.m[2][3] = 0.6f;  // facing down (-Z)
-    s->add_light(light);
+    add_square_light(*s, 1.0f, 40.0f, {0.0f, 0.5f, 0.6f});
     s->set_camera(camera_along_y({0.0f, -2.9f, 1.0f}, kW, kH, 22.0f));
     s->commit();
     RenderSettings st;
@@ -118,19 +111,8 @@ TEST(PathSpaceFiltering, ExtraPathsKeepTheUnbiasedVariantUnbiased) {
     uint32_t white = s->add_material(diffuse(Color(0.7f)));
     uint32_t red = s->add_material(diffuse(Color(0.7f, 0.15f, 0.1f)));
     uint32_t mirror = s->add_material(glossy(Color(0.9f), 0.05f));
-    add_box(*s, {-1.1f, -1.1f, -0.1f}, {1.1f, 1.1f, 0.0f}, mirror);  // floor
-    add_box(*s, {-1.1f, -1.1f, 2.0f}, {1.1f, 1.1f, 2.1f}, white);    // ceiling
-    add_box(*s, {-1.1f, 1.0f, 0.0f}, {1.1f, 1.1f, 2.0f}, white);     // back
-    add_box(*s, {-1.1f, -1.1f, 0.0f}, {-1.0f, 1.1f, 2.0f}, red);     // left
-    add_box(*s, {1.0f, -1.1f, 0.0f}, {1.1f, 1.1f, 2.0f}, white);     // right
-    add_box(*s, {-1.1f, -3.1f, 0.0f}, {1.1f, -3.0f, 2.0f}, white);   // front, behind the camera
-    LightDesc light;
-    light.type = "AREA";
-    light.shape = "SQUARE";
-    light.size = 0.6f;
-    light.power = 60.0f;
-    light.to_world.m[2][3] = 1.98f;
-    s->add_light(light);
+    add_room(*s, mirror, white, red);
+    add_square_light(*s, 0.6f, 60.0f, {0.0f, 0.0f, 1.98f});
     s->set_camera(camera_along_y({0.0f, -2.9f, 0.6f}, kW, kH, 30.0f));
     s->commit();
 

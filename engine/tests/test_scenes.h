@@ -160,27 +160,37 @@ inline Material glossy(const Color& color, float roughness) {
 // A small closed room (the camera looks in through the open... closed front wall behind it), a
 // diffuse occluder box and a glossy box under a ceiling area light: occlusion, glossy reflection and
 // indirect light, everything path-space filtering must get right.
+// A square area light of side `size`, centred at `at`, facing down (-Z, as Blender's default).
+inline void add_square_light(Scene& s, float size, float power, const Vec3& at) {
+    LightDesc light;
+    light.type = "AREA";
+    light.shape = "SQUARE";
+    light.size = size;
+    light.power = power;
+    light.to_world.m[0][3] = at.x, light.to_world.m[1][3] = at.y, light.to_world.m[2][3] = at.z;
+    s.add_light(light);
+}
+
+// A closed room, interior x, y in [-1, 1], z in [0, 2], of thin boxes: `floor`, the `left` wall, and
+// `walls` for the rest (the front one behind a camera at y = -2.9).
+inline void add_room(Scene& s, uint32_t floor, uint32_t walls, uint32_t left) {
+    add_box(s, {-1.1f, -1.1f, -0.1f}, {1.1f, 1.1f, 0.0f}, floor);    // floor
+    add_box(s, {-1.1f, -1.1f, 2.0f}, {1.1f, 1.1f, 2.1f}, walls);     // ceiling
+    add_box(s, {-1.1f, 1.0f, 0.0f}, {1.1f, 1.1f, 2.0f}, walls);      // back
+    add_box(s, {-1.1f, -1.1f, 0.0f}, {-1.0f, 1.1f, 2.0f}, left);     // left
+    add_box(s, {1.0f, -1.1f, 0.0f}, {1.1f, 1.1f, 2.0f}, walls);      // right
+    add_box(s, {-1.1f, -3.1f, 0.0f}, {1.1f, -3.0f, 2.0f}, walls);    // front, behind the camera
+}
+
 inline std::shared_ptr<Scene> small_room(int w, int h) {
     auto s = std::make_shared<Scene>();
     uint32_t white = s->add_material(diffuse(Color(0.7f)));
     uint32_t red = s->add_material(diffuse(Color(0.7f, 0.15f, 0.1f)));
     uint32_t shiny = s->add_material(glossy(Color(0.8f, 0.7f, 0.5f), 0.3f));
-    // Room interior x, y in [-1, 1], z in [0, 2]: walls are thin boxes.
-    add_box(*s, {-1.1f, -1.1f, -0.1f}, {1.1f, 1.1f, 0.0f}, white);   // floor
-    add_box(*s, {-1.1f, -1.1f, 2.0f}, {1.1f, 1.1f, 2.1f}, white);    // ceiling
-    add_box(*s, {-1.1f, 1.0f, 0.0f}, {1.1f, 1.1f, 2.0f}, white);     // back
-    add_box(*s, {-1.1f, -1.1f, 0.0f}, {-1.0f, 1.1f, 2.0f}, red);     // left
-    add_box(*s, {1.0f, -1.1f, 0.0f}, {1.1f, 1.1f, 2.0f}, white);     // right
-    add_box(*s, {-1.1f, -3.1f, 0.0f}, {1.1f, -3.0f, 2.0f}, white);   // front, behind the camera
+    add_room(*s, white, white, red);
     add_box(*s, {-0.6f, -0.2f, 0.0f}, {-0.1f, 0.4f, 0.9f}, white);   // occluder
     add_box(*s, {0.2f, -0.5f, 0.0f}, {0.7f, 0.0f, 0.5f}, shiny);     // glossy box
-    LightDesc light;
-    light.type = "AREA";
-    light.shape = "SQUARE";
-    light.size = 0.6f;
-    light.power = 60.0f;
-    light.to_world.m[2][3] = 1.98f;  // facing down (-Z), as Blender's default
-    s->add_light(light);
+    add_square_light(*s, 0.6f, 60.0f, {0.0f, 0.0f, 1.98f});
     CameraDesc c = camera_along_y({0.0f, -2.9f, 1.0f}, w, h, 22.0f);
     s->set_camera(c);
     s->commit();
