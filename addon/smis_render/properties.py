@@ -125,6 +125,13 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
                     "in proportion to the weight its own path keeps in its estimate. 0 = off",
         default=4, min=0, max=255, soft_max=16,
     )
+    psf_block_size: IntProperty(
+        name="Shared Sets",
+        description="Side of the pixel blocks (1, 2 or 4) whose pixels share one set of gathered "
+                    "paths, when their first vertices are close: the SMIS denominators are computed "
+                    "once per block rather than once per pixel. 1 = every pixel gathers on its own",
+        default=2, min=1, max=4,
+    )
     psf_keller_normal_cos: FloatProperty(
         name="Keller Normal Cosine",
         description="Keller et al. weighting: accept a neighbour only if the cosine between the "
@@ -313,6 +320,7 @@ def session_settings(scene):
         "psf_max_neighbors": s.psf_max_neighbors,
         "psf_light_samples": s.psf_light_samples,
         "psf_extra_paths": s.psf_extra_paths,
+        "psf_block_size": s.psf_block_size,
         "psf_keller_normal_cos": float(s.psf_keller_normal_cos),
         "psf_keller_plane": float(s.psf_keller_plane),
         "filter_width": float(s.filter_width),

@@ -96,6 +96,7 @@ class SMIS_RENDER_PT_path_space_filtering(SMISButtonsPanel, bpy.types.Panel):
         col.prop(settings, "psf_max_neighbors")
         col.prop(settings, "psf_light_samples")
         col.prop(settings, "psf_extra_paths")
+        col.prop(settings, "psf_block_size")
         if settings.integrator == 'PSF_KELLER':
             col.prop(settings, "psf_keller_normal_cos")
             col.prop(settings, "psf_keller_plane")

@@ -52,6 +52,9 @@ struct RenderSettings {
     // in the pixel's estimate averaged over the past iterations; kept by the pixel (see
     // path_space_filtering.cpp). 0 = off.
     int psf_extra_paths = 4;
+    // Side of the pixel blocks whose pixels share one technique set in stage 2 (1, 2 or 4; other
+    // values round down): the grid query and eq. 17's denominators are computed once per block.
+    int psf_block_size = 2;
     float psf_keller_normal_cos = 0.9f;    // Keller et al. 2014 acceptance: normals within ~26 degrees
     float psf_keller_plane = 0.1f;     // ... and within 0.1 radius of the query's tangent plane
     // Spectral rendering (paper §5): AUTO, RGB, UNIFORM, SPECTRAL_IS, HERO, SMIS, SMIS_INDEPENDENT,

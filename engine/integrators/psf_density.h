@@ -144,11 +144,8 @@ public:
     void reset() {
         n_ = 0;
         general_.clear();
-        general_count_.clear();
     }
-    // `count`: how many samples the technique took (the balance heuristic's n_j); the model is linear
-    // in c_cos and c_ggx, so the count scales them.
-    void add(const TechniqueDensity& m, float count = 1.0f) {
+    void add(const TechniqueDensity& m) {
         if (m.kind != TechniqueDensity::Model) return;
         if (n_ == cap_) grow();
         // Straight from the model down the columns, in field order (a staging array and an indexed
@@ -159,15 +156,12 @@ public:
         auto put = [&](float v) { *c = v, c += w, ++fields; };
         auto put3 = [&](const Vec3& v) { put(v.x), put(v.y), put(v.z); };
         put3(m.p), put3(m.s), put3(m.t), put3(m.n), put3(m.ng), put3(m.wo_local);
-        put(m.c_cos * count), put(m.c_ggx * count), put(m.alpha2);
+        put(m.c_cos), put(m.c_ggx), put(m.alpha2);
         assert(fields == kFields);
         ++n_;
     }
     // A technique the model cannot express: its BSDF at p, the pdf routine of Bsdf.
-    void add_general(const Vec3& p, const Bsdf& bsdf, const Vec3& wo, float count = 1.0f) {
-        general_.emplace_back(p, bsdf, wo);
-        general_count_.push_back(count);
-    }
+    void add_general(const Vec3& p, const Bsdf& bsdf, const Vec3& wo) { general_.emplace_back(p, bsdf, wo); }
 
     float operator()(const Vec3& z, const Vec3& z_ng) const {
         const size_t n = n_;
@@ -183,7 +177,7 @@ public:
             for (int l = 0; l < 8; ++l) lanes[l] += out[j + l];
         for (; j < n; ++j) lanes[j & 7] += out[j];
         float sum = ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3])) + ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]));
-        for (size_t g = 0; g < general_.size(); ++g) sum += general_count_[g] * general_[g].area_density(z, z_ng);
+        for (const BsdfTechnique& g : general_) sum += g.area_density(z, z_ng);
         return std::isfinite(sum) ? sum : 0.0f;
     }
 
@@ -204,7 +198,6 @@ private:
     mutable std::vector<float> out_;
     size_t n_ = 0, cap_ = 0;
     std::vector<BsdfTechnique> general_;
-    std::vector<float> general_count_;
 };
 
 }  // namespace smis

@@ -15,9 +15,11 @@ namespace smis {
 
 // fn(x, y, local_counters) for every window pixel (x, y), y = 0 the bottom row. Stops handing out
 // tiles once ctx.should_stop().
+constexpr int kTileSize = 16;
+
 template <class Fn>
 void for_each_pixel_in_tiles(RenderContext& ctx, Fn&& fn) {
-    constexpr int kTile = 16;
+    constexpr int kTile = kTileSize;
     const int w = ctx.film.width(), h = ctx.film.height();
     const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
     tbb::parallel_for(

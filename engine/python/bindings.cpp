@@ -136,6 +136,7 @@ RenderSettings parse_settings(const py::dict& d) {
     s.psf_max_neighbors = get<int>(d, "psf_max_neighbors", s.psf_max_neighbors);
     s.psf_light_samples = get<int>(d, "psf_light_samples", s.psf_light_samples);
     s.psf_extra_paths = get<int>(d, "psf_extra_paths", s.psf_extra_paths);
+    s.psf_block_size = get<int>(d, "psf_block_size", s.psf_block_size);
     s.psf_keller_normal_cos = get<float>(d, "psf_keller_normal_cos", s.psf_keller_normal_cos);
     s.psf_keller_plane = get<float>(d, "psf_keller_plane", s.psf_keller_plane);
     s.spectral = get<std::string>(d, "spectral", s.spectral);

@@ -77,14 +77,7 @@ TEST(PathTracer, SameSeedSameImageWhateverTheThreadCount) {
     RenderSettings st;
     st.samples = 8;
     st.seed = 7;
-    st.threads = 1;
-    auto one = render(scene, st);
-    st.threads = 2;
-    auto two = render(scene, st);
-    EXPECT_EQ(one, two);
-    st.seed = 8;
-    auto other = render(scene, st);
-    EXPECT_NE(one, other);
+    expect_same_image_whatever_the_thread_count(scene, st, 2, "PATH");
 }
 
 TEST(PathTracer, TimeLimitAndCancelStopTheSession) {

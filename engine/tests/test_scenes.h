@@ -1,7 +1,10 @@
 // Small analytic scenes built directly through the Scene API, shared by the engine tests.
 #pragma once
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "render/session.h"
@@ -62,6 +65,18 @@ inline std::vector<float> render(const std::shared_ptr<Scene>& scene, RenderSett
     RenderSession session(scene, settings);
     session.run();
     return session.pixels();
+}
+
+// Determinism: `st` (with its seed) renders the same image on 1 thread and on `threads`, and another
+// image with the next seed. `what` names the case in failure messages.
+inline void expect_same_image_whatever_the_thread_count(const std::shared_ptr<Scene>& scene, RenderSettings st,
+                                                        int threads, const std::string& what) {
+    st.threads = 1;
+    auto one = render(scene, st);
+    st.threads = threads;
+    EXPECT_EQ(one, render(scene, st)) << what;
+    st.seed += 1;
+    EXPECT_NE(one, render(scene, st)) << what;
 }
 
 // The integrators of the stress and fuzz suites: the registry's names, plus the path tracer's
