@@ -41,7 +41,7 @@ TEST(PathSpaceFiltering, UnbiasedSmisConvergesToThePathTracer) {
     double acc = accepted_fraction(unbiased, ref);
     // The renders gather in 2 x 2 blocks that share technique sets (psf_block_size): the test covers
     // the shared denominators and the per-pixel parts of eq. 17 (checked: with a block's other
-    // pixels' techniques missing from the shared denominators, 91% of the pixels agree).
+    // pixels' techniques missing from the shared denominators, 95% of the pixels agree).
     RenderSettings st;
     st.integrator = "PSF_SMIS_UNBIASED";
     st.samples = 1;
