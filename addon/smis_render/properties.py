@@ -108,7 +108,7 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
     psf_max_neighbors: IntProperty(
         name="Max Neighbours",
         description="Most paths combined per pixel (a random subset beyond this). The SMIS weights "
-                    "cost the square of this per pixel",
+                    "cost the square of this per set of gathered paths (see Shared Sets)",
         default=16, min=1, soft_max=128,
     )
     psf_light_samples: IntProperty(
