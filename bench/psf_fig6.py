@@ -21,7 +21,7 @@ ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDe
 ap.add_argument("--scene", default="psf_glossy")
 ap.add_argument("--spp", type=int, default=8)
 ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
-ap.add_argument("--max-neighbors", type=int, default=16)
+ap.add_argument("--max-neighbors", type=int, default=24)  # the engine's default
 a = ap.parse_args()
 
 ref_path = os.path.join(HERE, "references", a.scene + "_ref.exr")

@@ -109,7 +109,7 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
         name="Max Neighbours",
         description="Most paths combined per pixel (a random subset beyond this). The SMIS weights "
                     "cost the square of this per set of gathered paths (see Shared Sets)",
-        default=16, min=1, soft_max=128,
+        default=24, min=1, soft_max=128,
     )
     psf_light_samples: IntProperty(
         name="Light Samples",
