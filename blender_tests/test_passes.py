@@ -51,7 +51,7 @@ def layer_pass(chans, name, ids):
 
 
 def test_multilayer_exr_has_every_pass_with_plausible_values():
-    run = render(setup=PLANE_SCENE.format(integrator="PSF_SMIS") + PASSES_ON)
+    run = render(setup=PLANE_SCENE.format(integrator="PSF_SMIS") + PASSES_ON + "\nscene.smis.psf_max_neighbors = 16\n")
     chans = channels(run)
     layers = {name.rsplit(".", 1)[0] for name in chans}
     assert layers == {"ViewLayer.Combined", "ViewLayer.Depth", "ViewLayer.Normal", "ViewLayer.Albedo",
@@ -65,7 +65,7 @@ def test_multilayer_exr_has_every_pass_with_plausible_values():
     albedo = layer_pass(chans, "Albedo", "RGB")
     np.testing.assert_allclose(albedo, np.broadcast_to([0.5, 0.25, 0.125], albedo.shape), rtol=1e-5)
     reused = chans["ViewLayer.PSF Reused.X"]
-    # At most max_neighbours - 1 other paths per pixel; on a lit plane each pixel finds some.
+    # At most psf_max_neighbors - 1 = 15 other paths per pixel; on a lit plane each pixel finds some.
     assert (reused >= 0).all() and (reused <= 15).all()
     assert reused.mean() > 1.0, reused.mean()
     combined = layer_pass(chans, "Combined", "RGBA")
