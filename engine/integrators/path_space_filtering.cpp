@@ -500,8 +500,9 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         return q.beta * sum / float(1 + extra);
     };
 
-    // The filtered estimates of a group: `members` (pixel indices, all with a vertex) share the
-    // technique set drawn around the anchor members[0], whose pixel (ax, ay) seeds the random subset.
+    // The filtered estimates of a group: `members` (pixel indices, all with a vertex; pixel (mx[i],
+    // my[i]) each) share the technique set drawn around the anchor members[0], whose pixel seeds the
+    // random subset.
     auto gather_group = [&](const uint32_t* members, const int* mx, const int* my, int n_members,
                             LocalCounters& local) {
         GatherScratch& scratch = *gather_scratch();
@@ -583,10 +584,6 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             const int extra = b.extra_paths[k];
             const PrivateSuffix* private_suffixes = b.extras.data() + b.extra_offset[k];
             const Bsdf own = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, x1_attr(k));
-            // The pixel's denominator: the shared one plus its extra samples' share of its own technique.
-            auto denominator = [&](float shared, const Vec3& z, const Vec3& z_ng) {
-                return extra > 0 ? shared + float(extra) * density(size_t(jj), z, z_ng) : shared;
-            };
             gathered += nb.size();
             Color sum(0.0f);
             float own_weight = -1.0f;
@@ -626,15 +623,16 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     sum += contribution / per_sample[ii];
                     continue;
                 }
-                // Eq. (17): the balance heuristic normalised over the sampled techniques. (Past the
-                // visibility test above, the unbiased variant's own term needs no test of its own.)
-                float denom = denominator(per_sample[ii], smp.z, smp.z_ng);
+                // Eq. (17): the balance heuristic normalised over the sampled techniques, the pixel's
+                // own technique counted once more per extra sample. (Past the visibility test above,
+                // the unbiased variant's own term needs no test of its own.)
+                const bool own_sample = ii == size_t(jj);
+                const float p_own = extra > 0 || own_sample ? density(size_t(jj), smp.z, smp.z_ng) : 0.0f;
+                float denom = extra > 0 ? per_sample[ii] + float(extra) * p_own : per_sample[ii];
                 if (!(denom > 0.0f)) continue;
                 sum += contribution / denom;
-                if (ii == size_t(jj)) {  // the own suffix's weight, its density counted once
-                    float p = density(ii, smp.z, smp.z_ng);
-                    own_weight = excess_weight(std::min(1.0f, p / per_sample[ii]), nb.size());
-                }
+                if (own_sample)  // the own suffix's weight, its density counted once
+                    own_weight = excess_weight(std::min(1.0f, p_own / per_sample[ii]), nb.size());
             }
             if (keller && q.has_suffix && n_accepted > 0)
                 own_weight = excess_weight(1.0f / float(n_accepted), nb.size());  // Keller's weights: 1 / accepted
@@ -649,7 +647,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     continue;
                 }
                 if (is_black(ps.contribution)) continue;
-                float denom = denominator(shared_denominator(ps.z, ps.z_ng, size_t(jj)), ps.z, ps.z_ng);
+                float denom = shared_denominator(ps.z, ps.z_ng, size_t(jj)) + float(extra) * density(size_t(jj), ps.z, ps.z_ng);
                 if (denom > 0.0f) sum += ps.contribution / denom;
             }
             float reused = float(nb.size() - 1);  // other paths' suffixes combined here: the diagnostic pass

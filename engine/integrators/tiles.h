@@ -13,10 +13,11 @@
 
 namespace smis {
 
-// fn(x, y, local_counters) for every window pixel (x, y), y = 0 the bottom row. Stops handing out
-// tiles once ctx.should_stop().
+// Side of the square tiles (pixels); path-space filtering's pixel blocks must divide it.
 constexpr int kTileSize = 16;
 
+// fn(x, y, local_counters) for every window pixel (x, y), y = 0 the bottom row. Stops handing out
+// tiles once ctx.should_stop().
 template <class Fn>
 void for_each_pixel_in_tiles(RenderContext& ctx, Fn&& fn) {
     constexpr int kTile = kTileSize;

@@ -172,9 +172,6 @@ inline Material glossy(const Color& color, float roughness) {
     return m;
 }
 
-// A small closed room (the camera looks in through the open... closed front wall behind it), a
-// diffuse occluder box and a glossy box under a ceiling area light: occlusion, glossy reflection and
-// indirect light, everything path-space filtering must get right.
 // A square area light of side `size`, centred at `at`, facing down (-Z, as Blender's default).
 inline void add_square_light(Scene& s, float size, float power, const Vec3& at) {
     LightDesc light;
@@ -197,6 +194,9 @@ inline void add_room(Scene& s, uint32_t floor, uint32_t walls, uint32_t left) {
     add_box(s, {-1.1f, -3.1f, 0.0f}, {1.1f, -3.0f, 2.0f}, walls);    // front, behind the camera
 }
 
+// A small closed room (the camera looks in through the open... closed front wall behind it), a
+// diffuse occluder box and a glossy box under a ceiling area light: occlusion, glossy reflection and
+// indirect light, everything path-space filtering must get right.
 inline std::shared_ptr<Scene> small_room(int w, int h) {
     auto s = std::make_shared<Scene>();
     uint32_t white = s->add_material(diffuse(Color(0.7f)));
