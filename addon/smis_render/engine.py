@@ -138,14 +138,14 @@ class SMISRenderEngine(bpy.types.RenderEngine):
             if len(combined.rect) != w * h:
                 raise RuntimeError("render result is %d pixels, the camera border window "
                                    "%dx%d" % (len(combined.rect), w, h))
-            self._run_session(session, result, combined, aux)
+            self._run_session(session, result, combined, aux, properties.film_exposure(scene))
         finally:
             # Ending the result is mandatory: an exception between begin_result and
             # end_result crashes Blender.
             self.end_result(result)
         self._final_reports(export, session)
 
-    def _run_session(self, session, result, combined, aux=()):
+    def _run_session(self, session, result, combined, aux=(), exposure=1.0):
         skipped = list(session.skipped())
         session.start()
         try:
@@ -157,12 +157,12 @@ class SMISRenderEngine(bpy.types.RenderEngine):
                     cancelled = True
                 self._show_progress(session.progress(), skipped)
                 if time.monotonic() - last_update >= RESULT_UPDATE_SECONDS:
-                    self._write_pixels(session, combined)
+                    self._write_pixels(session, combined, exposure)
                     passes.write_passes(session, result.layers[0], aux)
                     self.update_result(result)
                     last_update = time.monotonic()
             self._show_progress(session.progress(), skipped)
-            self._write_pixels(session, combined)
+            self._write_pixels(session, combined, exposure)
             passes.write_passes(session, result.layers[0], aux)
             error = session.error() if hasattr(session, "error") else ""
             if error:
@@ -178,10 +178,12 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         self.update_stats("", stats_line(p, skipped))
 
     @staticmethod
-    def _write_pixels(session, combined):
+    def _write_pixels(session, combined, exposure=1.0):
         # (h, w, 4) float32, row 0 = bottom, exactly Blender's layout; foreach_set
         # wants (N, 4), a flat array is refused.
         pixels = np.ascontiguousarray(session.pixels(), dtype=np.float32)
+        if exposure != 1.0:  # Film > Exposure scales the colour, not alpha (as Cycles does)
+            pixels = pixels * np.array([exposure, exposure, exposure, 1.0], dtype=np.float32)
         n = len(combined.rect)
         if pixels.ndim != 3 or pixels.shape[2] != 4 or pixels.shape[0] * pixels.shape[1] != n:
             raise RuntimeError("engine returned pixels of shape %s for a %d-pixel result"

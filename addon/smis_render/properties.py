@@ -1,5 +1,7 @@
 """Render settings stored on the scene as `scene.smis`."""
 
+import math
+
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
 
@@ -295,6 +297,26 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
         description="Pixel filter width in pixels (Cycles' default is 1.5)",
         default=1.5, min=0.01, soft_max=10.0, subtype='PIXEL',
     )
+
+
+def film_exposure(scene):
+    """The scene's Film > Exposure, a linear factor on the image's light (Cycles' `film_exposure`:
+    it scales the Combined colour, not alpha nor data passes such as Depth, Normal or Albedo).
+
+    It is a Cycles setting (Cycles' Film panel), but the scene carries it: a scene set up for Cycles
+    with Exposure 10 must come out 10 times as bright from SMIS too. Without the Cycles add-on its
+    value is still stored in the scene's "cycles" ID properties (absent there means the default 1)."""
+    cycles = getattr(scene, "cycles", None)
+    if cycles is not None and hasattr(cycles, "film_exposure"):
+        value = cycles.film_exposure
+    else:
+        stored = scene.get("cycles")
+        value = stored.get("film_exposure", 1.0) if hasattr(stored, "get") else 1.0
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        return 1.0
+    return value if math.isfinite(value) and value >= 0.0 else 1.0
 
 
 def session_settings(scene):

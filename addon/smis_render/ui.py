@@ -54,6 +54,11 @@ class SMIS_RENDER_PT_sampling(SMISButtonsPanel, bpy.types.Panel):
         col = layout.column(align=True)
         col.prop(settings, "filter_type")
         col.prop(settings, "filter_width")
+        # Cycles' Film > Exposure, which SMIS applies too (properties.film_exposure); Cycles' own
+        # Film panel is not shown for SMIS.
+        cycles = getattr(context.scene, "cycles", None)
+        if cycles is not None and hasattr(cycles, "film_exposure"):
+            layout.column().prop(cycles, "film_exposure", text="Film Exposure")
         col = layout.column(align=True)
         col.prop(settings, "spectral")
         sub = col.column()

@@ -27,7 +27,7 @@ class ViewportRenderer:
         self.camera = None
         self.error = None
         self._texture = None
-        self._uploaded = None  # (samples done, size) of the image in _texture
+        self._uploaded = None  # (samples done, size, exposure) of the image in _texture
 
     # -- view_update ---------------------------------------------------------------
 
@@ -63,7 +63,7 @@ class ViewportRenderer:
             self.camera = camera
             self._start(scene)
         progress = self.session.progress()
-        self._upload()
+        self._upload(properties.film_exposure(scene))
         if self._texture is not None:
             gpu.state.blend_set('ALPHA_PREMULT')
             engine.bind_display_space_shader(scene)
@@ -78,12 +78,13 @@ class ViewportRenderer:
             time.sleep(0.02)  # let the render threads work between redraws
             engine.tag_redraw()
 
-    def _upload(self):
+    def _upload(self, exposure=1.0):
         progress = self.session.progress()
-        key = (progress["samples_done"], self.camera["width"], self.camera["height"])
+        key = (progress["samples_done"], self.camera["width"], self.camera["height"], exposure)
         if key == self._uploaded or progress["samples_done"] == 0:
             return
-        pixels = np.ascontiguousarray(self.session.pixels(), dtype=np.float32)
+        pixels = np.array(self.session.pixels(), dtype=np.float32)  # a copy: scaled below
+        pixels[..., :3] *= np.float32(exposure)  # Film > Exposure, as in a final render
         h, w = pixels.shape[:2]
         buffer = gpu.types.Buffer('FLOAT', w * h * 4, pixels.reshape(-1))
         self._texture = gpu.types.GPUTexture((w, h), format='RGBA16F', data=buffer)

@@ -102,6 +102,11 @@ struct Transform {
         Vec3 r0 = cross(c1, c2), r1 = cross(c2, c0), r2 = cross(c0, c1);
         return r0 * n.x + r1 * n.y + r2 * n.z;
     }
+    // A world-space normal in the object space of this object-to-world transform (M^T n, unnormalised).
+    Vec3 normal_to_object(const Vec3& n) const {
+        return {m[0][0] * n.x + m[1][0] * n.y + m[2][0] * n.z, m[0][1] * n.x + m[1][1] * n.y + m[2][1] * n.z,
+                m[0][2] * n.x + m[1][2] * n.y + m[2][2] * n.z};
+    }
     bool is_finite() const {
         for (auto& r : m)
             for (float v : r)

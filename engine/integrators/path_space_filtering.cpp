@@ -79,8 +79,13 @@ struct RecordAttribs {
 };
 
 Bsdf bsdf_at(const Scene& scene, uint32_t material, const Vec3& ns, const Vec3& ng, bool backfacing,
-             const SurfaceAttribs& attr = {}) {
-    return scene.material(material).make_bsdf(Frame(ns), ng, backfacing, attr);
+             const SurfaceAttribs& attr, const Vec3& wo) {
+    const Material& m = scene.material(material);
+    if (m.program) {
+        Vec3 program_ns;
+        return scene.program_bsdf(material, attr, wo, backfacing, ShaderRay{}, &program_ns);
+    }
+    return m.make_bsdf(Frame(ns), ng, backfacing, attr);
 }
 
 // The pixel sample's place in the stratified sampler (for the extra light and BSDF samples at x1).
@@ -457,7 +462,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     const int window_x0 = scene.camera().window_x0(), window_y0 = scene.camera().window_y0();
     auto general_bsdf = [&](uint32_t j) {  // a technique's BSDF (for the General kind and the exact variant)
         const PathRecord& t = records[j];
-        return bsdf_at(scene, t.material, t.ns, t.ng, t.backfacing, x1_attr(j));
+        return bsdf_at(scene, t.material, t.ns, t.ng, t.backfacing, x1_attr(j), t.wo);
     };
     auto technique = [&](uint32_t j) { return BsdfTechnique(records[j].p, general_bsdf(j), records[j].wo); };
     // What a pixel adds to the film, and what it learnt about its own suffix's weight (own_weight < 0:
@@ -481,7 +486,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         const PathRecord& q = records[k];
         const int extra = b.extra_paths[k];
         const PrivateSuffix* private_suffixes = b.extras.data() + b.extra_offset[k];
-        Bsdf bx = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, x1_attr(k));
+        Bsdf bx = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, x1_attr(k), q.wo);
         Color sum(0.0f);
         auto add = [&](const Connection& c, const Color& contribution) {
             float p_area = bx.pdf(q.wo, c.dir) * c.g;
@@ -583,7 +588,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             const PathRecord& q = records[k];
             const int extra = b.extra_paths[k];
             const PrivateSuffix* private_suffixes = b.extras.data() + b.extra_offset[k];
-            const Bsdf own = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, x1_attr(k));
+            const Bsdf own = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, x1_attr(k), q.wo);
             gathered += nb.size();
             Color sum(0.0f);
             float own_weight = -1.0f;
@@ -615,7 +620,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     Vec3 zng = back ? -smp.z_ng : smp.z_ng;
                     Vec3 zns = back ? -smp.z_ns : smp.z_ns;
                     Bsdf bz = bsdf_at(scene, smp.z_material, zns, zng, back,
-                                      attribs.empty() ? SurfaceAttribs{} : attribs[nb[ii]].z1);
+                                      attribs.empty() ? SurfaceAttribs{} : attribs[nb[ii]].z1, z_wo);
                     L_z = bz.eval(z_wo, smp.nee_dir) * smp.nee_weighted + bz.eval(z_wo, smp.next_dir) * smp.next_weighted;
                 }
                 const Color contribution = f * L_z * c.g;

@@ -5,15 +5,23 @@
 
 namespace smis {
 
-ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const Vec3& ray_dir) {
+ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const Vec3& ray_dir, const ShaderRay* ray) {
     ShadingPoint sp;
     sp.hit = hit;
     sp.wo = -ray_dir;
     sp.backfacing = dot(sp.wo, hit.ng) < 0.0f;
     sp.ng = sp.backfacing ? -hit.ng : hit.ng;
     sp.ns = sp.backfacing ? -hit.ns : hit.ns;
-    sp.bsdf = scene.material(hit.material).make_bsdf(Frame(sp.ns), sp.ng, sp.backfacing, hit.attr);
+    const Material& m = scene.material(hit.material);
+    if (!m.program) sp.bsdf = m.make_bsdf(Frame(sp.ns), sp.ng, sp.backfacing, hit.attr);
+    else sp.bsdf = program_shading(scene, hit, sp, ray);
     return sp;
+}
+
+// Out of line: the constant materials' path through make_shading_point stays as small as it was.
+[[gnu::noinline]] Bsdf program_shading(const Scene& scene, const SurfaceHit& hit, ShadingPoint& sp,
+                                       const ShaderRay* ray) {
+    return scene.program_bsdf(hit.material, hit.attr, sp.wo, sp.backfacing, ray ? *ray : ShaderRay{}, &sp.ns);
 }
 
 DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
@@ -51,6 +59,21 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
     return ds;
 }
 
+void next_shader_ray(const Bsdf& bsdf, const BsdfSample& bs, ShaderRay* ray) {
+    LobeKind kind = bs.lobe >= 0 ? bsdf.lobe(bs.lobe).kind : LobeKind::Diffuse;
+    bool diffuse = !bs.delta && (kind == LobeKind::Diffuse || kind == LobeKind::PrincipledDiffuse || kind == LobeKind::Sheen);
+    ray->camera = false;
+    ray->singular = bs.delta;
+    ray->diffuse = diffuse;
+    ray->glossy = !bs.delta && !diffuse;
+    ray->transmission = bs.transmission;
+    ray->reflection = !bs.transmission;
+    if (kind == LobeKind::Transparent) ++ray->transparent_depth;
+    else if (bs.transmission) ++ray->transmission_depth;
+    else if (diffuse) ++ray->diffuse_depth;
+    else ++ray->glossy_depth;
+}
+
 float russian_roulette_survival(int depth, float max_beta, float eta_scale, Rng& rng) {
     float u = rng.next_float();
     if (depth < 2) return 1.0f;
@@ -69,6 +92,8 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
                       LocalCounters& counters) {
     Color L(0.0f), beta(1.0f);
     float eta_scale = 1.0f;
+    ShaderRay sray;  // what the Light Path node reports for the next hit
+    sray.camera = state.depth == 0;
     for (;; ++state.depth) {
         SurfaceHit hit;
         bool found;
@@ -90,7 +115,9 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         }
         // The ray leaving the last allowed bounce only collects emission (Cycles' max_bounces).
         if (!found || state.depth > settings.max_bounces) break;
-        ShadingPoint sp = make_shading_point(scene, hit, ray.d);
+        sray.depth = state.depth;
+        sray.length = hit.t;
+        ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
         if (sp.bsdf.empty()) break;
 
         bool resample = false;
@@ -113,6 +140,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         }
         beta *= bs.value / bs.pdf;
         if (bs.transmission) eta_scale *= sqr(bs.eta);
+        next_shader_ray(sp.bsdf, bs, &sray);
         if constexpr (kMedia) state.medium = medium_towards(scene, sp, bs.wi, state.medium);
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;

@@ -14,7 +14,13 @@ struct ShadingPoint {
     bool backfacing;  // the ray arrived from the back of the triangle (inside a closed glass object)
     Bsdf bsdf;
 };
-ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const Vec3& ray_dir);
+// `ray` describes the ray that found the hit, for materials whose nodes read the Light Path
+// (null: a camera ray).
+ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const Vec3& ray_dir,
+                                const ShaderRay* ray = nullptr);
+Bsdf program_shading(const Scene& scene, const SurfaceHit& hit, ShadingPoint& sp, const ShaderRay* ray);
+// The Light Path state after the vertex scattered along `bs` (Cycles' path flags and depths).
+void next_shader_ray(const Bsdf& bsdf, const BsdfSample& bs, ShaderRay* ray);
 // Origin for a ray leaving the shading point in direction d (offset to the correct side).
 inline Vec3 spawn_origin(const ShadingPoint& sp, const Vec3& d) {
     return offset_ray_origin(sp.hit.p, dot(d, sp.ng) > 0.0f ? sp.ng : -sp.ng);
@@ -93,7 +99,7 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
                 add(i, far(h.L * weight(scene.light_pmf(i), h.pdf)));
     } else if (hit.light >= 0) {
         auto& tri = static_cast<const TriangleLight&>(scene.light(hit.light));
-        add(uint32_t(hit.light), far(scene.material(hit.material).emission_at(hit.attr.uv) *
+        add(uint32_t(hit.light), far(scene.emission_at(hit, -ray.d) *
                                      weight(scene.light_pmf(hit.light), tri.pdf_at(state.prev_p, hit.p))));
     }
 }

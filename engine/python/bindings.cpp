@@ -214,8 +214,49 @@ LobeInput parse_lobe_input(const Scene& s, const py::dict& d) {
     return in;
 }
 
+// A compiled node tree (addon sync/shader_compiler.py): {"registers": [float], "data": [float],
+// "textures": [texture id], "ops": [(name, inputs, outputs, ints, floats, data offset)]}.
+std::shared_ptr<const ShaderProgram> parse_program(const Scene& s, const py::dict& d) {
+    std::vector<ShaderOp> ops;
+    for (auto item : d["ops"]) {
+        auto t = item.cast<py::tuple>();
+        if (t.size() != 6) throw py::value_error("shader op: expected 6 fields");
+        ShaderOp op;
+        auto name = t[0].cast<std::string>();
+        if (!ShaderProgram::op_by_name(name, &op.code)) throw py::value_error("unknown shader op '" + name + "'");
+        auto fill = [&](const py::handle& h, auto* dst, size_t n, const char* what) {
+            auto v = h.cast<std::vector<int64_t>>();
+            if (v.size() > n) throw py::value_error(std::string("shader op '") + name + "': too many " + what);
+            for (size_t k = 0; k < v.size(); ++k) {
+                if (v[k] < -1 || v[k] >= int64_t(ShaderProgram::kMaxRegisters))
+                    throw py::value_error(std::string("shader op '") + name + "': bad register");
+                dst[k] = v[k] < 0 ? kNoReg : uint16_t(v[k]);
+            }
+        };
+        fill(t[1], op.in, std::size(op.in), "inputs");
+        fill(t[2], op.out, std::size(op.out), "outputs");
+        auto ints = t[3].cast<std::vector<int32_t>>();
+        auto floats = t[4].cast<std::vector<float>>();
+        if (ints.size() > 5 || floats.size() > 4) throw py::value_error("shader op '" + name + "': too many parameters");
+        std::copy(ints.begin(), ints.end(), op.i);
+        std::copy(floats.begin(), floats.end(), op.f);
+        op.data = t[5].cast<uint32_t>();
+        ops.push_back(op);
+    }
+    std::vector<std::shared_ptr<const Texture>> textures;
+    for (auto id : d["textures"])
+        textures.push_back(value_errors([&] { return s.texture(id.cast<uint32_t>()); }));
+    auto program = value_errors([&] {
+        return std::make_shared<ShaderProgram>(std::move(ops), d["registers"].cast<std::vector<float>>(),
+                                               d["data"].cast<std::vector<float>>(), std::move(textures));
+    });
+    program->fold_constants();
+    return program;
+}
+
 Material parse_material(Scene& s, const py::dict& d) {
     Material mat;
+    if (d.contains("program") && !d["program"].is_none()) mat.program = parse_program(s, d["program"].cast<py::dict>());
     mat.name = get<std::string>(d, "name", "");
     bool varies = false;
     if (d.contains("closures"))
@@ -306,31 +347,58 @@ PYBIND11_MODULE(_smis, m) {
         .def(
             "add_texture",
             [](Scene& s, py::array_t<float, py::array::c_style | py::array::forcecast> rgba, const std::string& colorspace,
-               const std::string& interpolation, const std::string& extension) {
+               const std::string& interpolation, const std::string& extension, const std::string& alpha_mode,
+               bool byte_image, bool alpha_linked) {
                 int w, h;
                 const float* data = image_data(rgba, &w, &h);
-                Texture::Wrap wrap = extension == "EXTEND" ? Texture::Wrap::Extend
-                                     : extension == "CLIP" ? Texture::Wrap::Clip
-                                                           : Texture::Wrap::Repeat;
-                return value_errors([&] {
-                    return s.add_texture(
-                        std::make_shared<Texture>(data, w, h, colorspace, interpolation == "Closest", wrap));
-                });
+                Texture::Options o;
+                o.wrap = extension == "EXTEND" ? Texture::Wrap::Extend
+                         : extension == "CLIP" ? Texture::Wrap::Clip
+                         : extension == "MIRROR" ? Texture::Wrap::Mirror
+                                                  : Texture::Wrap::Repeat;
+                o.interp = interpolation == "Closest" ? Texture::Interp::Closest
+                           : (interpolation == "Cubic" || interpolation == "Smart") ? Texture::Interp::Cubic
+                                                                                      : Texture::Interp::Linear;
+                o.alpha_mode = alpha_mode == "STRAIGHT" ? Texture::AlphaMode::Straight
+                               : alpha_mode == "PREMUL" ? Texture::AlphaMode::Premul
+                               : alpha_mode == "NONE" ? Texture::AlphaMode::None
+                                                      : Texture::AlphaMode::ChannelPacked;
+                o.byte_image = byte_image;
+                o.alpha_linked = alpha_linked;
+                return value_errors([&] { return s.add_texture(std::make_shared<Texture>(data, w, h, colorspace, o)); });
             },
-            py::arg("rgba"), py::arg("colorspace") = "sRGB", py::arg("interpolation") = "Linear",
-            py::arg("extension") = "REPEAT",
+            py::arg("rgba"), py::arg("colorspace"), py::arg("interpolation") = "Linear", py::arg("extension") = "REPEAT",
+            py::arg("alpha_mode") = "CHANNEL_PACKED", py::arg("byte_image") = false, py::arg("alpha_linked") = false,
             "An image texture from (h, w, 4) float pixels, bottom row first (Image.pixels); returns its id")
+        .def("add_missing_texture", [](Scene& s) { return s.add_texture(Texture::missing()); },
+             "Cycles' stand-in for an image that cannot be loaded (magenta); returns its id")
         .def(
             "add_mesh",
             [](Scene& s, FloatArray vertices, IntArray triangles, py::object corner_normals, py::object material_index,
-               std::vector<uint32_t> materials, py::object corner_uvs) {
+               std::vector<uint32_t> materials, py::object corner_uvs, py::dict attributes) {
                 MeshArgs a(vertices, triangles, corner_normals, material_index, corner_uvs);
+                // Named per-corner attributes: {name: (M, 3, k) floats}, k = 1..4.
+                std::vector<FloatArray> keep;
+                std::vector<AttributeInput> attrs;
+                for (auto item : attributes) {
+                    FloatArray arr = item.second.cast<FloatArray>();
+                    if (arr.ndim() != 3 || size_t(arr.shape(0)) != a.nt || arr.shape(1) != 3 || arr.shape(2) < 1 ||
+                        arr.shape(2) > 4)
+                        throw py::value_error("attribute arrays must be (M, 3, k) with k in 1..4");
+                    attrs.push_back({item.first.cast<std::string>(), arr.data(), int(arr.shape(2))});
+                    keep.push_back(std::move(arr));
+                }
                 py::gil_scoped_release release;
-                return s.add_mesh(a.vertices, a.nv, a.triangles, a.nt, a.normals, a.material_index, materials, a.uvs);
+                return value_errors([&] {
+                    return s.add_mesh(a.vertices, a.nv, a.triangles, a.nt, a.normals, a.material_index, materials, a.uvs,
+                                      attrs);
+                });
             },
             py::arg("vertices"), py::arg("triangles"), py::arg("corner_normals") = py::none(),
             py::arg("material_index") = py::none(), py::arg("materials") = std::vector<uint32_t>{},
-            py::arg("corner_uvs") = py::none())
+            py::arg("corner_uvs") = py::none(), py::arg("attributes") = py::dict())
+        .def("attribute_id", [](Scene& s, const std::string& name) { return s.attribute_id(name); },
+             "The id shader programs use for a mesh attribute (UV map or colour attribute) by name")
         .def(
             "replace_mesh",
             [](Scene& s, uint32_t mesh, FloatArray vertices, IntArray triangles, py::object corner_normals,
@@ -363,11 +431,22 @@ PYBIND11_MODULE(_smis, m) {
             "be rebuilt instead")
         .def("mesh_dropped", &Scene::mesh_dropped)
         .def("add_instance",
-             [](Scene& s, uint32_t mesh, MatrixArray matrix, std::vector<float> color) {
+             [](Scene& s, uint32_t mesh, MatrixArray matrix, std::vector<float> color, float random, float pass_index) {
                  if (color.size() < 3) throw py::value_error("color needs three components");
-                 value_errors([&] { s.add_instance(mesh, to_transform(matrix), {color[0], color[1], color[2]}); });
+                 float alpha = color.size() > 3 ? color[3] : 1.0f;
+                 value_errors([&] {
+                     s.add_instance(mesh, to_transform(matrix), {color[0], color[1], color[2]}, random, pass_index, alpha);
+                 });
              },
-             py::arg("mesh"), py::arg("matrix"), py::arg("color") = std::vector<float>{1.0f, 1.0f, 1.0f})
+             py::arg("mesh"), py::arg("matrix"), py::arg("color") = std::vector<float>{1.0f, 1.0f, 1.0f},
+             py::arg("random") = 0.0f, py::arg("pass_index") = 0.0f)
+        .def("set_mesh_texspace",
+             [](Scene& s, uint32_t mesh, std::vector<float> location, std::vector<float> size) {
+                 if (location.size() != 3 || size.size() != 3) throw py::value_error("texture space needs 3 + 3 values");
+                 value_errors([&] {
+                     s.set_mesh_texspace(mesh, {location[0], location[1], location[2]}, {size[0], size[1], size[2]});
+                 });
+             })
         .def("add_light",
              [](Scene& s, const py::dict& d) {
                  LightDesc l = parse_light(d);

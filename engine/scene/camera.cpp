@@ -112,4 +112,14 @@ float Camera::pixel_footprint(float dist) const {
     return desc_.orthographic ? extent : extent * dist;
 }
 
+Vec3 Camera::window_coordinates(const Vec3& p) const {
+    Vec3 d = p - origin_;
+    float x = dot(d, right_), y = dot(d, up_), z = dot(d, forward_);
+    if (!desc_.orthographic) {
+        if (!(z > 0.0f)) return Vec3(0.0f);
+        x /= z, y /= z;
+    }
+    return {(x - shift_x_ + half_w_) / (2.0f * half_w_), (y - shift_y_ + half_h_) / (2.0f * half_h_), 0.0f};
+}
+
 }  // namespace smis

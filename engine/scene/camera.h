@@ -51,6 +51,14 @@ public:
     float view_depth(const Vec3& p) const { return dot(p - origin_, forward_); }
     // World-space size of one pixel at distance `dist` along the view axis (used by path-space filtering).
     float pixel_footprint(float dist) const;
+    // The camera's frame (x right, y up, z forward: the camera space of Cycles' shaders).
+    const Vec3& origin() const { return origin_; }
+    const Vec3& right_axis() const { return right_; }
+    const Vec3& up_axis() const { return up_; }
+    const Vec3& forward_axis() const { return forward_; }
+    // Texture Coordinate's Window output: p projected to the full frame, (0, 0) bottom left, (1, 1)
+    // top right, z 0.
+    Vec3 window_coordinates(const Vec3& p) const;
 
 private:
     CameraDesc desc_;

@@ -289,7 +289,15 @@ LightSample TriangleLight::sample(const Vec3& ref, Point2 u) const {
         Point2 uv{uv_[0].x * w + uv_[1].x * b.x + uv_[2].x * b.y, uv_[0].y * w + uv_[1].y * b.x + uv_[2].y * b.y};
         s.L *= texture_->lookup(uv).rgb;
     }
+    if (shader_ && s.pdf > 0.0f) s.L = radiance_ * shader_->emission(instance_, prim_, material_, b.x, b.y, -s.wi);
     return s;
+}
+
+void TriangleLight::set_shader(const SurfaceEmission* shader, uint32_t instance, uint32_t prim, uint32_t material,
+                               const Color& centroid_emission) {
+    shader_ = shader;
+    instance_ = instance, prim_ = prim, material_ = material;
+    centroid_emission_ = centroid_emission;
 }
 
 void TriangleLight::set_texture(const Texture* texture, const Point2* uv) {
@@ -323,6 +331,9 @@ float TriangleLight::pdf(const Vec3& ref, const Vec3& wi) const {
 
 float TriangleLight::power(float) const {
     Color L = texture_ ? radiance_ * texture_->mean() : radiance_;
+    // A program's emission varies: its value at the centroid, never quite zero (any positive power
+    // keeps light selection unbiased, and a dark centroid must not hide a bright rest).
+    if (shader_) L = radiance_ * vmax(centroid_emission_, Color(1e-3f));
     return luminance(L) * area_ * kPi * 2.0f;
 }
 

@@ -81,12 +81,24 @@ struct LightDesc {
 std::unique_ptr<Light> make_light(const LightDesc& desc);
 
 // Emissive triangle of a mesh (world space), two-sided like Cycles' mesh emission.
+// Emission evaluated at a point of a triangle (a material's shader program), implemented by Scene.
+class SurfaceEmission {
+public:
+    virtual ~SurfaceEmission() = default;
+    virtual Color emission(uint32_t instance, uint32_t prim, uint32_t material, float bu, float bv,
+                           const Vec3& wo) const = 0;
+};
+
 class TriangleLight : public Light {
 public:
     TriangleLight(const Vec3& a, const Vec3& b, const Vec3& c, const Color& radiance);
     // Textured emission: the radiance at a point is radiance x the texture at the point's UV,
     // interpolated from the corners' (uv[3]); selection power uses the texture's mean colour.
     void set_texture(const Texture* texture, const Point2* uv);
+    // Emission from a shader program: radiance x shader->emission() at the sampled point; `power`
+    // is the selection power to use (the emission at the centroid).
+    void set_shader(const SurfaceEmission* shader, uint32_t instance, uint32_t prim, uint32_t material,
+                    const Color& centroid_emission);
     LightSample sample(const Vec3& ref, Point2 u) const override;
     float pdf(const Vec3& ref, const Vec3& wi) const override;
     // Density of hitting point p (normal n) from ref, already known from a BVH hit.
@@ -102,6 +114,9 @@ private:
     Color radiance_;
     const Texture* texture_ = nullptr;  // owned by the scene's material
     Point2 uv_[3];
+    const SurfaceEmission* shader_ = nullptr;
+    uint32_t instance_ = 0, prim_ = 0, material_ = 0;
+    Color centroid_emission_{0.0f};
 };
 
 // Uniform world background (Blender World "Background" colour x strength): radiance at infinity.

@@ -7,6 +7,7 @@
 
 #include "scene/bsdf.h"
 #include "scene/texture.h"
+#include "shading/shader_program.h"
 
 namespace smis {
 
@@ -31,6 +32,10 @@ struct MaterialSpectral {
 struct SurfaceAttribs {
     Point2 uv;                 // the mesh's render UV map at the hit (0, 0 without one)
     Color object_color{1.0f};  // Object Info > Color of the instance
+    // Which triangle of which instance, and where on it (Embree's barycentrics): shader programs
+    // rebuild everything else they read from these (Scene::shader_context).
+    uint32_t instance = 0, prim = 0;
+    float bu = 0.0f, bv = 0.0f;
 };
 
 // A lobe colour that is not constant: an image texture's Color at the hit's UV and/or the object's
@@ -41,6 +46,10 @@ struct LobeInput {
     bool to_f0 = false;
     bool varies() const { return texture || object_color; }
 };
+
+// Probability that a hit on a surface whose program produced `res` is kept (1 - its grey
+// transparency); the cut-out filter and the BSDF agree on it.
+float transparency_keep(const ShaderResult& res);
 
 struct Material {
     std::string name;
@@ -66,11 +75,15 @@ struct Material {
     // is a stochastic cut-out (Scene keeps a hit with probability alpha).
     float alpha = 1.0f;
     std::shared_ptr<const Texture> alpha_texture;
-    bool cutout() const { return alpha < 1.0f || alpha_texture; }
+    // The material's node tree compiled for per-hit evaluation (shading/shader_program.h), or null
+    // when every closure input is constant: then `lobes` and `emission` hold the folded result.
+    // With a program, `lobes` holds its lobe templates (kinds and indices, for spectral rendering).
+    std::shared_ptr<const ShaderProgram> program;
+    bool cutout() const { return alpha < 1.0f || alpha_texture || (program && program->may_be_transparent()); }
     float alpha_at(Point2 uv) const { return alpha_texture ? alpha * alpha_texture->lookup(uv).alpha : alpha; }
-    bool emissive() const { return max_component(emission) > 0.0f; }
+    bool emissive() const { return max_component(emission) > 0.0f || (program && program->may_emit()); }
     bool needs_uv() const {
-        if (normal_map || alpha_texture || emission_texture) return true;
+        if (normal_map || alpha_texture || emission_texture || program) return true;
         for (const LobeInput& in : inputs)
             if (in.texture) return true;
         return false;
@@ -88,12 +101,20 @@ struct Material {
     // every path only copies them instead of re-running Bsdf::add's checks.
     void prepare() {
         prepared_ = false;
+        if (program) return;
         for (const LobeInput& in : inputs)
             if (in.varies()) return;
         front_ = build_bsdf(Frame(), Vec3(0, 0, 1), false, {});
         back_ = build_bsdf(Frame(), Vec3(0, 0, 1), true, {});
         prepared_ = true;
     }
+
+    // The BSDF, emission and shading normal a program produced at a hit (`res`): Transparent BSDF
+    // weights T become a cut-out (the grey part g = min(T), which Scene's filter lets through with
+    // probability g, so the kept hit's closures are divided by 1 - g) and a straight-through lobe of
+    // the coloured rest (T - g) / (1 - g), as the constant path does in the add-on.
+    Bsdf program_bsdf(const ShaderResult& res, const Frame& frame, const Vec3& ng, bool backfacing,
+                      Color* emission) const;
 
 private:
     // Out of line: make_bsdf() at every vertex should not pay for this path's register pressure.

@@ -48,6 +48,20 @@ bool invertible_in_float(const Transform& t) {
     return true;
 }
 
+// The inverse of an affine transform already known to be invertible (invertible_in_float).
+Transform inverse(const Transform& t) {
+    float det = t.determinant3();
+    Vec3 c0 = t.column(0), c1 = t.column(1), c2 = t.column(2);
+    Vec3 rows[3] = {cross(c1, c2) / det, cross(c2, c0) / det, cross(c0, c1) / det};
+    Transform inv;
+    Vec3 o = t.column(3);
+    for (int r = 0; r < 3; ++r) {
+        inv.m[r][0] = rows[r].x, inv.m[r][1] = rows[r].y, inv.m[r][2] = rows[r].z;
+        inv.m[r][3] = -dot(rows[r], o);
+    }
+    return inv;
+}
+
 void check_emitter(const std::string& spectrum, float temperature, const std::string& what) {
     spectral::EmitterKind kind;
     if (!spectral::parse_emitter_kind(spectrum, &kind))
@@ -108,6 +122,33 @@ Scene::~Scene() {
 // Non-finite parameters would poison every pixel that sees the material: clamp them to safe values.
 // Throws std::invalid_argument for inconsistent inputs or unknown spectral names.
 void Scene::sanitize(Material& material) {
+    if (material.program && material.program->is_constant()) {
+        // Every closure input folded: the material is its closure list, as before programs existed.
+        ShaderResult res = material.program->eval_constant();
+        material.program.reset();
+        material.lobes.assign(res.lobes, res.lobes + res.count);
+        float keep = transparency_keep(res);
+        if (keep > 1e-6f) {
+            for (Lobe& l : material.lobes) l.weight *= 1.0f / keep;
+            Color t = vmin(vmax(res.transparent, Color(0.0f)), Color(1.0f));
+            Color rest = (t - Color(min_component(t))) / keep;
+            if (max_component(rest) > 0.0f) {
+                Lobe straight;
+                straight.kind = LobeKind::Transparent;
+                straight.weight = rest;
+                material.lobes.push_back(straight);
+            }
+            material.emission = res.emission / keep;
+        } else {
+            material.lobes.clear();
+            material.emission = Color(0.0f);
+        }
+        material.alpha *= std::min(keep, 1.0f);
+    } else if (material.program) {
+        material.lobes = material.program->lobe_templates();
+        material.inputs.clear();
+        material.emission = Color(0.0f);
+    }
     for (Lobe& l : material.lobes) {
         if (!is_finite(l.weight)) l.weight = Color(0.0f);
         l.weight = vmax(l.weight, Color(0.0f));
@@ -131,7 +172,7 @@ void Scene::sanitize(Material& material) {
 uint32_t Scene::add_material(Material material) {
     if (committed_) throw std::logic_error("scene already committed");
     sanitize(material);
-    varying_materials_ = varying_materials_ || !material.inputs.empty();
+    varying_materials_ = varying_materials_ || !material.inputs.empty() || material.program;
     materials_.push_back(std::move(material));
     return static_cast<uint32_t>(materials_.size() - 1);
 }
@@ -148,7 +189,7 @@ bool Scene::replace_material(uint32_t id, Material material) {
         return false;
     bool emissive = material.emissive();
     materials_[id] = std::move(material);
-    varying_materials_ = varying_materials_ || !materials_[id].inputs.empty();
+    varying_materials_ = varying_materials_ || !materials_[id].inputs.empty() || materials_[id].program;
     update_skipped();
     if (emissive) rebuild_lights();  // the triangle lights carry the emission
     else update_spectral_content();
@@ -157,9 +198,27 @@ bool Scene::replace_material(uint32_t id, Material material) {
 
 uint32_t Scene::add_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
                          const float* corner_normals, const int32_t* material_index,
-                         const std::vector<uint32_t>& slot_materials, const float* corner_uvs) {
+                         const std::vector<uint32_t>& slot_materials, const float* corner_uvs,
+                         const std::vector<AttributeInput>& attributes) {
     if (committed_) throw std::logic_error("scene already committed");
+    std::vector<AttributeInput> named;
+    for (const AttributeInput& a : attributes) {
+        if (!a.corners || a.dims < 1 || a.dims > 4) throw std::invalid_argument("mesh attribute '" + a.name + "' is malformed");
+        named.push_back(a);
+    }
     Mesh mesh = make_mesh(vertices, nv, triangles, nt, corner_normals, material_index, slot_materials, corner_uvs);
+    for (const AttributeInput& a : named) {
+        MeshAttribute attr{attribute_id(a.name), a.dims, {}};
+        attr.corners.reserve(mesh.indices.size() * a.dims);
+        for (uint32_t t : mesh.kept)
+            for (int k = 0; k < 3 * a.dims; ++k) {
+                float v = a.corners[size_t(t) * 3 * a.dims + k];
+                attr.corners.push_back(std::isfinite(v) ? v : 0.0f);
+            }
+        mesh.attributes.push_back(std::move(attr));
+    }
+    mesh.kept.clear();
+    mesh.kept.shrink_to_fit();
     stats_.dropped_triangles += mesh.dropped;
     meshes_.push_back(std::move(mesh));
     return static_cast<uint32_t>(meshes_.size() - 1);
@@ -190,6 +249,7 @@ Scene::Mesh Scene::make_mesh(const float* vertices, size_t nv, const int32_t* tr
             continue;
         }
         mesh.indices.insert(mesh.indices.end(), {uint32_t(i0), uint32_t(i1), uint32_t(i2)});
+        mesh.kept.push_back(uint32_t(t));
         if (corner_normals)
             for (int k = 0; k < 3; ++k) mesh.corner_normals.push_back(load3(corner_normals + 9 * t + 3 * k));
         if (corner_uvs)
@@ -263,6 +323,20 @@ bool Scene::replace_mesh(uint32_t id, const float* vertices, size_t nv, const in
     return embree_error_.empty();
 }
 
+void Scene::set_mesh_texspace(uint32_t mesh, const Vec3& location, const Vec3& size) {
+    if (mesh >= meshes_.size()) throw std::invalid_argument("unknown mesh");
+    if (!is_finite(location) || !is_finite(size)) return;
+    meshes_[mesh].texspace_location = location;
+    meshes_[mesh].texspace_size = size;
+}
+
+int32_t Scene::attribute_id(const std::string& name) {
+    for (size_t i = 0; i < attribute_names_.size(); ++i)
+        if (attribute_names_[i] == name) return int32_t(i);
+    attribute_names_.push_back(name);
+    return int32_t(attribute_names_.size() - 1);
+}
+
 uint32_t Scene::mesh_dropped(uint32_t mesh) const { return mesh < meshes_.size() ? meshes_[mesh].dropped : 0; }
 
 uint32_t Scene::add_texture(std::shared_ptr<const Texture> texture) {
@@ -278,13 +352,19 @@ std::shared_ptr<const Texture> Scene::texture(uint32_t id) const {
     return textures_[id];
 }
 
-void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color) {
+void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color, float random,
+                         float pass_index, float object_alpha) {
     if (committed_) throw std::logic_error("scene already committed");
     if (mesh >= meshes_.size()) throw std::invalid_argument("instance of an unknown mesh");
     if (!to_world.is_finite() || !invertible_in_float(to_world))
         throw std::invalid_argument("instance transform is not finite or is singular");
     if (meshes_[mesh].indices.empty()) return;
-    instances_.push_back({mesh, to_world, false, -1, is_finite(object_color) ? vmax(object_color, Color(0.0f)) : Color(1.0f)});
+    Instance inst{mesh, to_world, false, -1, is_finite(object_color) ? vmax(object_color, Color(0.0f)) : Color(1.0f),
+                  inverse(to_world)};
+    inst.random = std::isfinite(random) ? random : 0.0f;
+    inst.pass_index = std::isfinite(pass_index) ? pass_index : 0.0f;
+    inst.alpha = std::isfinite(object_alpha) ? object_alpha : 1.0f;
+    instances_.push_back(inst);
     meshes_[mesh].users++;
 }
 
@@ -444,7 +524,18 @@ void Scene::cutout_filter(const RTCFilterFunctionNArguments* args) {
             const Point2* t = &mesh.uvs[3 * prim];
             uv = {t[0].x * w + t[1].x * u + t[2].x * v, t[0].y * w + t[1].y * u + t[2].y * v};
         }
-        float alpha = mat.alpha_at(uv);
+        float alpha;
+        if (mat.program) {
+            unsigned top = RTCHitN_instID(args->hit, args->N, i, 0);
+            if (top == RTC_INVALID_GEOMETRY_ID) top = RTCHitN_geomID(args->hit, args->N, i);
+            Vec3 dir(RTCRayN_dir_x(const_cast<RTCRayN*>(args->ray), args->N, i),
+                     RTCRayN_dir_y(const_cast<RTCRayN*>(args->ray), args->N, i),
+                     RTCRayN_dir_z(const_cast<RTCRayN*>(args->ray), args->N, i));
+            alpha = mesh.owner->program_keep(mesh.owner->geom_to_instance_[top], prim, RTCHitN_u(args->hit, args->N, i),
+                                             RTCHitN_v(args->hit, args->N, i), dir);
+        } else {
+            alpha = mat.alpha_at(uv);
+        }
         if (alpha >= 1.0f) continue;
         auto bits = [](float f) { uint32_t b; std::memcpy(&b, &f, 4); return uint64_t(b); };
         const RTCRayN* r = args->ray;
@@ -478,8 +569,17 @@ void Scene::add_triangle_lights(Instance& inst) {
         // texture is not looked up here).
         auto light = std::make_unique<TriangleLight>(v[0], v[1], v[2], mat.emission * mat.alpha);
         if (mat.emission_texture) light->set_texture(mat.emission_texture.get(), mesh.uvs.empty() ? nullptr : &mesh.uvs[3 * t]);
+        Color source = mat.emission;
+        if (mat.program) {
+            uint32_t inst_id = uint32_t(&inst - instances_.data());
+            Vec3 n = cross(v[1] - v[0], v[2] - v[0]);
+            Color centroid = emission(inst_id, uint32_t(t), mesh.materials[t], 1.0f / 3.0f, 1.0f / 3.0f, n);
+            light = std::make_unique<TriangleLight>(v[0], v[1], v[2], Color(1.0f));
+            light->set_shader(this, inst_id, uint32_t(t), mesh.materials[t], centroid);
+            source = centroid;
+        }
         lights_.push_back(std::move(light));
-        emitter_sources_.push_back({mat.spectral.emission_spectrum, mat.spectral.emission_temperature, mat.emission});
+        emitter_sources_.push_back({mat.spectral.emission_spectrum, mat.spectral.emission_temperature, source});
         stats_.emissive_triangles++;
     }
 }
@@ -523,6 +623,10 @@ void Scene::commit() {
                 for (size_t t = 0; t < mesh.indices.size(); t += 3) {
                     std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
                     if (!mesh.corner_normals.empty()) std::swap(mesh.corner_normals[t + 1], mesh.corner_normals[t + 2]);
+                    if (!mesh.uvs.empty()) std::swap(mesh.uvs[t + 1], mesh.uvs[t + 2]);
+                    for (MeshAttribute& a : mesh.attributes)
+                        for (int k = 0; k < a.dims; ++k)
+                            std::swap(a.corners[(t + 1) * a.dims + k], a.corners[(t + 2) * a.dims + k]);
                 }
             inst.identity = true;
             build_mesh_geometry(scene_, mesh, geom_id);
@@ -606,7 +710,13 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
     hit->ng = ng;
     hit->ns = ns;
     hit->material = mesh.materials[prim];
-    if (kWithTextures) hit->attr.object_color = inst.object_color;
+    if (kWithTextures) {
+        hit->attr.object_color = inst.object_color;
+        hit->attr.instance = geom_to_instance_[top];
+        hit->attr.prim = prim;
+        hit->attr.bu = u;
+        hit->attr.bv = v;
+    }
     hit->light = -1;
     if (inst.light_base >= 0) {
         int32_t local = emissive_local_[inst.mesh][prim];

@@ -13,6 +13,7 @@
 #include "scene/lights.h"
 #include "scene/material.h"
 #include "scene/medium.h"
+#include "shading/shader_context.h"
 
 namespace smis {
 
@@ -39,7 +40,15 @@ struct EmitterSource {
     Color color{1.0f};
 };
 
-class Scene {
+// A per-corner mesh attribute (UV maps by name, colour attributes) as the add-on exports it:
+// nt x 3 x dims floats, triangle order as given to add_mesh.
+struct AttributeInput {
+    std::string name;
+    const float* corners = nullptr;
+    int dims = 2;
+};
+
+class Scene : public SurfaceEmission {
 public:
     Scene();
     ~Scene();
@@ -57,9 +66,16 @@ public:
     // with out-of-range indices and non-finite vertices are dropped and counted (mesh_dropped()).
     uint32_t add_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
                       const float* corner_normals, const int32_t* material_index,
-                      const std::vector<uint32_t>& slot_materials, const float* corner_uvs = nullptr);
+                      const std::vector<uint32_t>& slot_materials, const float* corner_uvs = nullptr,
+                      const std::vector<AttributeInput>& attributes = {});
+    // The mesh's texture space (Blender's texspace_location / texspace_size), for Generated coordinates.
+    void set_mesh_texspace(uint32_t mesh, const Vec3& location, const Vec3& size);
+    // Attribute names are interned: shader programs refer to them by id.
+    int32_t attribute_id(const std::string& name);
     uint32_t mesh_dropped(uint32_t mesh) const;
-    void add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color = Color(1.0f));
+    // Object Info: colour (and its alpha), random in [0, 1) and pass index of the object.
+    void add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color = Color(1.0f),
+                      float random = 0.0f, float pass_index = 0.0f, float object_alpha = 1.0f);
     uint32_t add_light(const LightDesc& desc);  // throws std::invalid_argument for unusable lights
     void set_world(const Color& radiance);
     // Homogeneous media, referenced by Material::medium and by the world (-1: no world volume).
@@ -103,6 +119,23 @@ public:
             if (lights_[i]->intersect(ray, &h)) f(i, h);
     }
     const Camera& camera() const { return camera_; }
+    // --- shader programs (materials with per-hit node evaluation) ---------------------------------
+    // What the program of a hit's material reads, rebuilt from the triangle and its barycentrics.
+    ShaderContext shader_context(const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray) const;
+    // Attribute `id` at the context's point into out[0..3]; false when the mesh does not have it.
+    bool attribute(const ShaderContext& ctx, int32_t id, float* out) const;
+    // The shading of a hit on a material with a program: BSDF (shading normal from the program),
+    // emission. `ray` describes the ray that found the hit (Light Path node).
+    Bsdf program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, bool backfacing,
+                      const ShaderRay& ray, Vec3* ns_out) const;
+    // Emitted radiance at a hit towards wo: constant, textured or from the material's program.
+    Color emission_at(const SurfaceHit& hit, const Vec3& wo) const {
+        const Material& m = materials_[hit.material];
+        return m.program ? program_emission(hit.attr, hit.material, wo) : m.emission_at(hit.attr.uv);
+    }
+    // SurfaceEmission, for triangle lights whose emission comes from a program.
+    Color emission(uint32_t instance, uint32_t prim, uint32_t material, float bu, float bv,
+                   const Vec3& wo) const override;
     const Material& material(uint32_t id) const { return materials_[id]; }
     // Some material's lobes vary over surfaces (textures, object colour): hits' SurfaceAttribs matter.
     bool has_varying_materials() const { return kWithTextures && varying_materials_; }
@@ -136,12 +169,20 @@ public:
     RTCDevice device() const { return device_; }
 
 private:
+    struct MeshAttribute {
+        int32_t id;
+        int dims;
+        std::vector<float> corners;  // 3 x dims per (kept) triangle
+    };
     struct Mesh {
         std::vector<float> positions;        // 3 floats per vertex (object space; world when flattened)
         std::vector<uint32_t> indices;       // 3 per triangle
         std::vector<Vec3> corner_normals;    // 3 per triangle, or empty for flat shading
         std::vector<uint32_t> materials;     // per triangle, engine material id
         std::vector<Point2> uvs;             // 3 per triangle, or empty
+        std::vector<MeshAttribute> attributes;
+        std::vector<uint32_t> kept;          // while building: input triangle of each kept triangle
+        Vec3 texspace_location{0.0f}, texspace_size{1.0f};
         uint32_t dropped = 0;
         uint32_t users = 0;
         RTCScene prototype = nullptr;        // when instanced more than once
@@ -154,7 +195,12 @@ private:
         bool identity;         // flattened into world space
         int32_t light_base;    // first triangle light of this instance, -1 if none emit
         Color object_color;
+        Transform to_object;   // inverse of to_world (Object texture coordinates)
+        float random = 0.0f, pass_index = 0.0f, alpha = 1.0f;
     };
+    Color program_emission(const SurfaceAttribs& at, uint32_t material, const Vec3& wo) const;
+    // Cut-out filter for program materials: 1 - the grey part of the transparency at the hit.
+    float program_keep(uint32_t instance, uint32_t prim, float bu, float bv, const Vec3& dir) const;
     Vec3 apply_normal_map(const Material& mat, const Mesh& mesh, const Instance& inst, uint32_t prim,
                           const Vec3& ns, const Vec3& ng, Point2 uv) const;
     void build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id);
@@ -201,6 +247,7 @@ private:
     Vec3 center_{0.0f};
     SceneStats stats_;
     std::vector<std::string> skipped_;
+    std::vector<std::string> attribute_names_;
 };
 
 }  // namespace smis

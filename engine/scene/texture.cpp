@@ -1,72 +1,170 @@
 #include "scene/texture.h"
 
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 namespace smis {
 
+namespace {
+
+// Cycles' split of a coordinate into texel index and fraction: truncation, one less for negatives, so
+// a negative whole number x gives (x - 1, 1) rather than (x, 0); that decides Closest's texel there.
+inline float split(float x, int* i) {
+    int k = static_cast<int>(x) - (x < 0.0f ? 1 : 0);
+    *i = k;
+    return x - static_cast<float>(k);
+}
+
+// Uniform cubic B-spline weights of the 4 texels around t in [0, 1] (Cycles' bicubic filter; they
+// are positive and sum to 1, so the result stays within the texels' range).
+inline void bspline_weights(float t, float w[4]) {
+    w[0] = (((-1.0f / 6.0f) * t + 0.5f) * t - 0.5f) * t + (1.0f / 6.0f);
+    w[1] = ((0.5f * t - 1.0f) * t) * t + (2.0f / 3.0f);
+    w[2] = ((-0.5f * t + 0.5f) * t + 0.5f) * t + (1.0f / 6.0f);
+    w[3] = (1.0f / 6.0f) * t * t * t;
+}
+
+// Keeps huge coordinates in int range (Repeat is periodic, Extend/Clip saturate, and at this size a
+// float has no fraction left).
+constexpr float kCoordLimit = 1e7f;
+
+}  // namespace
+
 float srgb_to_linear(float v) {
-    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+    if (v < 0.04045f) return v < 0.0f ? 0.0f : v * (1.0f / 12.92f);
+    return std::pow((v + 0.055f) * (1.0f / 1.055f), 2.4f);
 }
 
 Texture::Texture(const float* rgba, int width, int height, const std::string& colorspace, bool closest, Wrap wrap)
-    : width_(width), height_(height), closest_(closest), wrap_(wrap) {
+    : Texture(rgba, width, height, colorspace, closest ? Interp::Closest : Interp::Linear, wrap) {}
+
+Texture::Texture(const float* rgba, int width, int height, const std::string& colorspace, Interp interp, Wrap wrap)
+    : Texture(rgba, width, height, colorspace, Options{interp, wrap}) {}
+
+Texture::Texture(const float* rgba, int width, int height, const std::string& colorspace, const Options& options)
+    : width_(width), height_(height), options_(options) {
     if (width <= 0 || height <= 0) throw std::invalid_argument("texture size must be positive");
-    bool srgb = colorspace == "sRGB";
-    if (!srgb && colorspace != "linear") throw std::invalid_argument("texture colour space must be sRGB or linear");
+    srgb_ = colorspace == "sRGB";
+    bool data = colorspace == "data";
+    if (!srgb_ && !data && colorspace != "linear")
+        throw std::invalid_argument("texture colour space must be sRGB, linear or data");
+    const AlphaMode mode = options.alpha_mode;
+    // Cycles associates alpha of colour (not data) images unless told to ignore or keep it packed;
+    // of the files only straight ones get multiplied (byte images: Blender's byte buffers are straight,
+    // and a PNG is read as straight whatever its alpha_mode), float files are premultiplied already.
+    const bool associated = !data && (mode == AlphaMode::Straight || mode == AlphaMode::Premul);
+    const bool premultiply = associated && options.byte_image;
+    unpremultiply_ = associated && options.alpha_linked;
+
     rgba_.assign(rgba, rgba + size_t(4) * width * height);
-    for (size_t i = 0; i < rgba_.size(); ++i) {
-        float& v = rgba_[i];
-        if (!std::isfinite(v)) v = 0.0f;  // a NaN texel would reach the film through every path
-        if (srgb && i % 4 != 3) v = srgb_to_linear(std::max(v, 0.0f));
+    for (size_t i = 0; i < rgba_.size(); i += 4) {
+        float* t = &rgba_[i];
+        // Cycles zeroes a whole texel with any non-finite channel.
+        if (!std::isfinite(t[0]) || !std::isfinite(t[1]) || !std::isfinite(t[2]) || !std::isfinite(t[3]))
+            t[0] = t[1] = t[2] = t[3] = 0.0f;
+        if (mode == AlphaMode::None) t[3] = 1.0f;
+        if (premultiply) {
+            // In 8 bits, truncating, as Cycles' loader does; then read back as k / 255.
+            auto byte = [](float v) { return static_cast<uint32_t>(std::lround(clampf(v, 0.0f, 1.0f) * 255.0f)); };
+            uint32_t a = byte(t[3]);
+            for (int c = 0; c < 3; ++c) t[c] = static_cast<float>(byte(t[c]) * a / 255u) * (1.0f / 255.0f);
+            t[3] = static_cast<float>(a) * (1.0f / 255.0f);
+        }
     }
+    // Closest returns one texel as it is, so its node output can be computed once here.
+    finished_ = options.interp == Interp::Closest;
+    if (finished_)
+        for (size_t i = 0; i < rgba_.size(); i += 4) finish(&rgba_[i]);
+
     double sum[3] = {0.0, 0.0, 0.0};
-    for (size_t i = 0; i < rgba_.size(); i += 4)
-        for (int c = 0; c < 3; ++c) sum[c] += std::max(rgba_[i + c], 0.0f);
+    for (size_t i = 0; i < rgba_.size(); i += 4) {
+        float v[4] = {rgba_[i], rgba_[i + 1], rgba_[i + 2], rgba_[i + 3]};
+        if (!finished_) finish(v);
+        for (int c = 0; c < 3; ++c) sum[c] += std::max(v[c], 0.0f);
+    }
     double n = double(width) * height;
     mean_ = vmax(Color(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)), Color(1e-6f));
 }
 
-const float* Texture::texel(int x, int y) const {
-    switch (wrap_) {
+std::shared_ptr<Texture> Texture::missing() {
+    static const float magenta[4] = {1.0f, 0.0f, 1.0f, 1.0f};
+    return std::make_shared<Texture>(magenta, 1, 1, "linear", Options{Interp::Closest, Wrap::Repeat});
+}
+
+void Texture::finish(float v[4]) const {
+    float a = v[3];
+    if (unpremultiply_ && a != 1.0f && a != 0.0f)
+        for (int c = 0; c < 3; ++c) v[c] /= a;
+    if (srgb_)
+        for (int c = 0; c < 3; ++c) v[c] = srgb_to_linear(v[c]);
+}
+
+int Texture::wrap_index(int i, int n) const {
+    switch (options_.wrap) {
         case Wrap::Repeat:
-            x %= width_, y %= height_;
-            x += x < 0 ? width_ : 0, y += y < 0 ? height_ : 0;
-            break;
+            i %= n;
+            return i < 0 ? i + n : i;
         case Wrap::Extend:
-            x = std::min(std::max(x, 0), width_ - 1), y = std::min(std::max(y, 0), height_ - 1);
-            break;
+            return std::min(std::max(i, 0), n - 1);
         case Wrap::Clip:
-            if (x < 0 || y < 0 || x >= width_ || y >= height_) return nullptr;
-            break;
+            return i < 0 || i >= n ? -1 : i;
+        case Wrap::Mirror: {
+            // Reflect about the image's edges: ..., 1, 0 | 0, 1, ..., n-1 | n-1, n-2, ...
+            int m = std::abs(i + (i < 0 ? 1 : 0)) % (2 * n);
+            return m >= n ? 2 * n - m - 1 : m;
+        }
     }
-    return &rgba_[4 * (size_t(y) * width_ + x)];
+    return -1;
 }
 
 TextureSample Texture::lookup(Point2 uv) const {
     if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return {};
-    // Texel centres at (i + 0.5) / width, as Blender and Cycles place them.
-    float fx = uv.x * width_ - 0.5f, fy = uv.y * height_ - 0.5f;
-    // Keep huge coordinates in int range (Repeat is periodic, Extend/Clip saturate anyway).
-    const float limit = 1e7f;
-    fx = std::min(std::max(fx, -limit), limit), fy = std::min(std::max(fy, -limit), limit);
-    float x0f = std::floor(fx), y0f = std::floor(fy);
-    int x0 = static_cast<int>(x0f), y0 = static_cast<int>(y0f);
-    float tx = fx - x0f, ty = fy - y0f;
-    float acc[4] = {0, 0, 0, 0};
+    float u = clampf(uv.x, -kCoordLimit, kCoordLimit), v = clampf(uv.y, -kCoordLimit, kCoordLimit);
+    float acc[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    if (options_.interp == Interp::Closest) {
+        int ix, iy;
+        split(u * static_cast<float>(width_), &ix);
+        split(v * static_cast<float>(height_), &iy);
+        ix = wrap_index(ix, width_), iy = wrap_index(iy, height_);
+        if (ix < 0 || iy < 0) return {};
+        const float* t = texel(ix, iy);
+        return {Color(t[0], t[1], t[2]), t[3]};
+    }
+    // Linear and Cubic: texel centres at (i + 0.5) / size.
+    int ix, iy;
+    float tx = split(u * static_cast<float>(width_) - 0.5f, &ix);
+    float ty = split(v * static_cast<float>(height_) - 0.5f, &iy);
     auto add = [&](int x, int y, float w) {
+        if (x < 0 || y < 0) return;  // outside a clipped image: transparent black
         const float* t = texel(x, y);
-        if (!t || w == 0.0f) return;
         for (int c = 0; c < 4; ++c) acc[c] += w * t[c];
     };
-    if (closest_) {
-        add(tx < 0.5f ? x0 : x0 + 1, ty < 0.5f ? y0 : y0 + 1, 1.0f);
+    if (options_.interp == Interp::Linear) {
+        int x0 = wrap_index(ix, width_), x1 = wrap_index(ix + 1, width_);
+        int y0 = wrap_index(iy, height_), y1 = wrap_index(iy + 1, height_);
+        add(x0, y0, (1.0f - ty) * (1.0f - tx));
+        add(x1, y0, (1.0f - ty) * tx);
+        add(x0, y1, ty * (1.0f - tx));
+        add(x1, y1, ty * tx);
     } else {
-        add(x0, y0, (1 - tx) * (1 - ty));
-        add(x0 + 1, y0, tx * (1 - ty));
-        add(x0, y0 + 1, (1 - tx) * ty);
-        add(x0 + 1, y0 + 1, tx * ty);
+        float wx[4], wy[4];
+        bspline_weights(tx, wx);
+        bspline_weights(ty, wy);
+        int xs[4], ys[4];
+        for (int k = 0; k < 4; ++k) xs[k] = wrap_index(ix - 1 + k, width_), ys[k] = wrap_index(iy - 1 + k, height_);
+        for (int j = 0; j < 4; ++j) {
+            // Cycles sums each row with its x weights, then weights the rows.
+            float row[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+            for (int k = 0; k < 4; ++k) {
+                if (xs[k] < 0 || ys[j] < 0) continue;
+                const float* t = texel(xs[k], ys[j]);
+                for (int c = 0; c < 4; ++c) row[c] += wx[k] * t[c];
+            }
+            for (int c = 0; c < 4; ++c) acc[c] += wy[j] * row[c];
+        }
     }
+    finish(acc);
     return {Color(acc[0], acc[1], acc[2]), acc[3]};
 }
 

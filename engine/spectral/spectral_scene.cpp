@@ -14,7 +14,7 @@ SpectralMaterial make_material(const Material& m) {
         const Lobe& lobe = m.lobes[i];
         SpectralLobe s;
         s.weight = rgb_spectrum(lobe.weight);
-        s.varies = i < m.inputs.size() && m.inputs[i].varies();
+        s.varies = m.program || (i < m.inputs.size() && m.inputs[i].varies());
         if (lobe.fresnel == FresnelMode::Schlick) s.f0 = rgb_spectrum(lobe.f0);
         if (lobe.kind == LobeKind::Microfacet && lobe.fresnel != FresnelMode::Dielectric) s.metal = metal;
         // Only Dirac refraction disperses: a rough lobe's sampling density would depend on the

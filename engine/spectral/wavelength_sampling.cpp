@@ -1,6 +1,7 @@
 #include "spectral/wavelength_sampling.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace smis::spectral {
 
@@ -44,14 +45,20 @@ WavelengthPdf::WavelengthPdf(const std::vector<double>& w) {
     for (int b = 0; b < kBins; ++b) density_[b] = float(cdf_[b + 1] - cdf_[b]);  // bins are 1 nm wide
 }
 
-float WavelengthPdf::sample(float u) const {
+float WavelengthPdf::sample(float u, float* density) const {
     double t = std::min(double(u), double(kOneMinusEpsilon));
     int b = int(std::upper_bound(cdf_.begin(), cdf_.end(), t) - cdf_.begin()) - 1;
     b = std::max(0, std::min(b, kBins - 1));
     while (density_[b] <= 0.0f && b > 0) --b;  // never land in an empty bin
     double w = cdf_[b + 1] - cdf_[b];
     float f = w > 0.0 ? float(std::min(1.0, std::max(0.0, (t - cdf_[b]) / w))) : 0.5f;
-    return std::min(kLambdaMin + float(b) + std::min(f, kOneMinusEpsilon), kLambdaMax);
+    // 360 + b + f rounds to the next bin's edge when f is within half an ulp of 1 (the ulp near
+    // 600 nm is 6e-5), where pdf() would read the neighbour's density: stay below the edge.
+    float lower = kLambdaMin + float(b), upper = lower + 1.0f;  // exact: whole numbers
+    float lambda = lower + f;
+    if (!(lambda < upper)) lambda = std::nextafter(upper, lower);
+    if (density) *density = density_[b];
+    return lambda;
 }
 
 float WavelengthPdf::pdf(float lambda) const {
@@ -78,24 +85,26 @@ void WavelengthSampler::sample(float u, float v, Rng& rng, WavelengthSet* s) con
     switch (mode_) {
         case SpectralMode::Rgb:
         case SpectralMode::Uniform:
-            s->lambda[0] = uniform_.sample(u);
-            s->q[0] = uniform_.pdf(s->lambda[0]);
+            s->lambda[0] = uniform_.sample(u, &s->q[0]);
             s->a[0] = 1.0f;
             return;
         case SpectralMode::SpectralIs:
-            s->lambda[0] = importance_.sample(u);
-            s->q[0] = importance_.pdf(s->lambda[0]);
+            s->lambda[0] = importance_.sample(u, &s->q[0]);
             s->a[0] = 1.0f;
             return;
         case SpectralMode::Hero: {
-            // Eq. (19): the hero from p, the others equally spaced (wrapping around the range).
-            float hero = (importance_.sample(u) - kLambdaMin) / kLambdaRange;
+            // Eq. (19): the hero from p, the others equally spaced (wrapping around the range). The
+            // hero keeps its sampled wavelength and density (the round trip through [0, 1) below
+            // could move it across a bin edge); the rotations' densities are p where they land.
+            float hero_density;
+            float hero_lambda = importance_.sample(u, &hero_density);
+            float hero = (hero_lambda - kLambdaMin) / kLambdaRange;
             for (int i = 0; i < n; ++i) {
                 float t = hero + float(i) / float(n);
                 t -= std::floor(t);
-                s->lambda[i] = std::min(kLambdaMin + t * kLambdaRange, kLambdaMax);
+                s->lambda[i] = i == 0 ? hero_lambda : std::min(kLambdaMin + t * kLambdaRange, kLambdaMax);
                 s->q[i] = 1.0f;
-                s->a[i] = importance_.pdf(s->lambda[i]);
+                s->a[i] = i == 0 ? hero_density : importance_.pdf(s->lambda[i]);
             }
             return;
         }
@@ -109,8 +118,7 @@ void WavelengthSampler::sample(float u, float v, Rng& rng, WavelengthSet* s) con
                 float t = mode_ == SpectralMode::Smis ? (float(i) + u) / float(n)
                           : mode_ == SpectralMode::BruteForce ? (float(i) + rng.next_float()) / float(n)
                                                                : rng.next_float();
-                s->lambda[i] = importance_.sample(std::min(t, kOneMinusEpsilon));
-                s->q[i] = importance_.pdf(s->lambda[i]);
+                s->lambda[i] = importance_.sample(std::min(t, kOneMinusEpsilon), &s->q[i]);
                 s->a[i] = 1.0f;
             }
             s->conditioning = std::min(int(v * float(n)), n - 1);

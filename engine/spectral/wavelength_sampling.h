@@ -49,7 +49,11 @@ public:
     WavelengthPdf();  // uniform
     explicit WavelengthPdf(const std::vector<double>& bin_weights);  // kBins non-negative weights
     static constexpr int kBins = int(kLambdaRange);
-    float sample(float u) const;
+    // The wavelength at CDF value u, always inside the bin whose CDF interval holds u; `density`
+    // (if given) receives that bin's density, the one the sample was drawn with. Callers use it
+    // rather than pdf(sample(u)): the two agree because the wavelength is kept off the bin's upper
+    // edge, but the sampled density is what the estimators' weights must use.
+    float sample(float u, float* density = nullptr) const;
     float pdf(float lambda) const;
 
 private:

@@ -144,7 +144,9 @@ def _export_prototype(obj, scene, materials, counts, cache=None):
         materials.warning("Object '%s' has textured materials but no UV map; textures read "
                           "their bottom-left texel" % obj.name)
     mesh_id = scene.add_mesh(buf.vertices, buf.triangles, buf.corner_normals,
-                             buf.material_index, mat_ids, buf.corner_uvs)
+                             buf.material_index, mat_ids, buf.corner_uvs, buf.attributes or {})
+    if buf.texspace is not None:
+        scene.set_mesh_texspace(mesh_id, buf.texspace[0], buf.texspace[1])
     counts.meshes += 1
     counts.dropped_triangles += scene.mesh_dropped(mesh_id)
     return mesh_id
@@ -202,7 +204,10 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
         else:
             mesh_id = prototypes[key] = _export_prototype(obj, scene, materials, counts, cache)
         if mesh_id is not None:
-            scene.add_instance(mesh_id, instance_matrix(inst), obj.color[:3])
+            # Object Info: Cycles' random is the instance's random_id over 2^32, the pass index
+            # the object's.
+            scene.add_instance(mesh_id, instance_matrix(inst), obj.color[:],
+                               (inst.random_id & 0xFFFFFFFF) / 4294967295.0, float(obj.pass_index))
             counts.instances += 1
             if cache is not None:
                 cache.record_instance(obj, mesh_id)

@@ -20,6 +20,10 @@ class MeshBuffers:
     corner_normals: Optional[np.ndarray]   # (M, 3, 3) float32, or None: flat shading
     material_index: Optional[np.ndarray]   # (M,) int32 slot per triangle, or None: slot 0
     corner_uvs: Optional[np.ndarray] = None  # (M, 3, 2) float32, only for textured materials
+    # Named per-corner attributes for shader programs (UV maps by name, colour attributes):
+    # {name: (M, 3, k) float32}; ACTIVE_COLOR names the active render colour attribute.
+    attributes: Optional[dict] = None
+    texspace: Optional[tuple] = None          # (location, size) of Blender's texture space
 
     @property
     def triangle_count(self):
@@ -59,6 +63,44 @@ def _corner_uvs(mesh, tris, uv_map):
     return uv.reshape(-1, 2)[loops].reshape(len(tris), 3, 2)
 
 
+ACTIVE_COLOR = "\x00active color"
+
+
+def _corner_attributes(mesh, tris):
+    """Every UV map (by name) and colour attribute (by name, and the active render one as
+    ACTIVE_COLOR) at every triangle corner, for shader programs that read them by name."""
+    out = {}
+    loops = np.empty(len(tris) * 3, dtype=np.int32)
+    tris.foreach_get("loops", loops)
+    verts = None
+    for layer in mesh.uv_layers:
+        uv = np.empty(len(mesh.loops) * 2, dtype=np.float32)
+        layer.data.foreach_get("uv", uv)
+        out[layer.name] = uv.reshape(-1, 2)[loops].reshape(len(tris), 3, 2)
+    colors = getattr(mesh, "color_attributes", None)
+    if colors is not None:
+        active = colors.render_color_index if hasattr(colors, "render_color_index") else -1
+        for i, attr in enumerate(colors):
+            n = len(attr.data)
+            data = np.empty(n * 4, dtype=np.float32)
+            attr.data.foreach_get("color", data)  # scene-linear, as Cycles reads them
+            data = data.reshape(n, 4)
+            if attr.domain == 'CORNER':
+                corner = data[loops]
+            elif attr.domain == 'POINT':
+                if verts is None:
+                    verts = np.empty(len(tris) * 3, dtype=np.int32)
+                    tris.foreach_get("vertices", verts)
+                corner = data[verts]
+            else:
+                continue
+            arr = np.ascontiguousarray(corner.reshape(len(tris), 3, 4))
+            out[attr.name] = arr
+            if i == active or (active < 0 and i == 0):
+                out[ACTIVE_COLOR] = arr
+    return out
+
+
 def mesh_buffers(mesh, slot_count, uv_map=None):
     """Triangulated buffers of a (temporary, evaluated) mesh.
 
@@ -92,6 +134,10 @@ def mesh_buffers(mesh, slot_count, uv_map=None):
         np.clip(material_index, 0, slot_count - 1, out=material_index)
 
     corner_uvs = _corner_uvs(mesh, tris, uv_map) if uv_map is not None and n_tris else None
+    attributes = _corner_attributes(mesh, tris) if uv_map is not None and n_tris else None
+    texspace = None
+    if hasattr(mesh, "texspace_location"):
+        texspace = (tuple(mesh.texspace_location), tuple(mesh.texspace_size))
 
     return MeshBuffers(vertices.reshape(n_verts, 3), triangles.reshape(n_tris, 3),
-                       corner_normals, material_index, corner_uvs)
+                       corner_normals, material_index, corner_uvs, attributes, texspace)

@@ -1,0 +1,927 @@
+"""Blender shader node trees -> engine shader programs (engine/shading/shader_program.h).
+
+A program is a flat list of ops over a float register file (colours and vectors take three
+registers), as Cycles' SVM compiles a ShaderGraph. The compiler walks back from the Material
+Output's Surface input: node groups are flattened (each group instance compiled in its own
+context), reroutes and muted nodes are followed as Blender does (nodes.linked_output), unlinked
+sockets become constant registers, and Blender's implicit socket conversions are inserted. Mix and
+Add Shader become closure weights computed per hit, so a Layer Weight or a texture may drive them.
+
+Nothing is folded here: the engine folds every op that does not read the hit once at load
+(ShaderProgram::fold_constants), so a tree of constants costs nothing per hit and keeps the
+prepared-BSDF path. Nodes the engine cannot evaluate fall back with one warning naming material
+and node.
+"""
+
+from . import nodes
+from .mesh import ACTIVE_COLOR
+
+# Enum identifiers in the engine's order (engine/shading/node_math.h, procedural_*.h).
+MATH_OPS = ["ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "MULTIPLY_ADD", "POWER", "LOGARITHM", "SQRT",
+            "INVERSE_SQRT", "ABSOLUTE", "EXPONENT", "MINIMUM", "MAXIMUM", "LESS_THAN", "GREATER_THAN",
+            "SIGN", "COMPARE", "SMOOTH_MIN", "SMOOTH_MAX", "ROUND", "FLOOR", "CEIL", "TRUNC", "FRACT",
+            "MODULO", "WRAP", "SNAP", "PINGPONG", "SINE", "COSINE", "TANGENT", "ARCSINE", "ARCCOSINE",
+            "ARCTANGENT", "ARCTAN2", "SINH", "COSH", "TANH", "RADIANS", "DEGREES"]
+VECTOR_MATH_OPS = ["ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "MULTIPLY_ADD", "CROSS_PRODUCT", "PROJECT",
+                   "REFLECT", "REFRACT", "FACEFORWARD", "DOT_PRODUCT", "DISTANCE", "LENGTH", "SCALE",
+                   "NORMALIZE", "ABSOLUTE", "MINIMUM", "MAXIMUM", "FLOOR", "CEIL", "FRACTION", "MODULO",
+                   "WRAP", "SNAP", "SINE", "COSINE", "TANGENT"]
+BLEND_TYPES = ["MIX", "DARKEN", "MULTIPLY", "BURN", "LIGHTEN", "SCREEN", "DODGE", "ADD", "OVERLAY",
+               "SOFT_LIGHT", "LINEAR_LIGHT", "DIFFERENCE", "SUBTRACT", "DIVIDE", "HUE", "SATURATION",
+               "COLOR", "VALUE"]
+MAP_RANGE_TYPES = ["LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP"]
+MUSGRAVE_TYPES = ["MULTIFRACTAL", "FBM", "HYBRID_MULTIFRACTAL", "RIDGED_MULTIFRACTAL", "HETERO_TERRAIN"]
+GRADIENT_TYPES = ["LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "RADIAL", "QUADRATIC_SPHERE", "SPHERICAL"]
+VORONOI_FEATURES = ["F1", "F2", "SMOOTH_F1", "DISTANCE_TO_EDGE", "N_SPHERE_RADIUS"]
+VORONOI_METRICS = ["EUCLIDEAN", "MANHATTAN", "CHEBYCHEV", "MINKOWSKI"]
+DIMENSIONS = {"1D": 1, "2D": 2, "3D": 3, "4D": 4}
+MAPPING_TYPES = ["POINT", "TEXTURE", "VECTOR", "NORMAL"]
+PROJECTIONS = ["FLAT", "BOX", "SPHERE", "TUBE"]
+NORMAL_MAP_SPACES = ["TANGENT", "OBJECT", "WORLD", "BLENDER_OBJECT", "BLENDER_WORLD"]
+TRANSFORM_SPACES = ["WORLD", "OBJECT", "CAMERA"]
+COLOR_MODES = ["RGB", "HSV", "HSL"]
+ROTATE_TYPES = ["AXIS_ANGLE", "X_AXIS", "Y_AXIS", "Z_AXIS", "EULER_XYZ"]
+# Principled BSDF inputs in the engine's order (shader_program.cpp, principled_in), after the weight.
+PRINCIPLED_INPUTS = ["Base Color", "Subsurface", "Subsurface Radius", "Subsurface Color", "Subsurface IOR",
+                     "Subsurface Anisotropy", "Metallic", "Specular", "Specular Tint", "Roughness",
+                     "Anisotropic", "Anisotropic Rotation", "Sheen", "Sheen Tint", "Clearcoat",
+                     "Clearcoat Roughness", "IOR", "Transmission", "Transmission Roughness", "Emission",
+                     "Emission Strength", "Alpha", "Normal", "Clearcoat Normal", "Tangent"]
+VECTOR_INPUTS_OF_PRINCIPLED = {"Subsurface Radius", "Normal", "Clearcoat Normal", "Tangent"}
+RAMP_TABLE_SIZE = 256
+NO = -1  # no register: the op's default applies
+
+FLOAT, VEC, COLOR, SHADER = "float", "vec", "color", "shader"
+_SOCKET_KIND = {"VALUE": FLOAT, "INT": FLOAT, "BOOLEAN": FLOAT, "VECTOR": VEC, "RGBA": COLOR,
+                "SHADER": SHADER}
+
+
+def _index(table, name, default=0):
+    return table.index(name) if name in table else default
+
+
+class Value:
+    """A compiled socket value: its kind and first register."""
+    __slots__ = ("kind", "reg")
+
+    def __init__(self, kind, reg):
+        self.kind, self.reg = kind, reg
+
+
+class _Context:
+    """Where a node sits: the chain of group nodes it is inside (outermost first)."""
+
+    def __init__(self, groups=()):
+        self.groups = tuple(groups)
+
+    def key(self):
+        return tuple(g.as_pointer() for g in self.groups)
+
+    def enter(self, group_node):
+        return _Context(self.groups + (group_node,))
+
+    def parent(self):
+        return _Context(self.groups[:-1])
+
+
+class ShaderCompiler:
+    """Compiles one material's Surface (and Displacement, as bump) into a program dict."""
+
+    def __init__(self, material_name, warn, textures, scene):
+        self.name = material_name
+        self.warn = warn
+        self.textures = textures      # textures.TextureCache or None
+        self.scene = scene            # for attribute ids
+        self.registers = []
+        self.ops = []
+        self.data = []
+        self.texture_ids = []
+        self._values = {}             # (context key, node pointer) -> {output identifier: Value}
+        self._warned = set()
+        self._bump = None             # 0 / 1 while compiling a Bump node's shifted heights
+        self.uses_uv = False
+        self.surface_normal = None    # Value of the Displacement output's bump normal
+
+    # -- registers and ops --------------------------------------------------------------------
+
+    def constant(self, value, kind):
+        reg = len(self.registers)
+        if kind == FLOAT:
+            self.registers.append(float(value))
+        else:
+            v = list(value) + [0.0, 0.0, 0.0]
+            self.registers.extend(float(x) for x in v[:3])
+        return Value(kind, reg)
+
+    def alloc(self, kind):
+        return self.constant(0.0 if kind == FLOAT else (0.0, 0.0, 0.0), kind)
+
+    def op(self, name, ins=(), outs=(), ints=(), floats=(), data=0):
+        self.ops.append((name, [NO if v is None else v.reg for v in ins],
+                         [NO if v is None else v.reg for v in outs], list(ints), [float(f) for f in floats],
+                         int(data)))
+
+    def warn_node(self, node, text):
+        key = (node.as_pointer(), text)
+        if key in self._warned:
+            return
+        self._warned.add(key)
+        self.warn("Material '%s': node '%s' (%s) %s" % (self.name, node.name, node.bl_idname, text))
+
+    def convert(self, value, kind):
+        """Blender's implicit conversion between socket kinds."""
+        if value is None or value.kind == kind or kind == SHADER:
+            return value
+        if value.kind == SHADER:
+            return self.constant(0.0 if kind == FLOAT else (0.0, 0.0, 0.0), kind)
+        out = self.alloc(kind)
+        if value.kind == FLOAT:
+            self.op("convert", [value], [out], [0])
+        elif kind == FLOAT:
+            self.op("convert", [value], [out], [1 if value.kind == COLOR else 2])
+        else:  # colour <-> vector: the same three numbers
+            return Value(kind, value.reg)
+        return out
+
+    # -- sockets ------------------------------------------------------------------------------
+
+    def input(self, node, name, ctx, kind=None, default="const"):
+        """The value feeding input `name` of node (by name or index): its link's, or its own constant.
+        `default` (a Value or None) replaces an unlinked socket's constant (texture vectors, normals)."""
+        socket = node.inputs[name] if not isinstance(name, int) else node.inputs[name]
+        return self.socket_value(socket, ctx, kind, default)
+
+    def socket_value(self, socket, ctx, kind=None, default="const"):
+        kind = kind or _SOCKET_KIND.get(socket.type, FLOAT)
+        src = nodes.linked_output(socket)
+        if src is None:
+            if default != "const" and default is not None:
+                return default() if callable(default) else default
+            if default is None:
+                return None
+            return self._socket_constant(socket, kind)
+        return self.convert(self.output_value(src, ctx), kind)
+
+    def _socket_constant(self, socket, kind):
+        if not hasattr(socket, "default_value"):
+            return self.constant(0.0 if kind == FLOAT else (0.0, 0.0, 0.0), kind)
+        v = socket.default_value
+        try:
+            seq = list(v)
+        except TypeError:
+            seq = None
+        if seq is None:
+            return self.constant(float(v), FLOAT) if kind == FLOAT else self.constant((float(v),) * 3, kind)
+        if kind == FLOAT:  # a vector/colour socket's constant read as a float
+            return self.constant(sum(seq[:3]) / 3.0, FLOAT)
+        return self.constant(seq[:3], kind)
+
+    def output_value(self, out_socket, ctx):
+        """The value of an output socket, compiling its node (once per context) if needed."""
+        node = out_socket.node
+        if node.bl_idname == "NodeGroupInput":
+            if not ctx.groups:
+                return self.constant(0.0, FLOAT)
+            group_node = ctx.groups[-1]
+            idx = list(node.outputs).index(out_socket)
+            if idx >= len(group_node.inputs):
+                return self.constant(0.0, FLOAT)
+            return self.socket_value(group_node.inputs[idx], ctx.parent())
+        if node.bl_idname in ("ShaderNodeGroup", "NodeGroup") or node.type == "GROUP":
+            return self._group_output(node, out_socket, ctx)
+        key = (ctx.key(), node.as_pointer(), self._bump)
+        outs = self._values.get(key)
+        if outs is None:
+            handler = VALUE_NODES.get(node.bl_idname)
+            if handler is None:
+                self.warn_node(node, "is not supported by the SMIS shader evaluator; its outputs are "
+                                     "taken as 0")
+                outs = {}
+            else:
+                outs = handler(self, node, ctx) or {}
+            self._values[key] = outs
+        value = outs.get(out_socket.identifier) or outs.get(out_socket.name)
+        if value is None:
+            kind = _SOCKET_KIND.get(out_socket.type, FLOAT)
+            return self.constant(0.0 if kind == FLOAT else (0.0, 0.0, 0.0), kind)
+        return value
+
+    def _group_output(self, group_node, out_socket, ctx):
+        tree = group_node.node_tree
+        if tree is None:
+            self.warn_node(group_node, "has no node group; its outputs are taken as 0")
+            return self.constant(0.0, FLOAT)
+        out_node = None
+        for n in tree.nodes:
+            if n.bl_idname == "NodeGroupOutput" and (out_node is None or n.is_active_output):
+                out_node = n
+        if out_node is None:
+            self.warn_node(group_node, "has a node group without a Group Output; its outputs are 0")
+            return self.constant(0.0, FLOAT)
+        idx = list(group_node.outputs).index(out_socket)
+        if idx >= len(out_node.inputs):
+            return self.constant(0.0, FLOAT)
+        return self.socket_value(out_node.inputs[idx], ctx.enter(group_node))
+
+    # -- common defaults -------------------------------------------------------------------------
+
+    def texcoord(self, which):
+        """A Texture Coordinate output ('generated', 'uv', 'object', ...) as a default vector."""
+        outs = [None] * 7
+        names = ["generated", "normal", "uv", "object", "camera", "window", "reflection"]
+        v = self.alloc(VEC)
+        outs[names.index(which)] = v
+        if which == "uv":
+            self.uses_uv = True
+        self.op("texcoord", [], outs, [0])
+        return v
+
+    def vector_input(self, node, ctx, default_coord="generated"):
+        return self.input(node, "Vector", ctx, VEC, lambda: self.texcoord(default_coord))
+
+    def normal_input(self, node, name, ctx):
+        if name not in node.inputs:
+            return None
+        return self.input(node, name, ctx, VEC, default=None) if node.inputs[name].is_linked else None
+
+    # -- closures -----------------------------------------------------------------------------
+
+    def shader(self, socket, weight, ctx):
+        """Compile the closures feeding a shader input socket with the given weight Value."""
+        src = nodes.linked_output(socket)
+        if src is None:
+            return
+        node = src.node
+        if node.bl_idname == "NodeGroupInput":
+            if ctx.groups:
+                idx = list(node.outputs).index(src)
+                group_node = ctx.groups[-1]
+                if idx < len(group_node.inputs):
+                    self.shader(group_node.inputs[idx], weight, ctx.parent())
+            return
+        if node.bl_idname in ("ShaderNodeGroup", "NodeGroup") or node.type == "GROUP":
+            tree = node.node_tree
+            out_node = next((n for n in (tree.nodes if tree else []) if n.bl_idname == "NodeGroupOutput"
+                             and n.is_active_output), None)
+            if out_node is None:
+                self.warn_node(node, "has no Group Output; it renders black")
+                return
+            idx = list(node.outputs).index(src)
+            if idx < len(out_node.inputs):
+                self.shader(out_node.inputs[idx], weight, ctx.enter(node))
+            return
+        if src.type != "SHADER":
+            # A colour or value plugged into a shader socket: Cycles renders it as emission.
+            self.op("emission", [weight, self.convert(self.output_value(src, ctx), COLOR), None])
+            return
+        handler = SHADER_NODES.get(node.bl_idname)
+        if handler is None:
+            self.warn_node(node, "is not supported, using a neutral diffuse")
+            self.op("diffuse", [weight, self.constant((0.8, 0.8, 0.8), COLOR), None, None])
+            return
+        handler(self, node, ctx, weight)
+
+    def compile_surface(self, output_node):
+        ctx = _Context()
+        weight = self.constant(1.0, FLOAT)
+        disp = output_node.inputs.get("Displacement")
+        if disp is not None and nodes.linked_output(disp) is not None:
+            self.surface_normal = self._displacement_bump(disp, ctx)
+        self.shader(output_node.inputs["Surface"], weight, ctx)
+
+    def _displacement_bump(self, socket, ctx):
+        """The Displacement output as Cycles' 'Bump Only': the displacement's normal component is
+        the height of a bump map (the surface is not moved)."""
+        heights = []
+        for shift in (None, 0, 1):
+            self._bump = shift
+            if shift is not None:
+                self.op("bump_enter", ints=[shift])
+            d = self.socket_value(socket, ctx, VEC)
+            h = self.alloc(FLOAT)
+            n = self.alloc(VEC)
+            self.op("geometry", [], [None, n])
+            self.op("vector_math", [d, n, None, None], [None, h], [VECTOR_MATH_OPS.index("DOT_PRODUCT")])
+            if shift is not None:
+                self.op("bump_leave", ints=[shift])
+            heights.append(h)
+        self._bump = None
+        out = self.alloc(VEC)
+        self.op("bump", [self.constant(1.0, FLOAT), self.constant(1.0, FLOAT), heights[0], heights[1],
+                         heights[2], None], [out], [0])
+        return out
+
+    def program(self):
+        return {"registers": self.registers, "ops": self.ops, "data": self.data,
+                "textures": self.texture_ids}
+
+
+# -- value nodes -----------------------------------------------------------------------------------
+
+def _outs(c, node, kinds):
+    """Allocate registers for the node's outputs: {identifier: Value} in the given order."""
+    result, regs = {}, []
+    for name, kind in kinds:
+        v = c.alloc(kind)
+        regs.append(v)
+        sock = node.outputs.get(name)
+        if sock is not None:
+            result[sock.identifier] = v
+        result[name] = v
+    return result, regs
+
+
+def _value(c, node, ctx):
+    return {node.outputs[0].identifier: c.constant(node.outputs[0].default_value, FLOAT)}
+
+
+def _rgb(c, node, ctx):
+    return {node.outputs[0].identifier: c.constant(node.outputs[0].default_value[:3], COLOR)}
+
+
+def _texcoord(c, node, ctx):
+    names = ["Generated", "Normal", "UV", "Object", "Camera", "Window", "Reflection"]
+    res, regs = _outs(c, node, [(n, VEC) for n in names])
+    ints, data = [0], 0
+    obj = getattr(node, "object", None)
+    if obj is not None:
+        m = obj.matrix_world.inverted_safe()
+        data = len(c.data)
+        c.data.extend(float(m[r][k]) for r in range(3) for k in range(4))
+        ints = [1]
+    if node.outputs["UV"].is_linked:
+        c.uses_uv = True
+    if getattr(node, "from_instancer", False):
+        c.warn_node(node, "uses From Instancer, which is not supported")
+    c.op("texcoord", [], regs, ints, data=data)
+    return res
+
+
+def _attribute_id(c, name):
+    return c.scene.attribute_id(name) if c.scene is not None and name else -1
+
+
+def _uvmap(c, node, ctx):
+    res, regs = _outs(c, node, [("UV", VEC)])
+    c.uses_uv = True
+    c.op("uvmap", [], regs, [_attribute_id(c, node.uv_map) if node.uv_map else -1])
+    return res
+
+
+def _attribute(c, node, ctx):
+    res, regs = _outs(c, node, [("Color", COLOR), ("Vector", VEC), ("Fac", FLOAT), ("Alpha", FLOAT)])
+    name = getattr(node, "attribute_name", "") or getattr(node, "layer_name", "")
+    if node.bl_idname == "ShaderNodeVertexColor" and not name:
+        name = ACTIVE_COLOR
+    if getattr(node, "attribute_type", "GEOMETRY") != "GEOMETRY":
+        c.warn_node(node, "reads an object or instancer attribute, which is not supported (0)")
+        name = ""
+    c.op("attribute", [], regs, [_attribute_id(c, name), 0])
+    return res
+
+
+def _geometry(c, node, ctx):
+    names = [("Position", VEC), ("Normal", VEC), ("Tangent", VEC), ("True Normal", VEC), ("Incoming", VEC),
+             ("Parametric", VEC), ("Backfacing", FLOAT), ("Pointiness", FLOAT), ("Random Per Island", FLOAT)]
+    res, regs = _outs(c, node, names)
+    for name in ("Pointiness", "Random Per Island"):
+        if node.outputs[name].is_linked:
+            c.warn_node(node, "uses %s, which is not supported (a constant)" % name)
+    c.op("geometry", [], regs)
+    return res
+
+
+def _object_info(c, node, ctx):
+    names = [("Location", VEC), ("Color", COLOR), ("Alpha", FLOAT), ("Object Index", FLOAT),
+             ("Material Index", FLOAT), ("Random", FLOAT)]
+    res, regs = _outs(c, node, names)
+    c.op("object_info", [], regs)
+    return res
+
+
+def _light_path(c, node, ctx):
+    names = ["Is Camera Ray", "Is Shadow Ray", "Is Diffuse Ray", "Is Glossy Ray", "Is Singular Ray",
+             "Is Reflection Ray", "Is Transmission Ray", "Ray Length", "Ray Depth", "Diffuse Depth",
+             "Glossy Depth", "Transparent Depth", "Transmission Depth"]
+    res, regs = _outs(c, node, [(n, FLOAT) for n in names])
+    c.op("light_path", [], regs)
+    return res
+
+
+def _fresnel(c, node, ctx):
+    res, regs = _outs(c, node, [("Fac", FLOAT)])
+    c.op("fresnel", [c.input(node, "IOR", ctx, FLOAT), c.normal_input(node, "Normal", ctx)], regs)
+    return res
+
+
+def _layer_weight(c, node, ctx):
+    res, regs = _outs(c, node, [("Fresnel", FLOAT), ("Facing", FLOAT)])
+    c.op("layer_weight", [c.input(node, "Blend", ctx, FLOAT), c.normal_input(node, "Normal", ctx)], regs)
+    return res
+
+
+def _camera_data(c, node, ctx):
+    res, regs = _outs(c, node, [("View Vector", VEC), ("View Z Depth", FLOAT), ("View Distance", FLOAT)])
+    c.op("camera_data", [], regs)
+    return res
+
+
+def _tangent(c, node, ctx):
+    res, regs = _outs(c, node, [("Tangent", VEC)])
+    c.uses_uv = c.uses_uv or node.direction_type == "UV_MAP"
+    c.op("tangent", [], regs, [1 if node.direction_type == "UV_MAP" else 0, "XYZ".index(node.axis[0])])
+    return res
+
+
+def _new_geometry(c, node, ctx):
+    return _geometry(c, node, ctx)
+
+
+def _bump(c, node, ctx):
+    res, regs = _outs(c, node, [("Normal", VEC)])
+    if c._bump is not None:  # a bump inside a bump's height: Cycles keeps the inner one's normal
+        height = c.input(node, "Height", ctx, FLOAT)
+        c.op("bump", [c.input(node, "Strength", ctx, FLOAT), c.input(node, "Distance", ctx, FLOAT), height,
+                      height, height, c.normal_input(node, "Normal", ctx)], regs, [int(node.invert)])
+        return res
+    heights = []
+    saved = c._bump
+    for shift in (None, 0, 1):
+        c._bump = shift
+        if shift is not None:
+            c.op("bump_enter", ints=[shift])
+        heights.append(c.input(node, "Height", ctx, FLOAT))
+        if shift is not None:
+            c.op("bump_leave", ints=[shift])
+    c._bump = saved
+    c.op("bump", [c.input(node, "Strength", ctx, FLOAT), c.input(node, "Distance", ctx, FLOAT), heights[0],
+                  heights[1], heights[2], c.normal_input(node, "Normal", ctx)], regs, [int(node.invert)])
+    return res
+
+
+def _normal_map(c, node, ctx):
+    res, regs = _outs(c, node, [("Normal", VEC)])
+    space = _index(NORMAL_MAP_SPACES, node.space)
+    if space == 0:
+        c.uses_uv = True
+        if node.uv_map:
+            c.warn_node(node, "names UV map '%s'; the tangents of the render UV map are used" % node.uv_map)
+    c.op("normal_map", [c.input(node, "Strength", ctx, FLOAT), c.input(node, "Color", ctx, COLOR)], regs, [space])
+    return res
+
+
+def _tex_image(c, node, ctx):
+    res, regs = _outs(c, node, [("Color", COLOR), ("Alpha", FLOAT)])
+    tex_id = c.textures.id_for(node) if c.textures is not None else None
+    if tex_id is None:
+        if c.textures is not None:
+            tex_id = c.textures.missing()
+        else:
+            c.op("convert", [c.constant(0.0, FLOAT)], [regs[0]], [0])
+            return res
+    local = len(c.texture_ids)
+    c.texture_ids.append(tex_id)
+    vec = c.vector_input(node, ctx, "uv")
+    c.op("tex_image", [vec], regs, [local, _index(PROJECTIONS, node.projection)],
+         [getattr(node, "projection_blend", 0.0)])
+    return res
+
+
+def _mapping_of(c, node, vec):
+    """Blender 2.8x+ texture nodes have no built-in mapping in Cycles 3.4 beyond node.texture_mapping,
+    which the UI hides; it is ignored."""
+    return vec
+
+
+def _tex_noise(c, node, ctx):
+    res, regs = _outs(c, node, [("Fac", FLOAT), ("Color", COLOR)])
+    ins = [c.vector_input(node, ctx)] + [c.input(node, n, ctx, FLOAT)
+                                          for n in ("W", "Scale", "Detail", "Roughness", "Distortion")]
+    c.op("tex_noise", ins, regs, [DIMENSIONS.get(node.noise_dimensions, 3)])
+    return res
+
+
+def _tex_voronoi(c, node, ctx):
+    res, regs = _outs(c, node, [("Distance", FLOAT), ("Color", COLOR), ("Position", VEC), ("W", FLOAT),
+                                ("Radius", FLOAT)])
+    ins = [c.vector_input(node, ctx)] + [c.input(node, n, ctx, FLOAT)
+                                          for n in ("W", "Scale", "Smoothness", "Exponent", "Randomness")]
+    c.op("tex_voronoi", ins, regs, [DIMENSIONS.get(node.voronoi_dimensions, 3),
+                                    _index(VORONOI_FEATURES, node.feature), _index(VORONOI_METRICS, node.distance)])
+    return res
+
+
+def _tex_musgrave(c, node, ctx):
+    res, regs = _outs(c, node, [("Fac", FLOAT)])
+    ins = [c.vector_input(node, ctx)] + [c.input(node, n, ctx, FLOAT) for n in
+                                          ("W", "Scale", "Detail", "Dimension", "Lacunarity", "Offset", "Gain")]
+    c.op("tex_musgrave", ins, regs, [DIMENSIONS.get(node.musgrave_dimensions, 3),
+                                     _index(MUSGRAVE_TYPES, node.musgrave_type)])
+    return res
+
+
+def _tex_wave(c, node, ctx):
+    res, regs = _outs(c, node, [("Color", COLOR), ("Fac", FLOAT)])
+    ins = [c.vector_input(node, ctx)] + [c.input(node, n, ctx, FLOAT) for n in
+                                          ("Scale", "Distortion", "Detail", "Detail Scale", "Detail Roughness",
+                                           "Phase Offset")]
+    rings = node.wave_type == "RINGS"
+    direction = node.rings_direction if rings else node.bands_direction
+    dirs = {"X": 0, "Y": 1, "Z": 2, "DIAGONAL": 3, "SPHERICAL": 4}
+    c.op("tex_wave", ins, regs, [int(rings), dirs.get(direction, 0),
+                                 {"SIN": 0, "SAW": 1, "TRI": 2}.get(node.wave_profile, 0)])
+    return res
+
+
+def _tex_magic(c, node, ctx):
+    res, regs = _outs(c, node, [("Color", COLOR), ("Fac", FLOAT)])
+    c.op("tex_magic", [c.vector_input(node, ctx), c.input(node, "Scale", ctx, FLOAT),
+                       c.input(node, "Distortion", ctx, FLOAT)], regs, [int(node.turbulence_depth)])
+    return res
+
+
+def _tex_checker(c, node, ctx):
+    res, regs = _outs(c, node, [("Color", COLOR), ("Fac", FLOAT)])
+    c.op("tex_checker", [c.vector_input(node, ctx), c.input(node, "Color1", ctx, COLOR),
+                         c.input(node, "Color2", ctx, COLOR), c.input(node, "Scale", ctx, FLOAT)], regs)
+    return res
+
+
+def _tex_brick(c, node, ctx):
+    res, regs = _outs(c, node, [("Color", COLOR), ("Fac", FLOAT)])
+    ins = [c.vector_input(node, ctx), c.input(node, "Color1", ctx, COLOR), c.input(node, "Color2", ctx, COLOR),
+           c.input(node, "Mortar", ctx, COLOR)] + [c.input(node, n, ctx, FLOAT) for n in
+                                                   ("Scale", "Mortar Size", "Mortar Smooth", "Bias",
+                                                    "Brick Width", "Row Height")]
+    c.op("tex_brick", ins, regs, [node.offset_frequency, node.squash_frequency], [node.offset, node.squash])
+    return res
+
+
+def _tex_gradient(c, node, ctx):
+    res, regs = _outs(c, node, [("Color", COLOR), ("Fac", FLOAT)])
+    c.op("tex_gradient", [c.vector_input(node, ctx)], regs, [_index(GRADIENT_TYPES, node.gradient_type)])
+    return res
+
+
+def _tex_white_noise(c, node, ctx):
+    res, regs = _outs(c, node, [("Value", FLOAT), ("Color", COLOR)])
+    c.op("tex_white_noise", [c.vector_input(node, ctx), c.input(node, "W", ctx, FLOAT)], regs,
+         [DIMENSIONS.get(node.noise_dimensions, 3)])
+    return res
+
+
+def _mix_rgb(c, node, ctx):
+    res, regs = _outs(c, node, [("Color", COLOR)])
+    c.op("mix", [c.input(node, "Fac", ctx, FLOAT), c.input(node, 1, ctx, COLOR), c.input(node, 2, ctx, COLOR)],
+         regs, [_index(BLEND_TYPES, node.blend_type), 1, int(node.use_clamp)])
+    return res
+
+
+def _mix(c, node, ctx):
+    """Blender 3.4's Mix node: the enabled sockets depend on data_type (and factor_mode)."""
+    enabled = lambda i: node.inputs[i]  # noqa: E731
+    by_type = {"FLOAT": (FLOAT, "mix_float"), "VECTOR": (VEC, "mix_vector"), "RGBA": (COLOR, "mix")}
+    kind, opname = by_type.get(node.data_type, (COLOR, "mix"))
+    fac_socket = next(s for s in node.inputs if s.enabled and s.name == "Factor")
+    a = next(s for s in node.inputs if s.enabled and s.name == "A")
+    b = next(s for s in node.inputs if s.enabled and s.name == "B")
+    out_socket = next(s for s in node.outputs if s.enabled)
+    out = c.alloc(kind)
+    non_uniform = kind == VEC and node.factor_mode == "NON_UNIFORM"
+    fac = c.socket_value(fac_socket, ctx, VEC if non_uniform else FLOAT)
+    av, bv = c.socket_value(a, ctx, kind), c.socket_value(b, ctx, kind)
+    if opname == "mix":
+        c.op("mix", [fac, av, bv], [out], [_index(BLEND_TYPES, node.blend_type), int(node.clamp_factor),
+                                          int(node.clamp_result)])
+    elif opname == "mix_float":
+        c.op("mix_float", [fac, av, bv], [out], [int(node.clamp_factor)])
+    else:
+        c.op("mix_vector", [fac, av, bv], [out], [int(node.clamp_factor), int(non_uniform)])
+    del enabled
+    return {out_socket.identifier: out, "Result": out}
+
+
+def _curve_table(c, mapping, channels):
+    """Bake a CurveMapping into RAMP_TABLE_SIZE RGBA entries over [min_x, max_x], as Cycles does."""
+    mapping.initialize()
+    curves = mapping.curves
+    used = curves[:4] if channels == "rgb" else curves[:3]
+    min_x = min(p.location[0] for cv in used for p in cv.points)
+    max_x = max(p.location[0] for cv in used for p in cv.points)
+    if not max_x > min_x:
+        min_x, max_x = 0.0, 1.0
+    offset = len(c.data)
+    for i in range(RAMP_TABLE_SIZE):
+        x = min_x + (max_x - min_x) * i / (RAMP_TABLE_SIZE - 1)
+        row = [0.0, 0.0, 0.0, 0.0]
+        for ch in range(3):
+            # RGB Curves: the combined (C) curve first, then the channel's (Cycles' table).
+            t = mapping.evaluate(curves[3], x) if channels == "rgb" else x
+            row[ch] = mapping.evaluate(curves[ch], t)
+        c.data.extend(row)
+    return offset, min_x, max_x
+
+
+def _rgb_curves(c, node, ctx):
+    res, regs = _outs(c, node, [("Color", COLOR)])
+    offset, lo, hi = _curve_table(c, node.mapping, "rgb")
+    c.op("rgb_curves", [c.input(node, "Fac", ctx, FLOAT), c.input(node, "Color", ctx, COLOR)], regs,
+         [RAMP_TABLE_SIZE, int(node.mapping.extend == "EXTRAPOLATED")], [lo, hi], data=offset)
+    return res
+
+
+def _vector_curves(c, node, ctx):
+    res, regs = _outs(c, node, [("Vector", VEC)])
+    offset, lo, hi = _curve_table(c, node.mapping, "vector")
+    c.op("vector_curves", [c.input(node, "Fac", ctx, FLOAT), c.input(node, "Vector", ctx, VEC)], regs,
+         [RAMP_TABLE_SIZE, int(node.mapping.extend == "EXTRAPOLATED")], [lo, hi], data=offset)
+    return res
+
+
+def _color_ramp(c, node, ctx):
+    res, regs = _outs(c, node, [("Color", COLOR), ("Alpha", FLOAT)])
+    ramp = node.color_ramp
+    offset = len(c.data)
+    for i in range(RAMP_TABLE_SIZE):
+        c.data.extend(float(x) for x in ramp.evaluate(i / (RAMP_TABLE_SIZE - 1)))
+    c.op("color_ramp", [c.input(node, "Fac", ctx, FLOAT)], regs,
+         [RAMP_TABLE_SIZE, int(ramp.interpolation != "CONSTANT")], data=offset)
+    return res
+
+
+def _simple(opname, inputs, outputs, ints_fn=None):
+    def handler(c, node, ctx):
+        res, regs = _outs(c, node, outputs)
+        ins = [c.input(node, name, ctx, kind) for name, kind in inputs]
+        c.op(opname, ins, regs, ints_fn(node) if ints_fn else [])
+        return res
+    return handler
+
+
+def _math(c, node, ctx):
+    res, regs = _outs(c, node, [("Value", FLOAT)])
+    ins = [c.input(node, i, ctx, FLOAT) for i in range(3)]
+    c.op("math", ins, regs, [_index(MATH_OPS, node.operation), int(node.use_clamp)])
+    return res
+
+
+def _vector_math(c, node, ctx):
+    res, regs = _outs(c, node, [("Vector", VEC), ("Value", FLOAT)])
+    ins = [c.input(node, i, ctx, VEC) for i in range(3)] + [c.input(node, "Scale", ctx, FLOAT)]
+    c.op("vector_math", ins, regs, [_index(VECTOR_MATH_OPS, node.operation)])
+    return res
+
+
+def _map_range(c, node, ctx):
+    vector = getattr(node, "data_type", "FLOAT") == "FLOAT_VECTOR"
+    kind = VEC if vector else FLOAT
+    names = ["Value", "From Min", "From Max", "To Min", "To Max", "Steps"]
+    if vector:
+        names = ["Vector"] + names[1:]
+    socks = {s.name: s for s in node.inputs if s.enabled}
+    ins = [c.socket_value(socks[n], ctx, kind) if n in socks else None for n in names]
+    out_sock = next(s for s in node.outputs if s.enabled)
+    out = c.alloc(kind)
+    c.op("map_range_vector" if vector else "map_range", ins, [out],
+         [_index(MAP_RANGE_TYPES, node.interpolation_type), int(node.clamp)])
+    return {out_sock.identifier: out}
+
+
+def _separate_color(c, node, ctx, mode=None):
+    mode = mode if mode is not None else _index(COLOR_MODES, getattr(node, "mode", "RGB"))
+    color = c.input(node, 0, ctx, COLOR)
+    if mode != 0:
+        conv = c.alloc(COLOR)
+        c.op("separate_color", [color], [conv], [mode])
+        color = conv
+    res = {}
+    for k, sock in enumerate(node.outputs[:3]):
+        res[sock.identifier] = Value(FLOAT, color.reg + k)
+    return res
+
+
+def _separate_xyz(c, node, ctx):
+    vec = c.input(node, 0, ctx, VEC)
+    return {s.identifier: Value(FLOAT, vec.reg + k) for k, s in enumerate(node.outputs[:3])}
+
+
+def _combine_color(c, node, ctx, mode=None):
+    mode = mode if mode is not None else _index(COLOR_MODES, getattr(node, "mode", "RGB"))
+    out = c.alloc(COLOR)
+    c.op("combine_color", [c.input(node, k, ctx, FLOAT) for k in range(3)], [out], [mode])
+    return {node.outputs[0].identifier: out}
+
+
+def _combine_xyz(c, node, ctx):
+    out = c.alloc(VEC)
+    c.op("combine_xyz", [c.input(node, k, ctx, FLOAT) for k in range(3)], [out])
+    return {node.outputs[0].identifier: out}
+
+
+def _mapping(c, node, ctx):
+    res, regs = _outs(c, node, [("Vector", VEC)])
+    t = _index(MAPPING_TYPES, node.vector_type)
+    ins = [c.input(node, "Vector", ctx, VEC), c.input(node, "Location", ctx, VEC) if t in (0, 1) else None,
+           c.input(node, "Rotation", ctx, VEC), c.input(node, "Scale", ctx, VEC) if t != 2 or True else None]
+    c.op("mapping", ins, regs, [t])
+    return res
+
+
+def _vector_transform(c, node, ctx):
+    res, regs = _outs(c, node, [("Vector", VEC)])
+    c.op("vector_transform", [c.input(node, "Vector", ctx, VEC)], regs,
+         [_index(["POINT", "VECTOR", "NORMAL"], node.vector_type), _index(TRANSFORM_SPACES, node.convert_from),
+          _index(TRANSFORM_SPACES, node.convert_to)])
+    return res
+
+
+def _normal(c, node, ctx):
+    res, regs = _outs(c, node, [("Normal", VEC), ("Dot", FLOAT)])
+    direction = list(node.outputs["Normal"].default_value)
+    c.op("normal", [c.input(node, "Normal", ctx, VEC)], regs, [], direction)
+    return res
+
+
+def _vector_rotate(c, node, ctx):
+    res, regs = _outs(c, node, [("Vector", VEC)])
+    socks = {s.name: s for s in node.inputs}
+    ins = [c.socket_value(socks["Vector"], ctx, VEC), c.socket_value(socks["Center"], ctx, VEC),
+           c.socket_value(socks["Axis"], ctx, VEC), c.socket_value(socks["Angle"], ctx, FLOAT),
+           c.socket_value(socks["Rotation"], ctx, VEC)]
+    c.op("vector_rotate", ins, regs, [_index(ROTATE_TYPES, node.rotation_type), int(node.invert)])
+    return res
+
+
+def _displacement(c, node, ctx):
+    res, regs = _outs(c, node, [("Displacement", VEC)])
+    c.op("displacement", [c.input(node, "Height", ctx, FLOAT), c.input(node, "Midlevel", ctx, FLOAT),
+                          c.input(node, "Scale", ctx, FLOAT), c.normal_input(node, "Normal", ctx)], regs,
+         [0 if node.space == "OBJECT" else 1])
+    return res
+
+
+def _clamp(c, node, ctx):
+    res, regs = _outs(c, node, [("Result", FLOAT)])
+    c.op("clamp", [c.input(node, n, ctx, FLOAT) for n in ("Value", "Min", "Max")], regs,
+         [int(node.clamp_type == "RANGE")])
+    return res
+
+
+VALUE_NODES = {
+    "ShaderNodeValue": _value,
+    "ShaderNodeRGB": _rgb,
+    "ShaderNodeTexCoord": _texcoord,
+    "ShaderNodeUVMap": _uvmap,
+    "ShaderNodeAttribute": _attribute,
+    "ShaderNodeVertexColor": _attribute,
+    "ShaderNodeNewGeometry": _new_geometry,
+    "ShaderNodeObjectInfo": _object_info,
+    "ShaderNodeLightPath": _light_path,
+    "ShaderNodeFresnel": _fresnel,
+    "ShaderNodeLayerWeight": _layer_weight,
+    "ShaderNodeCameraData": _camera_data,
+    "ShaderNodeTangent": _tangent,
+    "ShaderNodeBump": _bump,
+    "ShaderNodeNormalMap": _normal_map,
+    "ShaderNodeTexImage": _tex_image,
+    "ShaderNodeTexNoise": _tex_noise,
+    "ShaderNodeTexVoronoi": _tex_voronoi,
+    "ShaderNodeTexMusgrave": _tex_musgrave,
+    "ShaderNodeTexWave": _tex_wave,
+    "ShaderNodeTexMagic": _tex_magic,
+    "ShaderNodeTexChecker": _tex_checker,
+    "ShaderNodeTexBrick": _tex_brick,
+    "ShaderNodeTexGradient": _tex_gradient,
+    "ShaderNodeTexWhiteNoise": _tex_white_noise,
+    "ShaderNodeMixRGB": _mix_rgb,
+    "ShaderNodeMix": _mix,
+    "ShaderNodeRGBCurve": _rgb_curves,
+    "ShaderNodeVectorCurve": _vector_curves,
+    "ShaderNodeInvert": _simple("invert", [("Fac", FLOAT), ("Color", COLOR)], [("Color", COLOR)]),
+    "ShaderNodeHueSaturation": _simple("hue_sat_val", [("Hue", FLOAT), ("Saturation", FLOAT), ("Value", FLOAT),
+                                                       ("Fac", FLOAT), ("Color", COLOR)], [("Color", COLOR)]),
+    "ShaderNodeBrightContrast": _simple("bright_contrast", [("Color", COLOR), ("Bright", FLOAT),
+                                                            ("Contrast", FLOAT)], [("Color", COLOR)]),
+    "ShaderNodeGamma": _simple("gamma", [("Color", COLOR), ("Gamma", FLOAT)], [("Color", COLOR)]),
+    "ShaderNodeMapping": _mapping,
+    "ShaderNodeVectorTransform": _vector_transform,
+    "ShaderNodeNormal": _normal,
+    "ShaderNodeVectorRotate": _vector_rotate,
+    "ShaderNodeDisplacement": _displacement,
+    "ShaderNodeMath": _math,
+    "ShaderNodeVectorMath": _vector_math,
+    "ShaderNodeMapRange": _map_range,
+    "ShaderNodeClamp": _clamp,
+    "ShaderNodeValToRGB": _color_ramp,
+    "ShaderNodeSeparateColor": _separate_color,
+    "ShaderNodeCombineColor": _combine_color,
+    "ShaderNodeSeparateRGB": lambda c, n, ctx: _separate_color(c, n, ctx, 0),
+    "ShaderNodeCombineRGB": lambda c, n, ctx: _combine_color(c, n, ctx, 0),
+    "ShaderNodeSeparateHSV": lambda c, n, ctx: _separate_color(c, n, ctx, 1),
+    "ShaderNodeCombineHSV": lambda c, n, ctx: _combine_color(c, n, ctx, 1),
+    "ShaderNodeSeparateXYZ": _separate_xyz,
+    "ShaderNodeCombineXYZ": _combine_xyz,
+    "ShaderNodeRGBToBW": _simple("rgb_to_bw", [("Color", COLOR)], [("Val", FLOAT)]),
+    "ShaderNodeBlackbody": _simple("blackbody", [("Temperature", FLOAT)], [("Color", COLOR)]),
+    "ShaderNodeWavelength": _simple("wavelength", [("Wavelength", FLOAT)], [("Color", COLOR)]),
+}
+
+
+# -- closure nodes --------------------------------------------------------------------------------
+
+def _mix_shader(c, node, ctx, weight):
+    wa, wb = c.alloc(FLOAT), c.alloc(FLOAT)
+    c.op("mix_weights", [weight, c.input(node, "Fac", ctx, FLOAT)], [wa, wb])
+    c.shader(node.inputs[1], wa, ctx)
+    c.shader(node.inputs[2], wb, ctx)
+
+
+def _add_shader(c, node, ctx, weight):
+    c.shader(node.inputs[0], weight, ctx)
+    c.shader(node.inputs[1], weight, ctx)
+
+
+def _closure_normal(c, node, ctx):
+    n = c.normal_input(node, "Normal", ctx)
+    return n if n is not None else c.surface_normal
+
+
+def _diffuse(c, node, ctx, weight):
+    if node.inputs["Roughness"].is_linked or node.inputs["Roughness"].default_value > 0.0:
+        c.warn_node(node, "has Roughness > 0 (Oren-Nayar), which is not supported; using Lambert")
+    c.op("diffuse", [weight, c.input(node, "Color", ctx, COLOR), None, _closure_normal(c, node, ctx)])
+
+
+def _distribution(c, node, supported=("SHARP", "GGX")):
+    if node.distribution not in supported:
+        c.warn_node(node, "uses the %s distribution, which is not supported; using GGX" % node.distribution)
+    return 0 if node.distribution == "SHARP" else 1
+
+
+def _glossy(c, node, ctx, weight):
+    c.op("glossy", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
+                    _closure_normal(c, node, ctx)], ints=[_distribution(c, node)])
+
+
+def _glass(c, node, ctx, weight):
+    c.op("glass", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
+                   c.input(node, "IOR", ctx, FLOAT), _closure_normal(c, node, ctx)], ints=[_distribution(c, node)])
+
+
+def _transparent(c, node, ctx, weight):
+    c.op("transparent", [weight, c.input(node, "Color", ctx, COLOR)])
+
+
+def _emission(c, node, ctx, weight):
+    c.op("emission", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Strength", ctx, FLOAT)])
+
+
+def _holdout(c, node, ctx, weight):
+    c.warn_node(node, "(Holdout) is not supported yet; it renders black")
+    c.op("holdout", [weight])
+
+
+def _principled(c, node, ctx, weight):
+    ins = [weight]
+    for name in PRINCIPLED_INPUTS:
+        sock = node.inputs.get(name)
+        if sock is None:
+            ins.append(None)
+        elif name in ("Normal", "Clearcoat Normal", "Tangent"):
+            n = c.normal_input(node, name, ctx)
+            ins.append(n if n is not None or name != "Normal" else c.surface_normal)
+        else:
+            ins.append(c.socket_value(sock, ctx, VEC if name in VECTOR_INPUTS_OF_PRINCIPLED else None))
+    ignored = []
+    for name in ("Subsurface", "Anisotropic"):
+        s = node.inputs[name]
+        if s.is_linked or s.default_value > 0.0:
+            ignored.append(name)
+    if node.distribution != "GGX":
+        ignored.append("Multiscatter GGX (using GGX)")
+    if ignored:
+        c.warn_node(node, "uses %s, not supported (subsurface is rendered as diffuse of the mixed colour)"
+                    % ", ".join(ignored))
+    c.op("principled", ins)
+
+
+SHADER_NODES = {
+    "ShaderNodeMixShader": _mix_shader,
+    "ShaderNodeAddShader": _add_shader,
+    "ShaderNodeBsdfDiffuse": _diffuse,
+    "ShaderNodeBsdfGlossy": _glossy,
+    "ShaderNodeBsdfGlass": _glass,
+    "ShaderNodeBsdfTransparent": _transparent,
+    "ShaderNodeEmission": _emission,
+    "ShaderNodeBsdfPrincipled": _principled,
+    "ShaderNodeHoldout": _holdout,
+}
+UNSUPPORTED_VALUE_NODES = {"ShaderNodeAmbientOcclusion": "Ambient Occlusion", "ShaderNodeBevel": "Bevel",
+                           "ShaderNodeShaderToRGB": "Shader to RGB", "ShaderNodeScript": "Script"}
+
+
+def compile_material(material, output_node, warn, textures, scene):
+    """The program dict for a material's Surface (and Displacement as bump), and whether it reads UVs."""
+    c = ShaderCompiler(material.name, warn, textures, scene)
+    c.compile_surface(output_node)
+    return c.program(), c.uses_uv

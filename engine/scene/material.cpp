@@ -1,0 +1,39 @@
+#include "scene/material.h"
+
+namespace smis {
+
+float transparency_keep(const ShaderResult& res) {
+    Color t = vmin(vmax(res.transparent, Color(0.0f)), Color(1.0f));
+    return 1.0f - min_component(t);
+}
+
+Bsdf Material::program_bsdf(const ShaderResult& res, const Frame& frame, const Vec3& ng, bool backfacing,
+                            Color* emission) const {
+    Bsdf bsdf(frame, ng);
+    float keep = transparency_keep(res);
+    if (!(keep > 1e-6f)) {
+        *emission = Color(0.0f);
+        return bsdf;
+    }
+    float inv_keep = 1.0f / keep;
+    *emission = res.emission * inv_keep;
+    for (int i = 0; i < res.count; ++i) {
+        Lobe lobe = res.lobes[i];
+        lobe.weight *= inv_keep;
+        if (backfacing && (lobe.kind == LobeKind::Dielectric || lobe.fresnel == FresnelMode::Dielectric))
+            lobe.eta = 1.0f / lobe.eta;
+        bsdf.add(lobe);
+    }
+    Color t = vmin(vmax(res.transparent, Color(0.0f)), Color(1.0f));
+    Color rest = (t - Color(min_component(t))) * inv_keep;
+    if (max_component(rest) > 0.0f) {
+        Lobe straight;
+        straight.kind = LobeKind::Transparent;
+        straight.weight = rest;
+        straight.index = program ? uint8_t(program->lobe_templates().size() - 1) : 0;
+        bsdf.add(straight);
+    }
+    return bsdf;
+}
+
+}  // namespace smis

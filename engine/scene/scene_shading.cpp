@@ -1,0 +1,160 @@
+// The Scene's side of shader programs: rebuilding what a program reads at a hit (Cycles' ShaderData)
+// from the triangle and its barycentrics, attributes, and running the program where integrators
+// shade, emit and cut out.
+#include "scene/scene.h"
+
+namespace smis {
+namespace {
+
+inline Vec3 load3(const float* p) { return {p[0], p[1], p[2]}; }
+
+// Surface parameters (u, v) of the offset d on the triangle's plane, from the UV map's derivatives.
+Point2 uv_offset(const Vec3& dpdu, const Vec3& dpdv, const Vec3& d) {
+    float a = dot(dpdu, dpdu), b = dot(dpdu, dpdv), c = dot(dpdv, dpdv);
+    float det = a * c - b * b;
+    if (!(std::fabs(det) > 1e-30f)) return {0.0f, 0.0f};
+    float pu = dot(dpdu, d), pv = dot(dpdv, d);
+    return {(c * pu - b * pv) / det, (a * pv - b * pu) / det};
+}
+
+}  // namespace
+
+ShaderContext Scene::shader_context(const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray) const {
+    ShaderContext c;
+    c.scene = this;
+    c.ray = ray;
+    const Instance& inst = instances_[at.instance];
+    const Mesh& mesh = meshes_[inst.mesh];
+    c.instance = at.instance;
+    c.prim = at.prim;
+    c.bu = at.bu;
+    c.bv = at.bv;
+    const uint32_t* idx = &mesh.indices[3 * at.prim];
+    Vec3 a = load3(&mesh.positions[3 * idx[0]]), b = load3(&mesh.positions[3 * idx[1]]),
+         cc = load3(&mesh.positions[3 * idx[2]]);
+    float w = 1.0f - at.bu - at.bv;
+    float mirror = inst.to_world.determinant3() < 0.0f ? -1.0f : 1.0f;
+    Vec3 ng = cross(b - a, cc - a);
+    Vec3 ns = ng;
+    if (!mesh.corner_normals.empty()) {
+        const Vec3* cn = &mesh.corner_normals[3 * at.prim];
+        ns = cn[0] * w + cn[1] * at.bu + cn[2] * at.bv;
+    }
+    Vec3 p = a * w + b * at.bu + cc * at.bv;
+    Vec3 e1 = b - a, e2 = cc - a;
+    if (!inst.identity) {
+        p = inst.to_world.point(p);
+        ng = inst.to_world.normal(ng) * mirror;
+        ns = inst.to_world.normal(ns) * mirror;
+        e1 = inst.to_world.vector(e1);
+        e2 = inst.to_world.vector(e2);
+    }
+    ng = normalize(ng);
+    ns = normalize(ns);
+    if (!is_finite(ns) || dot(ns, ng) == 0.0f) ns = ng;
+    if (dot(ns, ng) < 0.0f) ns = -ns;
+    c.P = p;
+    c.I = wo;
+    c.backfacing = dot(wo, ng) < 0.0f;
+    c.Ng = c.backfacing ? -ng : ng;
+    c.N = c.backfacing ? -ns : ns;
+    c.to_world = inst.to_world;
+    c.to_object = inst.to_object;
+    c.object_location = inst.to_world.column(3);
+    c.object_color = inst.object_color;
+    c.object_alpha = inst.alpha;
+    c.object_random = inst.random;
+    c.object_index = inst.pass_index;
+    c.material_index = 0.0f;
+    c.texspace_location = mesh.texspace_location;
+    c.texspace_size = mesh.texspace_size;
+    Vec3 dpdu(0.0f), dpdv(0.0f);
+    if (!mesh.uvs.empty()) {
+        const Point2* t = &mesh.uvs[3 * at.prim];
+        c.uv = {t[0].x * w + t[1].x * at.bu + t[2].x * at.bv, t[0].y * w + t[1].y * at.bu + t[2].y * at.bv};
+        c.has_uv = true;
+        float du1 = t[1].x - t[0].x, dv1 = t[1].y - t[0].y, du2 = t[2].x - t[0].x, dv2 = t[2].y - t[0].y;
+        float det = du1 * dv2 - du2 * dv1;
+        if (std::fabs(det) > 1e-20f) {
+            dpdu = (e1 * dv2 - e2 * dv1) / det;
+            dpdv = (e2 * du1 - e1 * du2) / det;
+            c.tangent_sign = (det < 0.0f ? -1.0f : 1.0f) * mirror;
+        }
+    }
+    c.dPdu = dpdu;
+    // One pixel's footprint at the point as seen from the camera (the engine has no ray differentials;
+    // Cycles' dP of a camera ray is this size): the Bump node's finite differences span it.
+    float dist = length(p - camera_.origin());
+    float footprint = camera_.pixel_footprint(std::max(dist, 1e-6f));
+    if (!(footprint > 0.0f) || !std::isfinite(footprint)) footprint = 1e-4f;
+    Frame f(c.N);
+    c.dPdx = f.s * footprint;
+    c.dPdy = f.t * footprint;
+    c.duvdx = uv_offset(dpdu, dpdv, c.dPdx);
+    c.duvdy = uv_offset(dpdu, dpdv, c.dPdy);
+    return c;
+}
+
+bool Scene::attribute(const ShaderContext& ctx, int32_t id, float* out) const {
+    const Mesh& mesh = meshes_[instances_[ctx.instance].mesh];
+    for (const MeshAttribute& a : mesh.attributes) {
+        if (a.id != id) continue;
+        float w = 1.0f - ctx.bu - ctx.bv;
+        const float* c = &a.corners[size_t(ctx.prim) * 3 * a.dims];
+        out[3] = 1.0f;
+        for (int k = 0; k < a.dims; ++k) out[k] = c[k] * w + c[a.dims + k] * ctx.bu + c[2 * a.dims + k] * ctx.bv;
+        if (a.dims == 1) out[1] = out[2] = out[0];
+        return true;
+    }
+    return false;
+}
+
+Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, bool backfacing,
+                         const ShaderRay& ray, Vec3* ns_out) const {
+    const Material& m = materials_[material];
+    ShaderContext ctx = shader_context(at, wo, ray);
+    ShaderResult res;
+    m.program->eval(ctx, &res);
+    Vec3 ns = res.has_normal ? res.normal : ctx.N;
+    if (dot(ns, ctx.Ng) <= 0.0f) ns = ctx.N;
+    *ns_out = ns;
+    Color emission;
+    return m.program_bsdf(res, Frame(ns), ctx.Ng, backfacing, &emission);
+}
+
+Color Scene::program_emission(const SurfaceAttribs& at, uint32_t material, const Vec3& wo) const {
+    const Material& m = materials_[material];
+    if (!m.program->may_emit()) return Color(0.0f);
+    ShaderContext ctx = shader_context(at, wo, ShaderRay{});
+    ShaderResult res;
+    m.program->eval(ctx, &res);
+    float keep = transparency_keep(res);
+    return keep > 1e-6f ? res.emission / keep : Color(0.0f);
+}
+
+Color Scene::emission(uint32_t instance, uint32_t prim, uint32_t material, float bu, float bv, const Vec3& wo) const {
+    SurfaceAttribs at;
+    at.instance = instance, at.prim = prim, at.bu = bu, at.bv = bv;
+    // A light sample is seen with the probability a ray would keep the hit (the cut-out), so its
+    // emission is the kept hit's emission times that probability: the unscaled program emission.
+    const Material& m = materials_[material];
+    ShaderContext ctx = shader_context(at, wo, ShaderRay{});
+    ShaderResult res;
+    m.program->eval(ctx, &res);
+    return is_finite(res.emission) ? res.emission : Color(0.0f);
+}
+
+float Scene::program_keep(uint32_t instance, uint32_t prim, float bu, float bv, const Vec3& dir) const {
+    const Instance& inst = instances_[instance];
+    const Material& m = materials_[meshes_[inst.mesh].materials[prim]];
+    SurfaceAttribs at;
+    at.instance = instance, at.prim = prim, at.bu = bu, at.bv = bv;
+    // Embree's filter does not know the ray's kind: the cut-out is the one a camera ray sees, as in
+    // program_bsdf for camera rays (a transparency keyed on Light Path's ray kinds is not honoured).
+    ShaderContext ctx = shader_context(at, -dir, ShaderRay{});
+    ShaderResult res;
+    m.program->eval(ctx, &res);
+    return transparency_keep(res);
+}
+
+}  // namespace smis

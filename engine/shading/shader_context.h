@@ -1,0 +1,48 @@
+// What a shader program can read at a surface point: Cycles' ShaderData, for the node evaluator.
+// Filled by Scene::shader_context() only for materials that have a program (constant materials never
+// build one).
+#pragma once
+#include "core/math.h"
+#include "core/sampling.h"
+
+namespace smis {
+
+class Scene;
+
+// The ray that found the point, for the Light Path node (Cycles' path flags and depths).
+struct ShaderRay {
+    bool camera = true, shadow = false, diffuse = false, glossy = false, singular = false,
+         reflection = false, transmission = false, volume_scatter = false;
+    float length = 0.0f;
+    int depth = 0, diffuse_depth = 0, glossy_depth = 0, transmission_depth = 0, transparent_depth = 0;
+};
+
+struct ShaderContext {
+    Vec3 P;            // world position
+    Vec3 N;            // shading normal facing the incoming ray (Cycles flips back-facing normals)
+    Vec3 Ng;           // geometric normal, same side as N
+    Vec3 I;            // towards the viewer (the incoming ray reversed)
+    bool backfacing = false;
+    // Surface offsets of one pixel footprint, for the Bump node (Cycles' dP.dx / dP.dy, here from the
+    // ray length and the camera's pixel spread, since the engine carries no ray differentials).
+    Vec3 dPdx, dPdy;
+    Point2 duvdx, duvdy;
+    Vec3 dPdu;         // the default UV map's u direction on the triangle (tangents), 0 without UVs
+    float tangent_sign = 1.0f;  // -1 where the UV map is mirrored (the bitangent flips)
+    // Where attributes come from: the scene, the instance and the triangle with its barycentrics.
+    const Scene* scene = nullptr;
+    uint32_t instance = 0, prim = 0;
+    float bu = 0.0f, bv = 0.0f;
+    Point2 uv;         // the default (active render) UV map
+    bool has_uv = false;
+    // Object: world -> object transform, location, Object Info outputs, texture space (Generated).
+    Transform to_object;
+    Transform to_world;
+    Vec3 object_location;
+    Color object_color{1.0f};
+    float object_alpha = 1.0f, object_random = 0.0f, object_index = 0.0f, material_index = 0.0f;
+    Vec3 texspace_location{0.0f}, texspace_size{1.0f};
+    ShaderRay ray;
+};
+
+}  // namespace smis

@@ -1,0 +1,887 @@
+#include "shading/shader_program.h"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "scene/scene.h"
+#include "shading/image_projection.h"
+#include "shading/node_math.h"
+#include "shading/procedural_cells.h"
+#include "shading/procedural_noise.h"
+
+namespace smis {
+namespace {
+
+using Op = ShaderOpCode;
+using namespace shading;
+
+// Input slots of the closure ops (the compiler writes them in this order; in[0] is the mix weight).
+namespace principled_in {
+enum : int {
+    Weight, BaseColor, Subsurface, SubsurfaceRadius, SubsurfaceColor, SubsurfaceIor, SubsurfaceAnisotropy,
+    Metallic, Specular, SpecularTint, Roughness, Anisotropic, AnisotropicRotation, Sheen, SheenTint, Clearcoat,
+    ClearcoatRoughness, Ior, Transmission, TransmissionRoughness, Emission, EmissionStrength, Alpha, Normal,
+    ClearcoatNormal, Tangent
+};
+}
+
+constexpr struct {
+    const char* name;
+    Op code;
+} kOpNames[] = {
+    {"texcoord", Op::TexCoord}, {"uvmap", Op::UvMap}, {"attribute", Op::Attribute}, {"geometry", Op::Geometry},
+    {"object_info", Op::ObjectInfo}, {"light_path", Op::LightPath}, {"fresnel", Op::Fresnel},
+    {"layer_weight", Op::LayerWeight}, {"camera_data", Op::CameraData}, {"tangent", Op::Tangent},
+    {"bump_enter", Op::BumpEnter}, {"bump_leave", Op::BumpLeave}, {"bump", Op::Bump}, {"normal_map", Op::NormalMap},
+    {"tex_image", Op::TexImage}, {"tex_noise", Op::TexNoise}, {"tex_voronoi", Op::TexVoronoi},
+    {"tex_musgrave", Op::TexMusgrave}, {"tex_wave", Op::TexWave}, {"tex_magic", Op::TexMagic},
+    {"tex_checker", Op::TexChecker}, {"tex_brick", Op::TexBrick}, {"tex_gradient", Op::TexGradient},
+    {"tex_white_noise", Op::TexWhiteNoise}, {"mix", Op::Mix}, {"mix_float", Op::MixFloat},
+    {"mix_vector", Op::MixVector}, {"rgb_curves", Op::RgbCurves}, {"vector_curves", Op::VectorCurves},
+    {"invert", Op::Invert}, {"hue_sat_val", Op::HueSatVal}, {"bright_contrast", Op::BrightContrast},
+    {"gamma", Op::Gamma}, {"mapping", Op::Mapping}, {"vector_transform", Op::VectorTransform},
+    {"normal", Op::NormalNode}, {"vector_rotate", Op::VectorRotate}, {"displacement", Op::Displacement},
+    {"math", Op::Math}, {"vector_math", Op::VectorMath}, {"map_range", Op::MapRange},
+    {"map_range_vector", Op::MapRangeVector}, {"clamp", Op::Clamp}, {"color_ramp", Op::ColorRamp},
+    {"separate_color", Op::SeparateColor}, {"combine_color", Op::CombineColor}, {"combine_xyz", Op::CombineXyz},
+    {"rgb_to_bw", Op::RgbToBw}, {"blackbody", Op::Blackbody}, {"wavelength", Op::Wavelength},
+    {"convert", Op::Convert}, {"mix_weights", Op::MixWeights}, {"diffuse", Op::Diffuse}, {"glossy", Op::Glossy},
+    {"glass", Op::Glass}, {"transparent", Op::Transparent}, {"principled", Op::Principled},
+    {"emission", Op::Emission}, {"holdout", Op::Holdout},
+};
+
+bool is_closure(Op code) { return code >= Op::Diffuse; }
+// Ops that read the hit (their outputs vary over surfaces whatever their inputs).
+bool reads_context(Op code) {
+    switch (code) {
+        case Op::TexCoord: case Op::UvMap: case Op::Attribute: case Op::Geometry: case Op::ObjectInfo:
+        case Op::LightPath: case Op::Fresnel: case Op::LayerWeight: case Op::CameraData: case Op::Tangent:
+        case Op::BumpEnter: case Op::BumpLeave: case Op::Bump: case Op::NormalMap: case Op::VectorTransform:
+        case Op::Displacement:
+            return true;
+        default: return false;
+    }
+}
+
+// Lobes a closure op can produce, in the order it emits them.
+int lobe_slots(Op code) {
+    switch (code) {
+        case Op::Diffuse: case Op::Glossy: case Op::Glass: return 1;
+        case Op::Principled: return 6;  // diffuse, specular, metal, transmission, sheen, clearcoat
+        default: return 0;
+    }
+}
+
+inline Vec3 load3(const float* r, uint16_t i, const Vec3& fallback) {
+    return i == kNoReg ? fallback : Vec3(r[i], r[i + 1], r[i + 2]);
+}
+inline float load1(const float* r, uint16_t i, float fallback) { return i == kNoReg ? fallback : r[i]; }
+inline void store3(float* r, uint16_t i, const Vec3& v) {
+    if (i == kNoReg) return;
+    r[i] = v.x, r[i + 1] = v.y, r[i + 2] = v.z;
+}
+inline void store1(float* r, uint16_t i, float v) {
+    if (i != kNoReg) r[i] = v;
+}
+inline float clamp01(float v) { return clampf(v, 0.0f, 1.0f); }
+inline Vec3 safe_normalize(const Vec3& v, const Vec3& fallback) {
+    float l = length(v);
+    return l > 0.0f && std::isfinite(l) ? v / l : fallback;
+}
+
+Transform transform_from(const float* m) {
+    Transform t;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) t.m[r][c] = m[4 * r + c];
+    return t;
+}
+
+// Cycles' Mapping node: point = T R S v, texture = (T R S)^-1 v, vector = R S v, normal = normalize((R S)^-T v).
+Vec3 rotate_euler_xyz(const Vec3& v, const Vec3& e, bool inverse) {
+    float cx = std::cos(e.x), sx = std::sin(e.x), cy = std::cos(e.y), sy = std::sin(e.y), cz = std::cos(e.z),
+          sz = std::sin(e.z);
+    // R = Rz Ry Rx (Blender's XYZ Euler)
+    float m[3][3] = {{cy * cz, sy * sx * cz - cx * sz, sy * cx * cz + sx * sz},
+                     {cy * sz, sy * sx * sz + cx * cz, sy * cx * sz - sx * cz},
+                     {-sy, cy * sx, cy * cx}};
+    if (!inverse)
+        return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+                m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
+    return {m[0][0] * v.x + m[1][0] * v.y + m[2][0] * v.z, m[0][1] * v.x + m[1][1] * v.y + m[2][1] * v.z,
+            m[0][2] * v.x + m[1][2] * v.y + m[2][2] * v.z};
+}
+inline Vec3 safe_divide(const Vec3& a, const Vec3& b) {
+    return {b.x != 0.0f ? a.x / b.x : 0.0f, b.y != 0.0f ? a.y / b.y : 0.0f, b.z != 0.0f ? a.z / b.z : 0.0f};
+}
+Vec3 mapping(int type, const Vec3& v, const Vec3& loc, const Vec3& rot, const Vec3& scale) {
+    switch (type) {
+        case 0: return rotate_euler_xyz(v * scale, rot, false) + loc;                    // POINT
+        case 1: return safe_divide(rotate_euler_xyz(v - loc, rot, true), scale);         // TEXTURE
+        case 2: return rotate_euler_xyz(v * scale, rot, false);                          // VECTOR
+        default: return safe_normalize(rotate_euler_xyz(safe_divide(v, scale), rot, false), Vec3(0.0f));  // NORMAL
+    }
+}
+
+// Cycles' fresnel_dielectric_cos: unpolarised Fresnel reflectance, 1 under total internal reflection.
+float fresnel_dielectric_cos(float cosi, float eta) {
+    float c = std::fabs(cosi);
+    float g = eta * eta - 1.0f + c * c;
+    if (g <= 0.0f) return 1.0f;
+    g = std::sqrt(g);
+    float a = (g - c) / (g + c), b = (c * (g + c) - 1.0f) / (c * (g - c) + 1.0f);
+    return 0.5f * a * a * (1.0f + b * b);
+}
+
+// Camera space as Cycles' shaders see it: x right, y up, z forward (into the view).
+Vec3 to_camera_space(const Camera& cam, const Vec3& p, bool point) {
+    Vec3 d = point ? p - cam.origin() : p;
+    return {dot(d, cam.right_axis()), dot(d, cam.up_axis()), dot(d, cam.forward_axis())};
+}
+
+}  // namespace
+
+bool ShaderProgram::op_by_name(const std::string& name, ShaderOpCode* code) {
+    for (const auto& e : kOpNames)
+        if (name == e.name) {
+            *code = e.code;
+            return true;
+        }
+    return false;
+}
+
+ShaderProgram::ShaderProgram(std::vector<ShaderOp> ops, std::vector<float> registers, std::vector<float> data,
+                             std::vector<std::shared_ptr<const Texture>> textures)
+    : ops_(std::move(ops)), registers_(std::move(registers)), data_(std::move(data)), textures_(std::move(textures)) {
+    if (registers_.size() > kMaxRegisters) throw std::invalid_argument("shader program: too many registers");
+    // Every register reference must be inside the file, with room for a vector (3 floats).
+    auto check = [&](uint16_t r) {
+        if (r != kNoReg && size_t(r) + 3 > registers_.size() + 2 && size_t(r) >= registers_.size())
+            throw std::invalid_argument("shader program: register out of range");
+    };
+    // Registers are padded so a vector read at the last float stays inside.
+    registers_.resize(registers_.size() + 2, 0.0f);
+    for (float& v : registers_)
+        if (!std::isfinite(v)) v = 0.0f;  // NaN socket values: Blender would not render them either
+    for (const ShaderOp& op : ops_) {
+        for (uint16_t r : op.in) check(r);
+        for (uint16_t r : op.out) check(r);
+        if (op.code == Op::TexImage && (op.i[0] < 0 || size_t(op.i[0]) >= textures_.size()))
+            throw std::invalid_argument("shader program: unknown texture");
+        if (op.code == Op::ColorRamp || op.code == Op::RgbCurves || op.code == Op::VectorCurves) {
+            if (op.i[0] < 1 || size_t(op.data) + size_t(op.i[0]) * 4 > data_.size())
+                throw std::invalid_argument("shader program: table out of range");
+        }
+        if (op.code == Op::TexCoord && op.i[0] == 1 && size_t(op.data) + 12 > data_.size())
+            throw std::invalid_argument("shader program: object transform out of range");
+        if (op.code >= Op::Count) throw std::invalid_argument("shader program: unknown op");
+    }
+    analyse();
+}
+
+void ShaderProgram::analyse() {
+    std::vector<bool> varying(registers_.size() + 3, false);
+    varying_.clear();
+    closures_.clear();
+    templates_.clear();
+    auto reads_varying = [&](const ShaderOp& op) {
+        for (uint16_t r : op.in)
+            if (r != kNoReg && (varying[r] || varying[r + 1] || varying[r + 2])) return true;
+        return false;
+    };
+    for (uint32_t k = 0; k < ops_.size(); ++k) {
+        ShaderOp& op = ops_[k];
+        if (is_closure(op.code)) {
+            op.i[5] = int32_t(templates_.size());
+            closures_.push_back(k);
+            Lobe l;
+            switch (op.code) {
+                case Op::Diffuse: templates_.push_back(l); break;
+                case Op::Glossy: l.kind = LobeKind::Microfacet; templates_.push_back(l); break;
+                case Op::Glass: l.kind = LobeKind::Dielectric; templates_.push_back(l); break;
+                case Op::Principled: {
+                    Lobe d; d.kind = LobeKind::PrincipledDiffuse;
+                    Lobe s; s.kind = LobeKind::Microfacet; s.fresnel = FresnelMode::Dielectric;
+                    Lobe m; m.kind = LobeKind::Microfacet; m.fresnel = FresnelMode::Schlick;
+                    Lobe t; t.kind = LobeKind::Dielectric;
+                    Lobe sh; sh.kind = LobeKind::Sheen;
+                    Lobe c; c.kind = LobeKind::Clearcoat;
+                    for (const Lobe& x : {d, s, m, t, sh, c}) templates_.push_back(x);
+                    break;
+                }
+                default: break;
+            }
+            for (size_t t = op.i[5]; t < templates_.size(); ++t) templates_[t].index = uint8_t(std::min<size_t>(t, 255));
+            continue;
+        }
+        if (reads_context(op.code) || reads_varying(op)) {
+            varying_.push_back(k);
+            for (uint16_t r : op.out)
+                if (r != kNoReg) varying[r] = varying[r + 1] = varying[r + 2] = true;
+        }
+    }
+    // The straight-through lobe Material::program_bsdf adds for coloured transparency.
+    Lobe straight;
+    straight.kind = LobeKind::Transparent;
+    straight.index = uint8_t(std::min<size_t>(templates_.size(), 255));
+    templates_.push_back(straight);
+    bool varying_closure = false;
+    may_emit_ = may_be_transparent_ = false;
+    for (uint32_t k : closures_) {
+        const ShaderOp& op = ops_[k];
+        varying_closure = varying_closure || reads_varying(op);
+        const float* r = registers_.data();
+        bool weight_zero = !reads_varying(op) && !(load1(r, op.in[0], 1.0f) != 0.0f);
+        if (op.code == Op::Emission) {
+            bool zero = !reads_varying(op) && (weight_zero || is_black(load3(r, op.in[1], Color(1.0f)) * load1(r, op.in[2], 1.0f)));
+            may_emit_ = may_emit_ || !zero;
+        }
+        if (op.code == Op::Principled) {
+            using namespace principled_in;
+            bool zero = !reads_varying(op) && (weight_zero || is_black(load3(r, op.in[Emission], Color(0.0f)) *
+                                                                        load1(r, op.in[EmissionStrength], 0.0f)));
+            may_emit_ = may_emit_ || !zero;
+            bool opaque = !reads_varying(op) && (weight_zero || load1(r, op.in[Alpha], 1.0f) >= 1.0f);
+            may_be_transparent_ = may_be_transparent_ || !opaque;
+        }
+        if (op.code == Op::Transparent) may_be_transparent_ = may_be_transparent_ || !weight_zero;
+    }
+    // A closure reading a varying register keeps the program per hit even with no varying value op
+    // (cannot happen today: a varying register has a varying writer), and vice versa.
+    if (!varying_closure && !varying_.empty()) {
+        // Values vary but no closure reads them (e.g. a texture feeding nothing): nothing to run.
+        varying_.clear();
+    }
+}
+
+void ShaderProgram::fold_constants() {
+    std::vector<uint32_t> keep;
+    size_t v = 0;
+    for (uint32_t k = 0; k < ops_.size(); ++k) {
+        if (is_closure(ops_[k].code)) continue;
+        if (v < varying_.size() && varying_[v] == k) {
+            ++v;
+            continue;
+        }
+        run(ops_[k], nullptr, registers_.data(), nullptr);  // constant: result into the initial registers
+    }
+    for (float& x : registers_)
+        if (!std::isfinite(x)) x = 0.0f;
+    analyse();
+}
+
+ShaderResult ShaderProgram::eval_constant() const {
+    ShaderResult out;
+    std::vector<float> r = registers_;
+    for (uint32_t k : closures_) run(ops_[k], nullptr, r.data(), &out);
+    return out;
+}
+
+void ShaderProgram::eval(const ShaderContext& ctx_in, ShaderResult* out) const {
+    float r[kMaxRegisters + 3];
+    std::memcpy(r, registers_.data(), registers_.size() * sizeof(float));
+    ShaderContext ctx = ctx_in;  // bump evaluation moves the point
+    for (uint32_t k : varying_) run(ops_[k], &ctx, r, out);
+    ctx = ctx_in;
+    for (uint32_t k : closures_) run(ops_[k], &ctx, r, out);
+}
+
+namespace {
+
+// Adds a lobe, keeping the heaviest ones when a mix has more lobes than a Bsdf holds.
+void push_lobe(ShaderResult* out, const Lobe& lobe) {
+    if (!(average(lobe.weight) > 0.0f) || !is_finite(lobe.weight)) return;
+    if (out->count < Bsdf::kMaxLobes) {
+        out->lobes[out->count++] = lobe;
+        return;
+    }
+    out->truncated = true;
+    int smallest = 0;
+    for (int i = 1; i < out->count; ++i)
+        if (average(out->lobes[i].weight) < average(out->lobes[smallest].weight)) smallest = i;
+    if (average(out->lobes[smallest].weight) < average(lobe.weight)) out->lobes[smallest] = lobe;
+}
+
+void set_normal(ShaderResult* out, const float* r, uint16_t reg) {
+    if (reg == kNoReg || out->has_normal) return;
+    Vec3 n = load3(r, reg, Vec3(0.0f));
+    if (!is_finite(n) || !(length_sq(n) > 0.0f)) return;
+    out->normal = normalize(n);
+    out->has_normal = true;
+}
+
+Lobe make_lobe(LobeKind kind, FresnelMode fresnel, const Color& weight, float roughness, float ior, uint8_t index) {
+    Lobe l;
+    l.kind = kind;
+    l.fresnel = fresnel;
+    l.weight = vmax(weight, Color(0.0f));
+    float rough = clamp01(std::isfinite(roughness) ? roughness : 0.0f);
+    l.alpha = rough * rough;  // Blender's roughness is the square root of GGX alpha
+    l.eta = std::isfinite(ior) && ior > 0.0f ? ior : 1.5f;
+    l.index = index;
+    return l;
+}
+
+// Blender 3.4's Principled BSDF as the engine's lobes (the translation materials.py did on constants):
+// with m = metallic and t = transmission (1 - m): Cycles' principled diffuse base (1-m)(1-t), the
+// dielectric specular layer (IOR from Specular: f0 = 0.08 specular, tinted by Specular Tint),
+// the metal (Schlick, f0 = base), the glass base t, sheen and clearcoat; emission; alpha mixes in a
+// transparent closure as Cycles does.
+void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
+    using namespace principled_in;
+    float w = std::max(load1(r, op.in[Weight], 1.0f), 0.0f);
+    if (!(w > 0.0f)) return;
+    float alpha = clamp01(load1(r, op.in[Alpha], 1.0f));
+    if (alpha < 1.0f) out->transparent += Color(w * (1.0f - alpha));
+    w *= alpha;
+    Color base = vmax(load3(r, op.in[BaseColor], Color(0.8f)), Color(0.0f));
+    float subsurface = clamp01(load1(r, op.in[Subsurface], 0.0f));
+    if (subsurface > 0.0f)  // no subsurface transport yet: its colour is diffused at the surface
+        base = lerp(subsurface, base, vmax(load3(r, op.in[SubsurfaceColor], Color(0.8f)), Color(0.0f)));
+    float m = clamp01(load1(r, op.in[Metallic], 0.0f));
+    float t = clamp01(load1(r, op.in[Transmission], 0.0f)) * (1.0f - m);
+    float rough = clamp01(load1(r, op.in[Roughness], 0.5f));
+    float specular = std::max(load1(r, op.in[Specular], 0.5f), 0.0f);
+    float spec_tint = clamp01(load1(r, op.in[SpecularTint], 0.0f));
+    float ior = load1(r, op.in[Ior], 1.45f);
+    uint8_t idx = uint8_t(op.i[5]);
+    float dielectric = (1.0f - m) * (1.0f - t);
+    set_normal(out, r, op.in[Normal]);
+    float lum = luminance(base);
+    Color tint = lum > 0.0f ? base / lum : Color(1.0f);
+    push_lobe(out, make_lobe(LobeKind::PrincipledDiffuse, FresnelMode::None, base * (w * dielectric), rough, 1.5f, idx));
+    float f0 = std::min(0.08f * specular, 0.99f);
+    if (f0 > 0.0f) {
+        float spec_ior = 2.0f / (1.0f - std::sqrt(f0)) - 1.0f;
+        Color spec_color = lerp(spec_tint, Color(1.0f), tint);
+        Lobe s = make_lobe(LobeKind::Microfacet, FresnelMode::Dielectric, spec_color * (w * dielectric), rough,
+                           spec_ior, uint8_t(idx + 1));
+        s.f0 = Color(f0);
+        push_lobe(out, s);
+    }
+    Lobe metal = make_lobe(LobeKind::Microfacet, FresnelMode::Schlick, Color(w * m), rough, 1.5f, uint8_t(idx + 2));
+    metal.f0 = vmin(base, Color(1.0f));
+    push_lobe(out, metal);
+    push_lobe(out, make_lobe(LobeKind::Dielectric, FresnelMode::None, base * (w * t), rough, ior, uint8_t(idx + 3)));
+    float sheen = std::max(load1(r, op.in[Sheen], 0.0f), 0.0f);
+    if (sheen > 0.0f) {
+        float st = clamp01(load1(r, op.in[SheenTint], 0.5f));
+        Color c = lerp(st, Color(1.0f), tint);
+        push_lobe(out, make_lobe(LobeKind::Sheen, FresnelMode::None, c * (w * dielectric * sheen), 0.0f, 1.5f,
+                                 uint8_t(idx + 4)));
+    }
+    float coat = std::max(load1(r, op.in[Clearcoat], 0.0f), 0.0f);
+    if (coat > 0.0f)
+        push_lobe(out, make_lobe(LobeKind::Clearcoat, FresnelMode::None, Color(0.25f * coat * w),
+                                 load1(r, op.in[ClearcoatRoughness], 0.03f), 1.5f, uint8_t(idx + 5)));
+    Color e = load3(r, op.in[Emission], Color(0.0f)) * load1(r, op.in[EmissionStrength], 1.0f);
+    if (is_finite(e)) out->emission += vmax(e, Color(0.0f)) * w;  // alpha-scaled, as Cycles' expansion
+}
+
+}  // namespace
+
+void ShaderProgram::run(const ShaderOp& op, const ShaderContext* ctxp, float* r, ShaderResult* out) const {
+    const Vec3 zero(0.0f);
+    // Context ops never run without a context (they are never folded).
+    switch (op.code) {
+        case Op::TexCoord: {
+            const ShaderContext& c = *ctxp;
+            Vec3 obj = c.to_object.point(c.P);
+            if (op.out[0] != kNoReg)  // Generated: the object's texture space box mapped to [0, 1]
+                store3(r, op.out[0], safe_divide(obj - c.texspace_location, c.texspace_size * 2.0f) + Vec3(0.5f));
+            if (op.out[1] != kNoReg) store3(r, op.out[1], safe_normalize(c.to_world.normal_to_object(c.N), c.N));
+            store3(r, op.out[2], Vec3(c.uv.x, c.uv.y, 0.0f));
+            if (op.out[3] != kNoReg)
+                store3(r, op.out[3], op.i[0] == 1 ? transform_from(&data_[op.data]).point(c.P) : obj);
+            if ((op.out[4] != kNoReg || op.out[5] != kNoReg) && c.scene) {
+                const Camera& cam = c.scene->camera();
+                Vec3 cs = to_camera_space(cam, c.P, true);
+                store3(r, op.out[4], cs);
+                store3(r, op.out[5], cam.window_coordinates(c.P));
+            }
+            store3(r, op.out[6], reflect(c.I, c.N));
+            break;
+        }
+        case Op::UvMap: {
+            const ShaderContext& c = *ctxp;
+            float a[4] = {c.uv.x, c.uv.y, 0.0f, 0.0f};
+            if (op.i[0] >= 0 && c.scene) c.scene->attribute(c, op.i[0], a);
+            store3(r, op.out[0], Vec3(a[0], a[1], 0.0f));
+            break;
+        }
+        case Op::Attribute: {
+            const ShaderContext& c = *ctxp;
+            float a[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+            bool found = c.scene && op.i[0] >= 0 && c.scene->attribute(c, op.i[0], a);
+            if (!found) a[3] = 0.0f;
+            Vec3 v(a[0], a[1], a[2]);
+            store3(r, op.out[0], v);
+            store3(r, op.out[1], v);
+            store1(r, op.out[2], op.i[1] == 2 ? a[0] : (a[0] + a[1] + a[2]) / 3.0f);  // i1 == 2: a float attribute
+            store1(r, op.out[3], found ? a[3] : 0.0f);
+            break;
+        }
+        case Op::Geometry: {
+            const ShaderContext& c = *ctxp;
+            store3(r, op.out[0], c.P);
+            store3(r, op.out[1], c.N);
+            if (op.out[2] != kNoReg) {
+                Vec3 t = c.dPdu - c.N * dot(c.N, c.dPdu);
+                store3(r, op.out[2], safe_normalize(t, Frame(c.N).s));
+            }
+            store3(r, op.out[3], c.Ng);
+            store3(r, op.out[4], c.I);
+            store3(r, op.out[5], Vec3(1.0f - c.bu - c.bv, c.bu, 0.0f));
+            store1(r, op.out[6], c.backfacing ? 1.0f : 0.0f);
+            store1(r, op.out[7], 0.5f);  // Pointiness: needs a per-vertex attribute Cycles computes
+            store1(r, op.out[8], 0.0f);  // Random Per Island
+            break;
+        }
+        case Op::ObjectInfo: {
+            const ShaderContext& c = *ctxp;
+            store3(r, op.out[0], c.object_location);
+            store3(r, op.out[1], c.object_color);
+            store1(r, op.out[2], c.object_alpha);
+            store1(r, op.out[3], c.object_index);
+            store1(r, op.out[4], c.material_index);
+            store1(r, op.out[5], c.object_random);
+            break;
+        }
+        case Op::LightPath: {
+            const ShaderRay& ray = ctxp->ray;
+            const float v[13] = {float(ray.camera),       float(ray.shadow),        float(ray.diffuse),
+                                 float(ray.glossy),       float(ray.singular),      float(ray.reflection),
+                                 float(ray.transmission), ray.length,               float(ray.depth),
+                                 float(ray.diffuse_depth), float(ray.glossy_depth), float(ray.transparent_depth),
+                                 float(ray.transmission_depth)};
+            for (int k = 0; k < 13; ++k) store1(r, op.out[k], v[k]);
+            break;
+        }
+        case Op::Fresnel: {
+            const ShaderContext& c = *ctxp;
+            Vec3 n = load3(r, op.in[1], c.N);
+            float eta = std::max(load1(r, op.in[0], 1.45f), 1e-5f);
+            eta = c.backfacing ? 1.0f / eta : eta;
+            store1(r, op.out[0], fresnel_dielectric_cos(dot(c.I, n), eta));
+            break;
+        }
+        case Op::LayerWeight: {
+            const ShaderContext& c = *ctxp;
+            Vec3 n = load3(r, op.in[1], c.N);
+            float blend = load1(r, op.in[0], 0.5f);
+            float eta = std::max(1.0f - blend, 1e-5f);
+            eta = c.backfacing ? eta : 1.0f / eta;
+            store1(r, op.out[0], fresnel_dielectric_cos(dot(c.I, n), eta));
+            float f = std::fabs(dot(c.I, n));
+            if (blend != 0.5f) {
+                blend = clampf(blend, 0.0f, 1.0f - 1e-5f);
+                blend = blend < 0.5f ? 2.0f * blend : 0.5f / (1.0f - blend);
+                f = std::pow(f, blend);
+            }
+            store1(r, op.out[1], 1.0f - f);
+            break;
+        }
+        case Op::CameraData: {
+            const ShaderContext& c = *ctxp;
+            if (!c.scene) break;
+            const Camera& cam = c.scene->camera();
+            Vec3 cs = to_camera_space(cam, c.P, true);
+            store3(r, op.out[0], safe_normalize(cs, Vec3(0, 0, 1)));
+            store1(r, op.out[1], cs.z);
+            store1(r, op.out[2], length(c.P - cam.origin()));
+            break;
+        }
+        case Op::Tangent: {
+            const ShaderContext& c = *ctxp;
+            Vec3 t;
+            if (op.i[0] == 1) {  // UV map tangent
+                t = c.dPdu;
+            } else {  // radial around the object's axis (Cycles: generated coordinates, axis X/Y/Z)
+                Vec3 g = safe_divide(c.to_object.point(c.P) - c.texspace_location, c.texspace_size * 2.0f);
+                Vec3 d = op.i[1] == 0 ? Vec3(0.0f, -(g.z), g.y) : op.i[1] == 1 ? Vec3(-g.z, 0.0f, g.x)
+                                                                                  : Vec3(-g.y, g.x, 0.0f);
+                t = c.to_world.vector(d);
+            }
+            t = cross(c.N, safe_normalize(cross(t, c.N), Vec3(0.0f)));
+            store3(r, op.out[0], safe_normalize(t, Frame(c.N).s));
+            break;
+        }
+        case Op::BumpEnter: {
+            auto& c = const_cast<ShaderContext&>(*ctxp);
+            if (op.i[0] == 0) {
+                c.P += c.dPdx;
+                c.uv = {c.uv.x + c.duvdx.x, c.uv.y + c.duvdx.y};
+            } else {
+                c.P += c.dPdy;
+                c.uv = {c.uv.x + c.duvdy.x, c.uv.y + c.duvdy.y};
+            }
+            break;
+        }
+        case Op::BumpLeave: {
+            // Restores the point (the caller's context copy is the unshifted one).
+            auto& c = const_cast<ShaderContext&>(*ctxp);
+            if (op.i[0] == 0) {
+                c.P -= c.dPdx;
+                c.uv = {c.uv.x - c.duvdx.x, c.uv.y - c.duvdx.y};
+            } else {
+                c.P -= c.dPdy;
+                c.uv = {c.uv.x - c.duvdy.x, c.uv.y - c.duvdy.y};
+            }
+            break;
+        }
+        case Op::Bump: {
+            // Cycles' svm_node_bump: the height's finite differences over the footprint give the
+            // surface gradient; N' = normalize(|det| N - dist sign(det) grad), blended by Strength.
+            const ShaderContext& c = *ctxp;
+            Vec3 n = load3(r, op.in[5], c.N);
+            float strength = std::max(load1(r, op.in[0], 1.0f), 0.0f);
+            float dist = load1(r, op.in[1], 1.0f);
+            float hc = load1(r, op.in[2], 0.0f), hx = load1(r, op.in[3], hc), hy = load1(r, op.in[4], hc);
+            if (op.i[0]) dist = -dist;
+            Vec3 rx = cross(c.dPdy, n), ry = cross(n, c.dPdx);
+            float det = dot(c.dPdx, rx);
+            Vec3 grad = rx * (hx - hc) + ry * (hy - hc);
+            float absdet = std::fabs(det);
+            Vec3 bumped = safe_normalize(n * absdet - grad * (dist * (det < 0.0f ? -1.0f : 1.0f)), n);
+            Vec3 res = safe_normalize(bumped * strength + n * (1.0f - strength), n);
+            if (dot(res, c.Ng) <= 0.0f) res = n;  // never below the surface (Cycles: ensure_valid_reflection)
+            store3(r, op.out[0], res);
+            break;
+        }
+        case Op::NormalMap: {
+            const ShaderContext& c = *ctxp;
+            Color col = load3(r, op.in[1], Color(0.5f, 0.5f, 1.0f));
+            float strength = std::max(load1(r, op.in[0], 1.0f), 0.0f);
+            Vec3 m = col * 2.0f - Vec3(1.0f);
+            Vec3 n;
+            switch (op.i[0]) {
+                case 0: {  // tangent space, the UV map's tangent frame
+                    Vec3 t = c.dPdu - c.N * dot(c.N, c.dPdu);
+                    if (!(length_sq(t) > 0.0f)) {
+                        n = c.N;
+                        break;
+                    }
+                    t = normalize(t);
+                    Vec3 b = cross(c.N, t) * (c.tangent_sign < 0.0f ? -1.0f : 1.0f);
+                    n = safe_normalize(t * m.x + b * m.y + c.N * m.z, c.N);
+                    break;
+                }
+                case 1: n = safe_normalize(c.to_world.normal(m), c.N); break;    // object space
+                case 2: n = safe_normalize(m, c.N); break;                        // world space
+                case 3: n = safe_normalize(c.to_world.normal(Vec3(m.x, m.y, -m.z)), c.N); break;  // Blender object
+                default: n = safe_normalize(Vec3(m.x, m.y, -m.z), c.N); break;   // Blender world
+            }
+            if (c.backfacing && op.i[0] != 0) n = -n;
+            if (strength != 1.0f) n = safe_normalize(c.N + (n - c.N) * strength, c.N);
+            if (dot(n, c.Ng) < 0.0f) n = c.N;
+            store3(r, op.out[0], n);
+            break;
+        }
+        case Op::TexImage: {
+            const Texture& tex = *textures_[op.i[0]];
+            Vec3 co = load3(r, op.in[0], zero);
+            TextureSample s;
+            switch (op.i[1]) {
+                case 1: {  // BOX: up to three lookups blended by the object-space normal
+                    const ShaderContext& c = *ctxp;
+                    Vec3 n_obj = ctxp ? safe_normalize(c.to_world.normal_to_object(c.N), c.N) : Vec3(0, 0, 1);
+                    BoxWeights bw = project_box(co, n_obj, op.f[0]);
+                    for (int k = 0; k < 3; ++k)
+                        if (bw.w[k] > 0.0f) {
+                            TextureSample t = tex.lookup(bw.uv[k]);
+                            s.rgb += t.rgb * bw.w[k];
+                            s.alpha += t.alpha * bw.w[k];
+                        }
+                    break;
+                }
+                case 2: s = tex.lookup(project_sphere(co)); break;
+                case 3: s = tex.lookup(project_tube(co)); break;
+                default: s = tex.lookup(project_flat(co)); break;
+            }
+            store3(r, op.out[0], s.rgb);
+            store1(r, op.out[1], s.alpha);
+            break;
+        }
+        case Op::TexNoise: {
+            TextureOut t = noise_texture(op.i[0], load3(r, op.in[0], zero), load1(r, op.in[1], 0.0f),
+                                         load1(r, op.in[2], 5.0f), load1(r, op.in[3], 2.0f), load1(r, op.in[4], 0.5f),
+                                         load1(r, op.in[5], 0.0f));
+            store1(r, op.out[0], t.fac);
+            store3(r, op.out[1], t.color);
+            break;
+        }
+        case Op::TexVoronoi: {
+            VoronoiOut v = voronoi_texture(op.i[0], VoronoiFeature(op.i[1]), VoronoiMetric(op.i[2]),
+                                           load3(r, op.in[0], zero), load1(r, op.in[1], 0.0f), load1(r, op.in[2], 5.0f),
+                                           load1(r, op.in[3], 1.0f), load1(r, op.in[4], 0.5f), load1(r, op.in[5], 1.0f));
+            store1(r, op.out[0], v.distance);
+            store3(r, op.out[1], v.color);
+            store3(r, op.out[2], v.position);
+            store1(r, op.out[3], v.w);
+            store1(r, op.out[4], v.radius);
+            break;
+        }
+        case Op::TexMusgrave: {
+            float f = musgrave_texture(op.i[0], MusgraveType(op.i[1]), load3(r, op.in[0], zero), load1(r, op.in[1], 0.0f),
+                                       load1(r, op.in[2], 5.0f), load1(r, op.in[3], 2.0f), load1(r, op.in[4], 2.0f),
+                                       load1(r, op.in[5], 2.0f), load1(r, op.in[6], 0.0f), load1(r, op.in[7], 1.0f));
+            store1(r, op.out[0], f);
+            break;
+        }
+        case Op::TexWave: {
+            TextureOut t = wave_texture(WaveType(op.i[0]), WaveDirection(op.i[1]), WaveProfile(op.i[2]),
+                                        load3(r, op.in[0], zero), load1(r, op.in[1], 5.0f), load1(r, op.in[2], 0.0f),
+                                        load1(r, op.in[3], 2.0f), load1(r, op.in[4], 1.0f), load1(r, op.in[5], 0.5f),
+                                        load1(r, op.in[6], 0.0f));
+            store3(r, op.out[0], t.color);
+            store1(r, op.out[1], t.fac);
+            break;
+        }
+        case Op::TexMagic: {
+            TextureOut t = magic_texture(op.i[0], load3(r, op.in[0], zero), load1(r, op.in[1], 5.0f), load1(r, op.in[2], 1.0f));
+            store3(r, op.out[0], t.color);
+            store1(r, op.out[1], t.fac);
+            break;
+        }
+        case Op::TexChecker: {
+            TextureOut t = checker_texture(load3(r, op.in[0], zero), load3(r, op.in[1], Color(0.8f)),
+                                           load3(r, op.in[2], Color(0.2f)), load1(r, op.in[3], 5.0f));
+            store3(r, op.out[0], t.color);
+            store1(r, op.out[1], t.fac);
+            break;
+        }
+        case Op::TexBrick: {
+            BrickOut b = brick_texture(load3(r, op.in[0], zero), load3(r, op.in[1], Color(0.8f)), load3(r, op.in[2], Color(0.2f)),
+                                       load3(r, op.in[3], Color(0.0f)), load1(r, op.in[4], 5.0f), load1(r, op.in[5], 0.02f),
+                                       load1(r, op.in[6], 0.1f), load1(r, op.in[7], 0.0f), load1(r, op.in[8], 0.5f),
+                                       load1(r, op.in[9], 0.25f), op.f[0], op.i[0], op.f[1], op.i[1]);
+            store3(r, op.out[0], b.color);
+            store1(r, op.out[1], b.fac);
+            break;
+        }
+        case Op::TexGradient: {
+            TextureOut t = gradient_texture(GradientType(op.i[0]), load3(r, op.in[0], zero));
+            store3(r, op.out[0], t.color);
+            store1(r, op.out[1], t.fac);
+            break;
+        }
+        case Op::TexWhiteNoise: {
+            TextureOut t = white_noise_texture(op.i[0], load3(r, op.in[0], zero), load1(r, op.in[1], 0.0f));
+            store1(r, op.out[0], t.fac);
+            store3(r, op.out[1], t.color);
+            break;
+        }
+        case Op::Mix: {
+            float fac = load1(r, op.in[0], 0.5f);
+            if (op.i[1]) fac = clamp01(fac);
+            Color c = mix_blend(MixBlend(op.i[0]), fac, load3(r, op.in[1], zero), load3(r, op.in[2], zero));
+            if (op.i[2]) c = vmin(vmax(c, zero), Color(1.0f));
+            store3(r, op.out[0], c);
+            break;
+        }
+        case Op::MixFloat: {
+            float fac = load1(r, op.in[0], 0.5f);
+            if (op.i[0]) fac = clamp01(fac);
+            float a = load1(r, op.in[1], 0.0f), b = load1(r, op.in[2], 0.0f);
+            store1(r, op.out[0], a + (b - a) * fac);
+            break;
+        }
+        case Op::MixVector: {
+            Vec3 fac = op.i[1] ? load3(r, op.in[0], Vec3(0.5f)) : Vec3(load1(r, op.in[0], 0.5f));
+            if (op.i[0]) fac = vmin(vmax(fac, zero), Vec3(1.0f));
+            Vec3 a = load3(r, op.in[1], zero), b = load3(r, op.in[2], zero);
+            store3(r, op.out[0], a + (b - a) * fac);
+            break;
+        }
+        case Op::RgbCurves: {
+            const Rgba* table = reinterpret_cast<const Rgba*>(&data_[op.data]);
+            store3(r, op.out[0], rgb_curves(table, op.i[0], op.f[0], op.f[1], load1(r, op.in[0], 1.0f), load3(r, op.in[1], zero), op.i[1] != 0));
+            break;
+        }
+        case Op::VectorCurves: {
+            const Rgba* table = reinterpret_cast<const Rgba*>(&data_[op.data]);
+            store3(r, op.out[0], vector_curves(table, op.i[0], op.f[0], op.f[1], load1(r, op.in[0], 1.0f), load3(r, op.in[1], zero), op.i[1] != 0));
+            break;
+        }
+        case Op::Invert: store3(r, op.out[0], invert_node(load1(r, op.in[0], 1.0f), load3(r, op.in[1], zero))); break;
+        case Op::HueSatVal:
+            store3(r, op.out[0], hue_saturation_value(load1(r, op.in[0], 0.5f), load1(r, op.in[1], 1.0f),
+                                                      load1(r, op.in[2], 1.0f), load1(r, op.in[3], 1.0f),
+                                                      load3(r, op.in[4], zero)));
+            break;
+        case Op::BrightContrast:
+            store3(r, op.out[0], bright_contrast(load3(r, op.in[0], zero), load1(r, op.in[1], 0.0f), load1(r, op.in[2], 0.0f)));
+            break;
+        case Op::Gamma: store3(r, op.out[0], gamma_node(load3(r, op.in[0], zero), load1(r, op.in[1], 1.0f))); break;
+        case Op::Mapping:
+            store3(r, op.out[0], mapping(op.i[0], load3(r, op.in[0], zero), load3(r, op.in[1], zero), load3(r, op.in[2], zero),
+                                         load3(r, op.in[3], Vec3(1.0f))));
+            break;
+        case Op::VectorTransform: {
+            // i0: POINT / VECTOR / NORMAL, i1 from, i2 to: WORLD / OBJECT / CAMERA
+            const ShaderContext& c = *ctxp;
+            Vec3 v = load3(r, op.in[0], zero);
+            int type = op.i[0];
+            auto to_world = [&](const Vec3& x, int space) -> Vec3 {
+                if (space == 1) return type == 0 ? c.to_world.point(x) : type == 1 ? c.to_world.vector(x) : c.to_world.normal(x);
+                if (space == 2 && c.scene) {
+                    const Camera& cam = c.scene->camera();
+                    Vec3 w = cam.right_axis() * x.x + cam.up_axis() * x.y + cam.forward_axis() * x.z;
+                    return type == 0 ? w + cam.origin() : w;
+                }
+                return x;
+            };
+            auto from_world = [&](const Vec3& x, int space) -> Vec3 {
+                if (space == 1) return type == 0 ? c.to_object.point(x) : type == 1 ? c.to_object.vector(x) : c.to_object.normal(x);
+                if (space == 2 && c.scene) return to_camera_space(c.scene->camera(), x, type == 0);
+                return x;
+            };
+            Vec3 res = from_world(to_world(v, op.i[1]), op.i[2]);
+            if (type == 2) res = safe_normalize(res, res);
+            store3(r, op.out[0], res);
+            break;
+        }
+        case Op::NormalNode: {
+            Vec3 dir = Vec3(op.f[0], op.f[1], op.f[2]);
+            Vec3 n = load3(r, op.in[0], zero);
+            store3(r, op.out[0], dir);
+            store1(r, op.out[1], dot(safe_normalize(dir, dir), safe_normalize(n, n)));
+            break;
+        }
+        case Op::VectorRotate: {
+            // i0: AXIS_ANGLE, X, Y, Z, EULER_XYZ; i1 invert. in: vector, center, axis, angle, rotation
+            Vec3 v = load3(r, op.in[0], zero), center = load3(r, op.in[1], zero);
+            Vec3 p = v - center;
+            float sign = op.i[1] ? -1.0f : 1.0f;
+            Vec3 res;
+            if (op.i[0] == 4) {
+                res = rotate_euler_xyz(p, load3(r, op.in[4], zero), op.i[1] != 0);
+            } else {
+                Vec3 axis = op.i[0] == 1 ? Vec3(1, 0, 0) : op.i[0] == 2 ? Vec3(0, 1, 0) : op.i[0] == 3 ? Vec3(0, 0, 1)
+                                                                                                  : safe_normalize(load3(r, op.in[2], Vec3(0, 0, 1)), zero);
+                float a = sign * load1(r, op.in[3], 0.0f);
+                float ca = std::cos(a), sa = std::sin(a);
+                // Rodrigues' rotation
+                res = length_sq(axis) > 0.0f ? p * ca + cross(axis, p) * sa + axis * (dot(axis, p) * (1.0f - ca)) : p;
+            }
+            store3(r, op.out[0], res + center);
+            break;
+        }
+        case Op::Displacement: {
+            const ShaderContext& c = *ctxp;
+            float h = load1(r, op.in[0], 0.0f), mid = load1(r, op.in[1], 0.5f), scale = load1(r, op.in[2], 1.0f);
+            Vec3 n = load3(r, op.in[3], c.N);
+            float amount = (h - mid) * scale;
+            // Object space: the displacement is scaled with the object, as Cycles does.
+            Vec3 d = op.i[0] == 0 ? c.to_world.vector(safe_normalize(c.to_world.normal_to_object(n), n) * amount)
+                                  : n * amount;
+            store3(r, op.out[0], d);
+            break;
+        }
+        case Op::Math: {
+            float v = math_op(MathOp(op.i[0]), load1(r, op.in[0], 0.5f), load1(r, op.in[1], 0.5f), load1(r, op.in[2], 0.5f));
+            if (op.i[1]) v = clamp01(v);
+            store1(r, op.out[0], v);
+            break;
+        }
+        case Op::VectorMath: {
+            Vec3 vec(0.0f);
+            float val = 0.0f;
+            vector_math_op(VectorMathOp(op.i[0]), load3(r, op.in[0], zero), load3(r, op.in[1], zero),
+                           load3(r, op.in[2], zero), load1(r, op.in[3], 1.0f), &vec, &val);
+            store3(r, op.out[0], vec);
+            store1(r, op.out[1], val);
+            break;
+        }
+        case Op::MapRange:
+            store1(r, op.out[0], map_range(MapRangeType(op.i[0]), load1(r, op.in[0], 1.0f), load1(r, op.in[1], 0.0f),
+                                           load1(r, op.in[2], 1.0f), load1(r, op.in[3], 0.0f), load1(r, op.in[4], 1.0f),
+                                           load1(r, op.in[5], 4.0f), op.i[1] != 0));
+            break;
+        case Op::MapRangeVector:
+            store3(r, op.out[0], map_range_vector(MapRangeType(op.i[0]), load3(r, op.in[0], zero), load3(r, op.in[1], zero),
+                                                  load3(r, op.in[2], Vec3(1.0f)), load3(r, op.in[3], zero),
+                                                  load3(r, op.in[4], Vec3(1.0f)), load3(r, op.in[5], Vec3(4.0f)), op.i[1] != 0));
+            break;
+        case Op::Clamp:
+            store1(r, op.out[0], clamp_node(op.i[0] == 1, load1(r, op.in[0], 1.0f), load1(r, op.in[1], 0.0f), load1(r, op.in[2], 1.0f)));
+            break;
+        case Op::ColorRamp: {
+            const Rgba* table = reinterpret_cast<const Rgba*>(&data_[op.data]);
+            Rgba c = ramp_lookup(table, op.i[0], load1(r, op.in[0], 0.5f), op.i[1] != 0, false);
+            store3(r, op.out[0], c.rgb);
+            store1(r, op.out[1], c.a);
+            break;
+        }
+        case Op::SeparateColor: {
+            Color c = load3(r, op.in[0], zero);
+            store3(r, op.out[0], op.i[0] == 1 ? rgb_to_hsv(c) : op.i[0] == 2 ? rgb_to_hsl(c) : c);
+            break;
+        }
+        case Op::CombineColor: {
+            Color c(load1(r, op.in[0], 0.0f), load1(r, op.in[1], 0.0f), load1(r, op.in[2], 0.0f));
+            store3(r, op.out[0], op.i[0] == 1 ? hsv_to_rgb(c) : op.i[0] == 2 ? hsl_to_rgb(c) : c);
+            break;
+        }
+        case Op::CombineXyz:
+            store3(r, op.out[0], Vec3(load1(r, op.in[0], 0.0f), load1(r, op.in[1], 0.0f), load1(r, op.in[2], 0.0f)));
+            break;
+        case Op::RgbToBw: store1(r, op.out[0], rgb_to_bw(load3(r, op.in[0], zero))); break;
+        case Op::Blackbody: store3(r, op.out[0], blackbody(load1(r, op.in[0], 1500.0f))); break;
+        case Op::Wavelength: store3(r, op.out[0], wavelength_to_rgb(load1(r, op.in[0], 500.0f))); break;
+        case Op::Convert:
+            // Implicit socket conversions as Blender's: float -> colour/vector broadcast, colour -> float
+            // its luminance, vector -> float the average of its components.
+            switch (op.i[0]) {
+                case 0: store3(r, op.out[0], Vec3(load1(r, op.in[0], 0.0f))); break;
+                case 1: store1(r, op.out[0], rgb_to_bw(load3(r, op.in[0], zero))); break;
+                case 2: store1(r, op.out[0], average(load3(r, op.in[0], zero))); break;
+                default: store3(r, op.out[0], load3(r, op.in[0], zero)); break;
+            }
+            break;
+        case Op::MixWeights: {
+            float w = load1(r, op.in[0], 1.0f), f = clamp01(load1(r, op.in[1], 0.5f));
+            store1(r, op.out[0], w * (1.0f - f));
+            store1(r, op.out[1], w * f);
+            break;
+        }
+        // Closures (out is never null for them).
+        case Op::Diffuse: {
+            float w = load1(r, op.in[0], 1.0f);
+            set_normal(out, r, op.in[3]);
+            push_lobe(out, make_lobe(LobeKind::Diffuse, FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, 0.0f, 1.5f,
+                                     uint8_t(op.i[5])));
+            break;
+        }
+        case Op::Glossy: {
+            float w = load1(r, op.in[0], 1.0f);
+            set_normal(out, r, op.in[3]);
+            float rough = op.i[0] == 0 ? 0.0f : load1(r, op.in[2], 0.5f);
+            push_lobe(out, make_lobe(LobeKind::Microfacet, FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, rough, 1.5f,
+                                     uint8_t(op.i[5])));
+            break;
+        }
+        case Op::Glass: {
+            float w = load1(r, op.in[0], 1.0f);
+            set_normal(out, r, op.in[4]);
+            float rough = op.i[0] == 0 ? 0.0f : load1(r, op.in[2], 0.0f);
+            push_lobe(out, make_lobe(LobeKind::Dielectric, FresnelMode::None, load3(r, op.in[1], Color(1.0f)) * w, rough,
+                                     load1(r, op.in[3], 1.45f), uint8_t(op.i[5])));
+            break;
+        }
+        case Op::Transparent:
+            out->transparent += vmax(load3(r, op.in[1], Color(1.0f)), zero) * std::max(load1(r, op.in[0], 1.0f), 0.0f);
+            break;
+        case Op::Emission: {
+            Color e = load3(r, op.in[1], Color(1.0f)) * (load1(r, op.in[2], 1.0f) * load1(r, op.in[0], 1.0f));
+            if (is_finite(e)) out->emission += vmax(e, zero);
+            break;
+        }
+        case Op::Holdout: out->holdout += Color(std::max(load1(r, op.in[0], 1.0f), 0.0f)); break;
+        case Op::Principled: principled(op, r, out); break;
+        case Op::Count: break;
+    }
+}
+
+}  // namespace smis

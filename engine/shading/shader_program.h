@@ -1,0 +1,110 @@
+// A material's shader node tree compiled into a register program (the add-on's sync/shader_compiler.py
+// writes it; Cycles' SVM is the model): a flat list of ops over a float register file, where colours
+// and vectors take three consecutive registers. Per hit, the ops run in order and the closure ops
+// collect Cycles' flattened closure list (lobes with their mix weights), emission, transparency and
+// the shading normal.
+//
+// Constant folding happens once, at load: ops that read nothing of the hit are run then and their
+// results become initial register values, so per hit only the ops that depend on the surface point
+// run. A program left with no such op is constant: the material turns into plain lobes and keeps the
+// prepared-BSDF fast path (Material::prepare).
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "scene/bsdf.h"
+#include "scene/texture.h"
+#include "shading/shader_context.h"
+
+namespace smis {
+
+// Every op the compiler may emit; the names are the compiler's (shader_compiler.py), see op_by_name.
+enum class ShaderOpCode : uint16_t {
+    // inputs (read the hit)
+    TexCoord, UvMap, Attribute, Geometry, ObjectInfo, LightPath, Fresnel, LayerWeight, CameraData, Tangent,
+    NewGeometryNormal,
+    // bump evaluation: the ops between Enter and Leave see the point moved by one footprint in x or y
+    BumpEnter, BumpLeave, Bump, NormalMap,
+    // textures
+    TexImage, TexNoise, TexVoronoi, TexMusgrave, TexWave, TexMagic, TexChecker, TexBrick, TexGradient, TexWhiteNoise,
+    // colour
+    Mix, MixFloat, MixVector, RgbCurves, VectorCurves, Invert, HueSatVal, BrightContrast, Gamma,
+    // vector
+    Mapping, VectorTransform, NormalNode, VectorRotate, Displacement,
+    // converter
+    Math, VectorMath, MapRange, MapRangeVector, Clamp, ColorRamp, SeparateColor, CombineColor, CombineXyz,
+    RgbToBw, Blackbody, Wavelength, Convert, MixWeights,
+    // closures
+    Diffuse, Glossy, Glass, Transparent, Principled, Emission, Holdout,
+    Count
+};
+
+constexpr uint16_t kNoReg = 0xFFFF;
+
+struct ShaderOp {
+    ShaderOpCode code = ShaderOpCode::Convert;
+    uint16_t in[26];    // input registers, kNoReg when the op's default applies
+    uint16_t out[13];   // output registers, kNoReg when the output is unused
+    int32_t i[6] = {0, 0, 0, 0, 0, 0};  // modes, texture ids, table sizes
+    float f[4] = {0, 0, 0, 0};
+    uint32_t data = 0;  // offset of the op's table in ShaderProgram::data (ramps, curves)
+    ShaderOp() {
+        for (auto& r : in) r = kNoReg;
+        for (auto& r : out) r = kNoReg;
+    }
+};
+
+// What a program produced at a point: Cycles' closure list and the non-BSDF outputs.
+struct ShaderResult {
+    Lobe lobes[Bsdf::kMaxLobes];
+    int count = 0;
+    Color emission{0.0f};
+    Color transparent{0.0f};  // Transparent BSDF weights and (1 - alpha) of Principled, summed
+    Color holdout{0.0f};
+    Vec3 normal;              // shading normal of the closures (the first closure's own Normal input)
+    bool has_normal = false;
+    bool truncated = false;   // more lobes than a Bsdf holds: the smallest were dropped
+};
+
+class ShaderProgram {
+public:
+    // ops as the compiler wrote them, initial register values (constants), tables, textures by id.
+    ShaderProgram(std::vector<ShaderOp> ops, std::vector<float> registers, std::vector<float> data,
+                  std::vector<std::shared_ptr<const Texture>> textures);
+    // Folds every op that reads nothing of the hit into the initial registers (see the header).
+    void fold_constants();
+    bool is_constant() const { return varying_.empty(); }
+    // Runs the per-hit ops, then the closure ops, into `out`.
+    void eval(const ShaderContext& ctx, ShaderResult* out) const;
+    // Evaluates a constant program (no context needed).
+    ShaderResult eval_constant() const;
+    // Lobe templates: for every lobe the closure ops can produce, in Lobe::index order, its kind and
+    // Fresnel mode (spectral rendering keys its per-lobe data by index).
+    const std::vector<Lobe>& lobe_templates() const { return templates_; }
+    // Whether any closure op may emit light / let light through (after folding: an emission whose
+    // strength folded to 0 does not count).
+    bool may_emit() const { return may_emit_; }
+    bool may_be_transparent() const { return may_be_transparent_; }
+    size_t op_count() const { return ops_.size(); }
+    size_t varying_op_count() const { return varying_.size(); }
+    size_t register_count() const { return registers_.size(); }
+    // Parses an op name as the compiler writes it; false for unknown names.
+    static bool op_by_name(const std::string& name, ShaderOpCode* code);
+    static constexpr size_t kMaxRegisters = 4096;
+
+private:
+    void run(const ShaderOp& op, const ShaderContext* ctx, float* r, ShaderResult* out) const;
+    void analyse();
+    std::vector<ShaderOp> ops_;
+    std::vector<uint32_t> varying_;  // indices of the ops that run per hit (inputs and what they feed)
+    std::vector<uint32_t> closures_; // closure ops (run last, after every value op)
+    std::vector<float> registers_;
+    std::vector<float> data_;
+    std::vector<std::shared_ptr<const Texture>> textures_;
+    std::vector<Lobe> templates_;
+    bool may_emit_ = false, may_be_transparent_ = false;
+};
+
+}  // namespace smis
