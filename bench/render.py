@@ -198,7 +198,7 @@ _HEADER = ["import bpy", "scene = bpy.context.scene",
 
 
 def render_smis(blend, settings=None, out_dir=None, threads=0, timeout=3600, frame=1, retries=3,
-                addon_scripts=None, wrapper=None, render=None):
+                addon_scripts=None, wrapper=None, render=None, prelude=()):
     """Render `blend` with our engine; `settings` are applied to scene.smis and `render` (e.g.
     resolution_x) to scene.render. Returns a RenderRun.
 
@@ -208,7 +208,8 @@ def render_smis(blend, settings=None, out_dir=None, threads=0, timeout=3600, fra
     settings = dict(settings or {})
     out_dir = out_dir or tempfile.mkdtemp(prefix="smis_bench_")
     os.makedirs(out_dir, exist_ok=True)
-    code = _HEADER + _settings_code("scene.render", render or {}) + _settings_code("scene.smis", settings)
+    code = (_HEADER + list(prelude) + _settings_code("scene.render", render or {})
+            + _settings_code("scene.smis", settings))
     cmd = list(wrapper or []) + _command(blend, "SMIS", out_dir, code, threads, frame)
     env = dict(os.environ, BLENDER_USER_SCRIPTS=addon_scripts) if addon_scripts else None
     path, wall, output = _run(cmd, out_dir, frame, timeout, retries,
@@ -223,11 +224,12 @@ def render_smis(blend, settings=None, out_dir=None, threads=0, timeout=3600, fra
 
 
 def render_cycles(blend, samples, seed=0, time_limit=0.0, max_bounces=None, out_dir=None, threads=0,
-                  timeout=3600, frame=1, extra=None):
-    """Render `blend` with Cycles, unbiased settings, BOX 1 px filter. Returns a RenderRun."""
+                  timeout=3600, frame=1, extra=None, prelude=()):
+    """Render `blend` with Cycles, unbiased settings, BOX 1 px filter. Returns a RenderRun.
+    `prelude`: Python lines run on the scene first (bpy and scene are defined)."""
     out_dir = out_dir or tempfile.mkdtemp(prefix="cycles_bench_")
     os.makedirs(out_dir, exist_ok=True)
-    code = _HEADER + [
+    code = _HEADER + list(prelude) + [
         "import sys", "sys.path.insert(0, %r)" % os.path.join(ROOT, "scenes"),
         "from cycles_settings import make_cycles_unbiased",
         "make_cycles_unbiased(scene, max_bounces=%r)" % max_bounces,

@@ -15,8 +15,8 @@ CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, con
 }
 
 bool candidate_visible(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e) {
-    float tmax = std::isinf(e.ls.dist) ? kInf : e.ls.dist * (1.0f - 1e-4f);
-    return !scene.occluded(spawn_origin(sp, e.ls.wi), e.ls.wi, tmax);
+    const ShadowRay shadow = shadow_ray(sp, e.ls.wi, e.ls.dist);
+    return !scene.occluded(shadow.o, shadow.d, shadow.tmax);
 }
 
 Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng,

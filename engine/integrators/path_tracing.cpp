@@ -40,13 +40,12 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
         if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;
         return ds;
     }
-    float tmax = std::isinf(ls.dist) ? kInf : ls.dist * (1.0f - 1e-4f);
+    const ShadowRay shadow = shadow_ray(sp, ls.wi, ls.dist);
     Color tr(1.0f);
     if (!scene.has_media()) {
-        if (scene.occluded(spawn_origin(sp, ls.wi), ls.wi, tmax)) return ds;
+        if (scene.occluded(shadow.o, shadow.d, shadow.tmax)) return ds;
     } else {
-        tr = shadow_transmittance(scene, spawn_origin(sp, ls.wi), ls.wi, tmax,
-                                  medium_towards(scene, sp, ls.wi, medium));
+        tr = shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, medium_towards(scene, sp, ls.wi, medium));
         if (is_black(tr)) return ds;
     }
     float light_pdf = pmf * ls.pdf;
@@ -100,7 +99,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         if constexpr (kMedia) {
             RayMedia media;
             found = intersect_through(scene, ray, state.medium, &hit, &media);
-            L += beta * emission_along(scene, settings, ray, found, hit, state, &media);
+            L += beta * emission_along(scene, settings, ray, found, hit, state, &media, &sray);
             // Single scattering at this bounce (Cycles' volume bounces = 0: no path continues from
             // a scattering vertex, so only its next-event estimate counts).
             if (state.depth <= settings.max_bounces)
@@ -111,7 +110,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
             if (is_black(beta)) break;
         } else {
             found = scene.intersect(ray, &hit);
-            L += beta * emission_along(scene, settings, ray, found, hit, state);
+            L += beta * emission_along(scene, settings, ray, found, hit, state, nullptr, &sray);
         }
         // The ray leaving the last allowed bounce only collects emission (Cycles' max_bounces).
         if (!found || state.depth > settings.max_bounces) break;

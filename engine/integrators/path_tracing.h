@@ -25,6 +25,25 @@ void next_shader_ray(const Bsdf& bsdf, const BsdfSample& bs, ShaderRay* ray);
 inline Vec3 spawn_origin(const ShadingPoint& sp, const Vec3& d) {
     return offset_ray_origin(sp.hit.p, dot(d, sp.ng) > 0.0f ? sp.ng : -sp.ng);
 }
+// A shadow ray from the shading point to the point `dist` along `wi` (a light sample; at infinity
+// when dist is): from the offset origin, aimed at that point, stopping 1e-4 of the way short of it.
+// The offset (256 ulps along the normal: 3e-5 at coordinates near 2) brings the origin closer to
+// the target's plane, so along the unchanged direction the ray met that plane (a mesh light's own
+// triangle) before dist * (1 - 1e-4) whenever the shading point lay within up to 0.3 |p| of it (|p|
+// its coordinates, times the normals' cosine): a mesh light 5 cm below a ceiling never lit it by
+// light samples, only through the BSDF samples' share of MIS.
+struct ShadowRay {
+    Vec3 o, d;
+    float tmax;
+};
+inline ShadowRay shadow_ray(const ShadingPoint& sp, const Vec3& wi, float dist) {
+    Vec3 o = spawn_origin(sp, wi);
+    if (std::isinf(dist)) return {o, wi, kInf};
+    Vec3 to = sp.hit.p + wi * dist - o;
+    float len = length(to);
+    if (!(len > 0.0f) || !std::isfinite(len)) return {o, wi, dist * (1.0f - 1e-4f)};
+    return {o, to / len, len * (1.0f - 1e-4f)};
+}
 
 // The MIS state carried from one vertex to the next.
 struct PathState {
@@ -73,11 +92,12 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
 // of the first hit, from that hit if it emits, or from lights at infinity when nothing is hit;
 // MIS-weighted against next-event estimation from the previous vertex, attenuated by `media` when
 // given. Calls add(light index, weighted radiance) once per light found (spectral rendering needs
-// to know which light).
+// to know which light). `kind`: the ray's Light Path state, for a World program that reads it (a
+// backplate seen by camera rays only); null: a camera ray at depth 0, an indirect ray after.
 template <class Add>
 void for_each_emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
                              const SurfaceHit& hit, const PathState& state, Add&& add,
-                             const RayMedia* media = nullptr) {
+                             const RayMedia* media = nullptr, const ShaderRay* kind = nullptr) {
     auto weight = [&](float light_pmf, float light_pdf) {
         return state.prev_delta ? 1.0f
                                 : mis_weight(settings.mis, state.prev_pdf, state.light_pdf_scale * light_pmf * light_pdf);
@@ -94,8 +114,12 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
     auto far = [&](const Color& Le) { return media ? Le * media_transmittance_to_end(*media) : Le; };
     if (!found) {
         LightHit h;
+        ShaderRay k = kind ? *kind : ShaderRay{};
+        if (!kind) k.camera = state.depth == 0;
+        k.depth = state.depth;
+        k.length = 0.0f;  // Cycles' background shader data
         for (uint32_t i : scene.infinite_lights())
-            if ((state.depth > 0 || scene.light(i).visible_to_camera) && scene.light(i).intersect(to_hit, &h))
+            if ((state.depth > 0 || scene.light(i).visible_to_camera) && scene.light(i).intersect_as(to_hit, k, &h))
                 add(i, far(h.L * weight(scene.light_pmf(i), h.pdf)));
     } else if (hit.light >= 0) {
         auto& tri = static_cast<const TriangleLight&>(scene.light(hit.light));
@@ -104,10 +128,11 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
     }
 }
 inline Color emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
-                            const SurfaceHit& hit, const PathState& state, const RayMedia* media = nullptr) {
+                            const SurfaceHit& hit, const PathState& state, const RayMedia* media = nullptr,
+                            const ShaderRay* kind = nullptr) {
     Color L(0.0f);
     for_each_emission_along(
-        scene, settings, ray, found, hit, state, [&](uint32_t, const Color& c) { L += c; }, media);
+        scene, settings, ray, found, hit, state, [&](uint32_t, const Color& c) { L += c; }, media, kind);
     return L;
 }
 

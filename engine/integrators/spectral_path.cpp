@@ -217,12 +217,16 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
         float lum = luminance(weighted);
         if (lum > 0.0f) L += p.emission(spectral_.emitter(light), lum);
     };
+    ShaderRay sray;  // what the Light Path node reports for the next hit
+    sray.camera = state.depth == 0;
     for (;; ++state.depth) {
         SurfaceHit hit;
         bool found = scene.intersect(ray, &hit);
         for_each_emission_along(scene, settings, ray, found, hit, state, add_emission);
         if (!found || state.depth > settings.max_bounces) break;
-        ShadingPoint sp = make_shading_point(scene, hit, ray.d);
+        sray.depth = state.depth;
+        sray.length = hit.t;
+        ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
         if (sp.bsdf.empty()) break;
         const SpectralMaterial& sm = spectral_.material(hit.material);
         if (sm.dispersive) sp.bsdf = dispersed_bsdf(sp, sm, p.lambda_c());
@@ -246,6 +250,7 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
             for (int i = 0; i < p.n; ++i) p.beta[i] *= f[i] * inv_pdf;
         }
         if (bs.transmission) eta_scale *= sqr(bs.eta);
+        next_shader_ray(sp.bsdf, bs, &sray);
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;
         state.prev_p = hit.p;

@@ -214,9 +214,45 @@ LobeInput parse_lobe_input(const Scene& s, const py::dict& d) {
     return in;
 }
 
+// A texture from add_texture's arguments.
+std::shared_ptr<Texture> make_texture(const py::array_t<float, py::array::c_style | py::array::forcecast>& rgba,
+                                      const std::string& colorspace, const std::string& interpolation,
+                                      const std::string& extension, const std::string& alpha_mode, bool byte_image,
+                                      bool alpha_linked) {
+    int w, h;
+    const float* data = image_data(rgba, &w, &h);
+    Texture::Options o;
+    o.wrap = extension == "EXTEND" ? Texture::Wrap::Extend
+             : extension == "CLIP" ? Texture::Wrap::Clip
+             : extension == "MIRROR" ? Texture::Wrap::Mirror
+                                      : Texture::Wrap::Repeat;
+    o.interp = interpolation == "Closest" ? Texture::Interp::Closest
+               : (interpolation == "Cubic" || interpolation == "Smart") ? Texture::Interp::Cubic
+                                                                          : Texture::Interp::Linear;
+    o.alpha_mode = alpha_mode == "STRAIGHT" ? Texture::AlphaMode::Straight
+                   : alpha_mode == "PREMUL" ? Texture::AlphaMode::Premul
+                   : alpha_mode == "NONE" ? Texture::AlphaMode::None
+                                          : Texture::AlphaMode::ChannelPacked;
+    o.byte_image = byte_image;
+    o.alpha_linked = alpha_linked;
+    return value_errors([&] { return std::make_shared<Texture>(data, w, h, colorspace, o); });
+}
+
+std::shared_ptr<const ShaderProgram> parse_program_with(const py::dict& d,
+                                                        std::vector<std::shared_ptr<const Texture>> textures);
+
 // A compiled node tree (addon sync/shader_compiler.py): {"registers": [float], "data": [float],
 // "textures": [texture id], "ops": [(name, inputs, outputs, ints, floats, data offset)]}.
 std::shared_ptr<const ShaderProgram> parse_program(const Scene& s, const py::dict& d) {
+    std::vector<std::shared_ptr<const Texture>> textures;
+    for (auto id : d["textures"])
+        textures.push_back(value_errors([&] { return s.texture(id.cast<uint32_t>()); }));
+    return parse_program_with(d, std::move(textures));
+}
+
+// The same with the program's textures given (its "textures" entry is not read).
+std::shared_ptr<const ShaderProgram> parse_program_with(const py::dict& d,
+                                                        std::vector<std::shared_ptr<const Texture>> textures) {
     std::vector<ShaderOp> ops;
     for (auto item : d["ops"]) {
         auto t = item.cast<py::tuple>();
@@ -243,9 +279,6 @@ std::shared_ptr<const ShaderProgram> parse_program(const Scene& s, const py::dic
         op.data = t[5].cast<uint32_t>();
         ops.push_back(op);
     }
-    std::vector<std::shared_ptr<const Texture>> textures;
-    for (auto id : d["textures"])
-        textures.push_back(value_errors([&] { return s.texture(id.cast<uint32_t>()); }));
     auto program = value_errors([&] {
         return std::make_shared<ShaderProgram>(std::move(ops), d["registers"].cast<std::vector<float>>(),
                                                d["data"].cast<std::vector<float>>(), std::move(textures));
@@ -294,6 +327,46 @@ Material parse_material(Scene& s, const py::dict& d) {
     return mat;
 }
 
+// The World (addon sync/world.py): {"color", "strength"} for a constant one, and optionally
+// "program" (a compiled World Surface whose "textures" index "images", each add_texture's keyword
+// arguments or {"missing": True}), "map_resolution": (width, height) of the importance map,
+// "visible_camera". The world's images live with its program (a world edit frees the old ones).
+WorldDesc parse_world(const py::dict& d) {
+    WorldDesc w;
+    w.radiance = get_color(d, "color", Color(0.0f)) * get<float>(d, "strength", 1.0f);
+    w.visible_to_camera = get<bool>(d, "visible_camera", true);
+    if (d.contains("map_resolution") && !d["map_resolution"].is_none()) {
+        auto r = d["map_resolution"].cast<std::vector<int>>();
+        if (r.size() != 2) throw py::value_error("map_resolution needs (width, height)");
+        w.map_width = r[0], w.map_height = r[1];
+    }
+    if (d.contains("program") && !d["program"].is_none()) {
+        std::vector<std::shared_ptr<const Texture>> images;
+        if (d.contains("images"))
+            for (auto item : d["images"]) {
+                auto im = item.cast<py::dict>();
+                if (get<bool>(im, "missing", false)) {
+                    images.push_back(Texture::missing());
+                    continue;
+                }
+                images.push_back(make_texture(im["rgba"].cast<FloatArray>(), get<std::string>(im, "colorspace", "linear"),
+                                              get<std::string>(im, "interpolation", "Linear"),
+                                              get<std::string>(im, "extension", "REPEAT"),
+                                              get<std::string>(im, "alpha_mode", "STRAIGHT"),
+                                              get<bool>(im, "byte_image", false), get<bool>(im, "alpha_linked", false)));
+            }
+        auto program = d["program"].cast<py::dict>();
+        std::vector<std::shared_ptr<const Texture>> textures;
+        for (auto id : program["textures"]) {
+            auto i = id.cast<int64_t>();
+            if (i < 0 || size_t(i) >= images.size()) throw py::value_error("world program: unknown image");
+            textures.push_back(images[size_t(i)]);
+        }
+        w.program = parse_program_with(program, std::move(textures));
+    }
+    return w;
+}
+
 LightDesc parse_light(const py::dict& d) {
     LightDesc l;
     l.type = get<std::string>(d, "type", "POINT");
@@ -339,8 +412,9 @@ PYBIND11_MODULE(_smis, m) {
             [](Scene& s, const py::list& lights, const py::dict& world) {
                 std::vector<LightDesc> descs;
                 for (auto l : lights) descs.push_back(parse_light(l.cast<py::dict>()));
-                Color radiance = get_color(world, "color", Color(0.0f)) * get<float>(world, "strength", 1.0f);
-                return value_errors([&] { return s.replace_lights(descs, radiance); });
+                WorldDesc w = parse_world(world);
+                py::gil_scoped_release release;  // the World's importance map is built here
+                return value_errors([&] { return s.replace_lights(descs, w); });
             },
             "Viewport scenes: all lamps (add_light's dicts) and the world (set_world's dict, no volume) "
             "edited; False if the scene must be rebuilt instead")
@@ -349,23 +423,8 @@ PYBIND11_MODULE(_smis, m) {
             [](Scene& s, py::array_t<float, py::array::c_style | py::array::forcecast> rgba, const std::string& colorspace,
                const std::string& interpolation, const std::string& extension, const std::string& alpha_mode,
                bool byte_image, bool alpha_linked) {
-                int w, h;
-                const float* data = image_data(rgba, &w, &h);
-                Texture::Options o;
-                o.wrap = extension == "EXTEND" ? Texture::Wrap::Extend
-                         : extension == "CLIP" ? Texture::Wrap::Clip
-                         : extension == "MIRROR" ? Texture::Wrap::Mirror
-                                                  : Texture::Wrap::Repeat;
-                o.interp = interpolation == "Closest" ? Texture::Interp::Closest
-                           : (interpolation == "Cubic" || interpolation == "Smart") ? Texture::Interp::Cubic
-                                                                                      : Texture::Interp::Linear;
-                o.alpha_mode = alpha_mode == "STRAIGHT" ? Texture::AlphaMode::Straight
-                               : alpha_mode == "PREMUL" ? Texture::AlphaMode::Premul
-                               : alpha_mode == "NONE" ? Texture::AlphaMode::None
-                                                      : Texture::AlphaMode::ChannelPacked;
-                o.byte_image = byte_image;
-                o.alpha_linked = alpha_linked;
-                return value_errors([&] { return s.add_texture(std::make_shared<Texture>(data, w, h, colorspace, o)); });
+                auto texture = make_texture(rgba, colorspace, interpolation, extension, alpha_mode, byte_image, alpha_linked);
+                return value_errors([&] { return s.add_texture(texture); });
             },
             py::arg("rgba"), py::arg("colorspace"), py::arg("interpolation") = "Linear", py::arg("extension") = "REPEAT",
             py::arg("alpha_mode") = "CHANNEL_PACKED", py::arg("byte_image") = false, py::arg("alpha_linked") = false,
@@ -454,7 +513,7 @@ PYBIND11_MODULE(_smis, m) {
              })
         .def("set_world",
              [](Scene& s, const py::dict& d) {
-                 s.set_world(get_color(d, "color", Color(0.0f)) * get<float>(d, "strength", 1.0f));
+                 s.set_world(parse_world(d));
                  if (d.contains("volume") && !d["volume"].is_none())
                      value_errors([&] { s.set_world_medium(add_medium(s, d["volume"].cast<py::dict>())); });
              })

@@ -10,6 +10,7 @@
 #include "core/sampling.h"
 #include "scene/camera.h"
 #include "scene/texture.h"
+#include "shading/shader_context.h"
 
 namespace smis {
 
@@ -46,6 +47,9 @@ public:
     // Intersection by a ray for lights that are not scene geometry (area, point/spot disks, sun, world).
     // Lights at infinity report t = kInf and are only struck by rays that escape the scene.
     virtual bool intersect(const Ray& ray, LightHit* hit) const { return false; }
+    // The same for a ray of a known kind (camera, diffuse, ...: the Light Path node of a World
+    // program, see EnvironmentLight); lights that do not depend on it ignore the kind.
+    virtual bool intersect_as(const Ray& ray, const ShaderRay& kind, LightHit* hit) const { return intersect(ray, hit); }
     virtual bool at_infinity() const { return false; }
     virtual bool is_delta() const { return false; }
     // True when sample(ref, u) picks the same light point for every ref (uniform area sampling, a

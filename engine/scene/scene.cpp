@@ -6,6 +6,7 @@
 
 #include "spectral/spectra.h"
 #include "scene/embree_ray.h"
+#include "scene/environment_light.h"
 #include "core/rng.h"
 
 namespace smis {
@@ -378,6 +379,12 @@ uint32_t Scene::add_light(const LightDesc& desc) {
 }
 
 bool Scene::replace_lights(const std::vector<LightDesc>& descs, const Color& world) {
+    WorldDesc w;
+    w.radiance = world;
+    return replace_lights(descs, w);
+}
+
+bool Scene::replace_lights(const std::vector<LightDesc>& descs, const WorldDesc& world) {
     if (!committed_ || !fast_build_ || world_medium_ >= 0) return false;
     for (const LightDesc& d : descs) {  // every light checked before anything changes
         check_emitter(d.spectrum, d.temperature, "light");
@@ -411,8 +418,18 @@ void Scene::update_spectral_content() {
 }
 
 void Scene::finish_lights() {
-    if (max_component(world_) > 0.0f) {
+    if (world_desc_.program) {
+        // A World that varies over directions; viewport scenes keep the map small (it is rebuilt
+        // on every world edit).
+        int w = world_desc_.map_width, h = world_desc_.map_height;
+        if (fast_build_ && (w <= 0 || w > 1024 || h <= 0 || h > 512)) w = 1024, h = 512;
+        auto env = std::make_unique<EnvironmentLight>(world_desc_.program, this, w, h);
+        env->visible_to_camera = world_desc_.visible_to_camera;
+        emitter_sources_.push_back({"RGB", 6500.0f, env->average()});
+        lights_.push_back(std::move(env));
+    } else if (max_component(world_) > 0.0f) {
         lights_.push_back(std::make_unique<WorldLight>(world_));
+        lights_.back()->visible_to_camera = world_desc_.visible_to_camera;
         emitter_sources_.push_back({"RGB", 6500.0f, world_});
     }
     update_spectral_content();
@@ -452,6 +469,19 @@ void Scene::update_skipped() {
 
 void Scene::set_world(const Color& radiance) {
     world_ = is_finite(radiance) ? vmax(radiance, Color(0.0f)) : Color(0.0f);
+    world_desc_ = WorldDesc{};
+    world_desc_.radiance = world_;
+}
+
+void Scene::set_world(const WorldDesc& world) {
+    set_world(world.radiance);
+    world_desc_ = world;
+    if (world.program && world.program->is_constant()) {
+        // Folded to a constant (a Background with unlinked inputs, an RGB node, ...): the cheap
+        // uniform light, as Cycles disables its background map for a world without variation.
+        set_world(world.program->eval_constant().emission);
+        world_desc_.visible_to_camera = world.visible_to_camera;
+    }
 }
 
 int32_t Scene::add_medium(const Medium& medium) {

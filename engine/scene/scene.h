@@ -40,6 +40,16 @@ struct EmitterSource {
     Color color{1.0f};
 };
 
+// The World's Surface: a constant radiance, or a shader program evaluated per direction (the
+// add-on's compile_world), importance-sampled by an EnvironmentLight whose map has
+// map_width x map_height cells (0: 1024 x 512; viewport scenes cap it at 1024 x 512).
+struct WorldDesc {
+    Color radiance{0.0f};                          // used when there is no program
+    std::shared_ptr<const ShaderProgram> program;  // null: the constant radiance
+    int map_width = 0, map_height = 0;
+    bool visible_to_camera = true;
+};
+
 // A per-corner mesh attribute (UV maps by name, colour attributes) as the add-on exports it:
 // nt x 3 x dims floats, triangle order as given to add_mesh.
 struct AttributeInput {
@@ -78,6 +88,9 @@ public:
                       float random = 0.0f, float pass_index = 0.0f, float object_alpha = 1.0f);
     uint32_t add_light(const LightDesc& desc);  // throws std::invalid_argument for unusable lights
     void set_world(const Color& radiance);
+    // A World program that folded to a constant becomes the uniform WorldLight; any other the
+    // EnvironmentLight (its map is built in commit()).
+    void set_world(const WorldDesc& world);
     // Homogeneous media, referenced by Material::medium and by the world (-1: no world volume).
     // Throws std::invalid_argument for non-finite or negative coefficients.
     int32_t add_medium(const Medium& medium);
@@ -106,6 +119,7 @@ public:
     // old ones; the emissive triangles stay. Throws std::invalid_argument, changing nothing, for an
     // unusable light. The world's volume is not part of it (a new scene).
     bool replace_lights(const std::vector<LightDesc>& lights, const Color& world);
+    bool replace_lights(const std::vector<LightDesc>& lights, const WorldDesc& world);
 
     // --- queries (thread-safe after commit) --------------------------------------------------------
     bool intersect(const Ray& ray, SurfaceHit* hit) const;
@@ -239,7 +253,8 @@ private:
     DiscreteDistribution light_selection_;
     Camera camera_;
     bool has_camera_ = false, committed_ = false, fast_build_ = false, varying_materials_ = false;
-    Color world_{0.0f};
+    Color world_{0.0f};  // the constant World's radiance (also a program that folded to a constant)
+    WorldDesc world_desc_;  // the program, map size and visibility
     std::vector<Medium> media_;
     int32_t world_medium_ = -1, camera_medium_ = -1;
     bool has_media_ = false;

@@ -43,6 +43,9 @@ struct ShaderContext {
     float object_alpha = 1.0f, object_random = 0.0f, object_index = 0.0f, material_index = 0.0f;
     Vec3 texspace_location{0.0f}, texspace_size{1.0f};
     ShaderRay ray;
+    // The World (Cycles' background shader data, EnvironmentLight::context): P is the direction the
+    // ray leaves the scene in, N = Ng = I = -P, no object; Texture Coordinate reads it differently.
+    bool background = false;
 };
 
 }  // namespace smis

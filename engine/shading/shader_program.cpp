@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "scene/environment_light.h"
 #include "scene/scene.h"
 #include "shading/image_projection.h"
 #include "shading/node_math.h"
@@ -49,7 +50,8 @@ constexpr struct {
     {"rgb_to_bw", Op::RgbToBw}, {"blackbody", Op::Blackbody}, {"wavelength", Op::Wavelength},
     {"convert", Op::Convert}, {"mix_weights", Op::MixWeights}, {"diffuse", Op::Diffuse}, {"glossy", Op::Glossy},
     {"glass", Op::Glass}, {"transparent", Op::Transparent}, {"principled", Op::Principled},
-    {"emission", Op::Emission}, {"holdout", Op::Holdout},
+    {"emission", Op::Emission}, {"holdout", Op::Holdout}, {"tex_environment", Op::TexEnvironment},
+    {"background", Op::Background},
 };
 
 bool is_closure(Op code) { return code >= Op::Diffuse; }
@@ -140,6 +142,23 @@ Vec3 to_camera_space(const Camera& cam, const Vec3& p, bool point) {
     return {dot(d, cam.right_axis()), dot(d, cam.up_axis()), dot(d, cam.forward_axis())};
 }
 
+// Texture Coordinate in the World (Cycles' svm_node_tex_coord with no object): Generated, Object
+// and Position are the direction D, Normal -D, UV 0, Reflection the incoming I = -D, Camera D in
+// camera axes (the point at distance 1 along D from the camera), Window that point's projection.
+// object_tfm: the node's Object (world -> object rows), or null.
+void tex_coord_background(const ShaderOp& op, const ShaderContext& c, const float* object_tfm, float* r) {
+    store3(r, op.out[0], c.P);
+    store3(r, op.out[1], c.N);
+    store3(r, op.out[2], Vec3(0.0f));
+    if (op.out[3] != kNoReg) store3(r, op.out[3], object_tfm ? transform_from(object_tfm).point(c.P) : c.P);
+    if ((op.out[4] != kNoReg || op.out[5] != kNoReg) && c.scene) {
+        const Camera& cam = c.scene->camera();
+        store3(r, op.out[4], to_camera_space(cam, c.P, false));
+        store3(r, op.out[5], cam.window_coordinates(cam.origin() + c.P));
+    }
+    store3(r, op.out[6], c.I);
+}
+
 }  // namespace
 
 bool ShaderProgram::op_by_name(const std::string& name, ShaderOpCode* code) {
@@ -155,19 +174,20 @@ ShaderProgram::ShaderProgram(std::vector<ShaderOp> ops, std::vector<float> regis
                              std::vector<std::shared_ptr<const Texture>> textures)
     : ops_(std::move(ops)), registers_(std::move(registers)), data_(std::move(data)), textures_(std::move(textures)) {
     if (registers_.size() > kMaxRegisters) throw std::invalid_argument("shader program: too many registers");
-    // Every register reference must be inside the file, with room for a vector (3 floats).
+    // Every register reference must be inside the file; a vector read at the last float stays
+    // inside thanks to two floats of padding.
+    const size_t n = registers_.size();
     auto check = [&](uint16_t r) {
-        if (r != kNoReg && size_t(r) + 3 > registers_.size() + 2 && size_t(r) >= registers_.size())
-            throw std::invalid_argument("shader program: register out of range");
+        if (r != kNoReg && size_t(r) >= n) throw std::invalid_argument("shader program: register out of range");
     };
-    // Registers are padded so a vector read at the last float stays inside.
-    registers_.resize(registers_.size() + 2, 0.0f);
+    registers_.resize(n + 2, 0.0f);
     for (float& v : registers_)
         if (!std::isfinite(v)) v = 0.0f;  // NaN socket values: Blender would not render them either
     for (const ShaderOp& op : ops_) {
         for (uint16_t r : op.in) check(r);
         for (uint16_t r : op.out) check(r);
-        if (op.code == Op::TexImage && (op.i[0] < 0 || size_t(op.i[0]) >= textures_.size()))
+        if ((op.code == Op::TexImage || op.code == Op::TexEnvironment) &&
+            (op.i[0] < 0 || size_t(op.i[0]) >= textures_.size()))
             throw std::invalid_argument("shader program: unknown texture");
         if (op.code == Op::ColorRamp || op.code == Op::RgbCurves || op.code == Op::VectorCurves) {
             if (op.i[0] < 1 || size_t(op.data) + size_t(op.i[0]) * 4 > data_.size())
@@ -233,7 +253,7 @@ void ShaderProgram::analyse() {
         varying_closure = varying_closure || reads_varying(op);
         const float* r = registers_.data();
         bool weight_zero = !reads_varying(op) && !(load1(r, op.in[0], 1.0f) != 0.0f);
-        if (op.code == Op::Emission) {
+        if (op.code == Op::Emission || op.code == Op::Background) {
             bool zero = !reads_varying(op) && (weight_zero || is_black(load3(r, op.in[1], Color(1.0f)) * load1(r, op.in[2], 1.0f)));
             may_emit_ = may_emit_ || !zero;
         }
@@ -387,6 +407,10 @@ void ShaderProgram::run(const ShaderOp& op, const ShaderContext* ctxp, float* r,
     switch (op.code) {
         case Op::TexCoord: {
             const ShaderContext& c = *ctxp;
+            if (c.background) {
+                tex_coord_background(op, c, op.i[0] == 1 ? &data_[op.data] : nullptr, r);
+                break;
+            }
             Vec3 obj = c.to_object.point(c.P);
             if (op.out[0] != kNoReg)  // Generated: the object's texture space box mapped to [0, 1]
                 store3(r, op.out[0], safe_divide(obj - c.texspace_location, c.texspace_size * 2.0f) + Vec3(0.5f));
@@ -672,6 +696,16 @@ void ShaderProgram::run(const ShaderOp& op, const ShaderContext* ctxp, float* r,
             store3(r, op.out[1], t.color);
             break;
         }
+        case Op::TexEnvironment: {
+            // Cycles' Environment Texture: the vector's direction projected onto the image,
+            // equirectangular (i1 = 0) or mirror ball (1); the image's own interpolation.
+            Vec3 d = safe_normalize(load3(r, op.in[0], zero), zero);
+            Point2 uv = op.i[1] == 1 ? direction_to_mirrorball(d) : direction_to_equirectangular(d);
+            TextureSample s = textures_[op.i[0]]->lookup(uv);
+            store3(r, op.out[0], s.rgb);
+            store1(r, op.out[1], s.alpha);
+            break;
+        }
         case Op::Mix: {
             float fac = load1(r, op.in[0], 0.5f);
             if (op.i[1]) fac = clamp01(fac);
@@ -879,6 +913,11 @@ void ShaderProgram::run(const ShaderOp& op, const ShaderContext* ctxp, float* r,
             break;
         }
         case Op::Holdout: out->holdout += Color(std::max(load1(r, op.in[0], 1.0f), 0.0f)); break;
+        case Op::Background: {  // the World's Background node: as an Emission
+            Color e = load3(r, op.in[1], Color(0.8f)) * (load1(r, op.in[2], 1.0f) * load1(r, op.in[0], 1.0f));
+            if (is_finite(e)) out->emission += vmax(e, zero);
+            break;
+        }
         case Op::Principled: principled(op, r, out); break;
         case Op::Count: break;
     }

@@ -29,6 +29,7 @@ enum class ShaderOpCode : uint16_t {
     BumpEnter, BumpLeave, Bump, NormalMap,
     // textures
     TexImage, TexNoise, TexVoronoi, TexMusgrave, TexWave, TexMagic, TexChecker, TexBrick, TexGradient, TexWhiteNoise,
+    TexEnvironment,
     // colour
     Mix, MixFloat, MixVector, RgbCurves, VectorCurves, Invert, HueSatVal, BrightContrast, Gamma,
     // vector
@@ -38,6 +39,7 @@ enum class ShaderOpCode : uint16_t {
     RgbToBw, Blackbody, Wavelength, Convert, MixWeights,
     // closures
     Diffuse, Glossy, Glass, Transparent, Principled, Emission, Holdout,
+    Background,  // the World's Background node: colour x strength into ShaderResult::emission
     Count
 };
 

@@ -767,7 +767,24 @@ def _clamp(c, node, ctx):
     return res
 
 
+def _ambient_occlusion(c, node, ctx):
+    c.warn_node(node, "(Ambient Occlusion) is not supported; its Color passes through and AO is 1")
+    color = c.input(node, "Color", ctx, COLOR)
+    return {node.outputs["Color"].identifier: color, node.outputs["AO"].identifier: c.constant(1.0, FLOAT)}
+
+
+def _bevel(c, node, ctx):
+    c.warn_node(node, "(Bevel) is not supported; its Normal is the surface's")
+    n = c.normal_input(node, "Normal", ctx)
+    if n is None:
+        n = c.alloc(VEC)
+        c.op("geometry", [], [None, n])
+    return {node.outputs["Normal"].identifier: n}
+
+
 VALUE_NODES = {
+    "ShaderNodeAmbientOcclusion": _ambient_occlusion,
+    "ShaderNodeBevel": _bevel,
     "ShaderNodeValue": _value,
     "ShaderNodeRGB": _rgb,
     "ShaderNodeTexCoord": _texcoord,
@@ -916,8 +933,6 @@ SHADER_NODES = {
     "ShaderNodeBsdfPrincipled": _principled,
     "ShaderNodeHoldout": _holdout,
 }
-UNSUPPORTED_VALUE_NODES = {"ShaderNodeAmbientOcclusion": "Ambient Occlusion", "ShaderNodeBevel": "Bevel",
-                           "ShaderNodeShaderToRGB": "Shader to RGB", "ShaderNodeScript": "Script"}
 
 
 def compile_material(material, output_node, warn, textures, scene):
@@ -925,3 +940,100 @@ def compile_material(material, output_node, warn, textures, scene):
     c = ShaderCompiler(material.name, warn, textures, scene)
     c.compile_surface(output_node)
     return c.program(), c.uses_uv
+
+
+# -- the World --------------------------------------------------------------------------------------
+# A World's Surface compiles with the same nodes, evaluated per direction (engine/scene/
+# environment_light.h): Background (and Emission, which Cycles' background treats alike) add to the
+# radiance; Texture Coordinate, Geometry and Light Path read the direction and the ray's kind.
+
+class _EnvironmentNode:
+    """An Environment Texture node as TextureCache reads an Image Texture node: Cycles repeats it."""
+    extension = "REPEAT"
+
+    def __init__(self, node):
+        self._node = node
+
+    def __getattr__(self, name):
+        return getattr(self._node, name)
+
+
+def _position(c):
+    """Geometry's Position: the shading point, or the direction in the World (Cycles' default vector
+    of the Environment Texture)."""
+    v = c.alloc(VEC)
+    c.op("geometry", [], [v])
+    return v
+
+
+def _tex_environment(c, node, ctx):
+    res, regs = _outs(c, node, [("Color", COLOR), ("Alpha", FLOAT)])
+    if c.textures is None:
+        c.op("convert", [c.constant(0.0, FLOAT)], [regs[0]], [0])
+        return res
+    tex_id = c.textures.id_for(_EnvironmentNode(node))  # no image: Cycles' magenta
+    local = len(c.texture_ids)
+    c.texture_ids.append(tex_id)
+    vec = c.input(node, "Vector", ctx, VEC, lambda: _position(c))
+    c.op("tex_environment", [vec], regs, [local, 1 if node.projection == "MIRROR_BALL" else 0])
+    sizes = getattr(c, "environment_sizes", None)
+    if sizes is not None and node.image is not None:
+        try:
+            w, h = node.image.size
+            if w > 0 and h > 0:
+                sizes.append((int(w), int(h)))
+        except (RuntimeError, ReferenceError):
+            pass
+    return res
+
+
+def _tex_sky(c, node, ctx):
+    c.warn_node(node, "(Sky Texture, %s) is not supported by SMIS yet: it renders black. Bake the sky "
+                      "into an image and use an Environment Texture instead" % node.sky_type)
+    res, regs = _outs(c, node, [("Color", COLOR)])
+    return res
+
+
+VALUE_NODES["ShaderNodeTexEnvironment"] = _tex_environment
+VALUE_NODES["ShaderNodeTexSky"] = _tex_sky
+
+# Shader nodes with a meaning in the World (Cycles keeps only background and emission closures there).
+_WORLD_SHADER_NODES = {"ShaderNodeBackground", "ShaderNodeEmission", "ShaderNodeMixShader", "ShaderNodeAddShader"}
+
+
+class _WorldCompiler(ShaderCompiler):
+    """Compiles a World's Surface: Background becomes the "background" closure op, BSDFs add nothing."""
+
+    def __init__(self, world_name, warn, textures):
+        super().__init__(world_name, warn, textures, None)
+        self.environment_sizes = []  # (width, height) of the Environment Texture images
+
+    def warn_node(self, node, text):
+        key = (node.as_pointer(), text)
+        if key in self._warned:
+            return
+        self._warned.add(key)
+        self.warn("World '%s': node '%s' (%s) %s" % (self.name, node.name, node.bl_idname, text))
+
+    def shader(self, socket, weight, ctx):
+        src = nodes.linked_output(socket)
+        if src is not None and src.type == "SHADER":
+            node = src.node
+            if node.bl_idname == "ShaderNodeBackground":
+                self.op("background", [weight, self.input(node, "Color", ctx, COLOR),
+                                       self.input(node, "Strength", ctx, FLOAT)])
+                return
+            group = node.bl_idname in ("ShaderNodeGroup", "NodeGroup", "NodeGroupInput") or node.type == "GROUP"
+            if not group and node.bl_idname not in _WORLD_SHADER_NODES:
+                self.warn_node(node, "is not a World shader (Background, Emission, Mix or Add Shader); it adds "
+                                     "nothing, as in Cycles")
+                return
+        super().shader(socket, weight, ctx)
+
+
+def compile_world(world, output_node, warn, textures):
+    """The program dict for a World's Surface (textures: a TextureCache), and the sizes of its
+    Environment Texture images (for Cycles' automatic importance map resolution)."""
+    c = _WorldCompiler(world.name, warn, textures)
+    c.shader(output_node.inputs["Surface"], c.constant(1.0, FLOAT), _Context())
+    return c.program(), c.environment_sizes

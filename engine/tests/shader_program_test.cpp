@@ -1,0 +1,180 @@
+// Shader programs (shading/shader_program.h): constant folding, per-hit evaluation through the scene,
+// the Principled expansion, transparency and emission, and bad programs refused or made harmless.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "scene/scene.h"
+#include "shading/node_math.h"
+#include "shading/shader_program.h"
+#include "test_scenes.h"
+
+using namespace smis;
+using smis::testing::camera_at;
+
+namespace {
+
+// A tiny program builder: registers hold floats, vectors take three.
+struct Builder {
+    std::vector<ShaderOp> ops;
+    std::vector<float> regs;
+    uint16_t constant(float v) {
+        regs.push_back(v);
+        return uint16_t(regs.size() - 1);
+    }
+    uint16_t constant3(const Vec3& v) {
+        regs.insert(regs.end(), {v.x, v.y, v.z});
+        return uint16_t(regs.size() - 3);
+    }
+    uint16_t alloc(int n) {
+        regs.resize(regs.size() + n, 0.0f);
+        return uint16_t(regs.size() - n);
+    }
+    ShaderOp& op(ShaderOpCode code) {
+        ops.emplace_back();
+        ops.back().code = code;
+        return ops.back();
+    }
+    std::shared_ptr<ShaderProgram> build() {
+        auto p = std::make_shared<ShaderProgram>(ops, regs, std::vector<float>{}, std::vector<std::shared_ptr<const Texture>>{});
+        p->fold_constants();
+        return p;
+    }
+};
+
+// Emission of (value of a Math op on constants) x colour: everything folds.
+TEST(ShaderProgram, ConstantTreeFoldsToNothingPerHit) {
+    Builder b;
+    uint16_t a = b.constant(3.0f), c = b.constant(0.0f), out = b.alloc(1);
+    ShaderOp& m = b.op(ShaderOpCode::Math);
+    m.in[0] = a, m.in[1] = c, m.out[0] = out, m.i[0] = int(shading::MathOp::Divide);  // safe division: 0
+    uint16_t s = b.alloc(1);
+    ShaderOp& m2 = b.op(ShaderOpCode::Math);
+    m2.in[0] = out, m2.in[1] = b.constant(2.0f), m2.out[0] = s, m2.i[0] = int(shading::MathOp::Add);
+    ShaderOp& e = b.op(ShaderOpCode::Emission);
+    e.in[1] = b.constant3(Color(1.0f, 0.5f, 0.25f));
+    e.in[2] = s;
+    auto p = b.build();
+    EXPECT_TRUE(p->is_constant());
+    EXPECT_EQ(p->varying_op_count(), 0u);
+    ShaderResult r = p->eval_constant();
+    EXPECT_FLOAT_EQ(r.emission.x, 2.0f);
+    EXPECT_FLOAT_EQ(r.emission.y, 1.0f);
+    EXPECT_FLOAT_EQ(r.emission.z, 0.5f);
+    EXPECT_TRUE(p->may_emit());
+}
+
+// A texture coordinate feeding a checker feeding a diffuse colour stays per hit; the constant
+// scale before it folds.
+TEST(ShaderProgram, HitDependentOpsStayAndTheirConstantInputsFold) {
+    Builder b;
+    uint16_t scale = b.alloc(1);
+    ShaderOp& m = b.op(ShaderOpCode::Math);
+    m.in[0] = b.constant(2.0f), m.in[1] = b.constant(2.5f), m.out[0] = scale, m.i[0] = int(shading::MathOp::Multiply);
+    uint16_t co = b.alloc(3);
+    ShaderOp& tc = b.op(ShaderOpCode::TexCoord);
+    tc.out[3] = co;
+    uint16_t col = b.alloc(3), fac = b.alloc(1);
+    ShaderOp& ch = b.op(ShaderOpCode::TexChecker);
+    ch.in[0] = co, ch.in[1] = b.constant3(Color(1.0f)), ch.in[2] = b.constant3(Color(0.0f)), ch.in[3] = scale;
+    ch.out[0] = col, ch.out[1] = fac;
+    ShaderOp& d = b.op(ShaderOpCode::Diffuse);
+    d.in[1] = col;
+    auto p = b.build();
+    EXPECT_FALSE(p->is_constant());
+    EXPECT_EQ(p->varying_op_count(), 2u);  // texcoord and checker; the multiply folded
+    EXPECT_FALSE(p->may_emit());
+    EXPECT_FALSE(p->may_be_transparent());
+}
+
+// Through a scene: a quad whose material is checker(Object coordinates) into emission; the camera
+// sees the pattern, and the program's emission at a hit agrees with the checker's definition.
+TEST(ShaderProgram, EvaluatesAtSceneHits) {
+    auto scene = std::make_shared<Scene>();
+    Builder b;
+    uint16_t co = b.alloc(3);
+    b.op(ShaderOpCode::TexCoord).out[3] = co;
+    uint16_t col = b.alloc(3), fac = b.alloc(1);
+    ShaderOp& ch = b.op(ShaderOpCode::TexChecker);
+    ch.in[0] = co, ch.in[1] = b.constant3(Color(1.0f)), ch.in[2] = b.constant3(Color(0.0f)), ch.in[3] = b.constant(2.0f);
+    ch.out[0] = col, ch.out[1] = fac;
+    ShaderOp& e = b.op(ShaderOpCode::Emission);
+    e.in[1] = col;
+    e.in[2] = b.constant(1.0f);
+    Material mat;
+    mat.name = "checker";
+    mat.program = b.build();
+    uint32_t id = scene->add_material(mat);
+    EXPECT_TRUE(scene->material(id).emissive());
+    const float v[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+    const int32_t t[] = {0, 1, 2, 0, 2, 3};
+    uint32_t mesh = scene->add_mesh(v, 4, t, 2, nullptr, nullptr, {id});
+    Transform shift;
+    shift.m[0][3] = 10.0f;  // object coordinates must not move with the object
+    scene->add_instance(mesh, shift);
+    scene->set_camera(camera_at(Vec3(10, 0, 5), 8, 8));
+    scene->commit();
+    int bright = 0, dark = 0;
+    for (float x : {-0.7f, -0.2f, 0.3f, 0.8f})
+        for (float y : {-0.7f, -0.2f, 0.3f, 0.8f}) {
+            Ray ray{Vec3(10 + x, y, 5), Vec3(0, 0, -1)};
+            SurfaceHit hit;
+            ASSERT_TRUE(scene->intersect(ray, &hit));
+            Color L = scene->emission_at(hit, Vec3(0, 0, 1));
+            // Cycles' checker at scale 2 on object coordinates: cells of 0.5; with z in cell 0,
+            // Color1 where the x and y cells' parities differ.
+            float px = (x * 2.0f + 1e-6f) * 0.999999f, py = (y * 2.0f + 1e-6f) * 0.999999f;
+            bool differ = std::abs(int(std::floor(px))) % 2 != std::abs(int(std::floor(py))) % 2;
+            float expected = differ ? 1.0f : 0.0f;
+            EXPECT_FLOAT_EQ(L.x, expected) << x << " " << y;
+            (expected > 0.5f ? bright : dark)++;
+        }
+    EXPECT_GT(bright, 0);
+    EXPECT_GT(dark, 0);
+}
+
+// Principled with alpha 0.25 folds into a cut-out with the closures unscaled (Cycles mixes a
+// transparent closure of weight 0.75 in; the kept quarter of the hits carries the full closures).
+TEST(ShaderProgram, PrincipledAlphaFoldsIntoACutOut) {
+    auto scene = std::make_shared<Scene>();
+    Builder b;
+    ShaderOp& pr = b.op(ShaderOpCode::Principled);
+    for (auto& r : pr.in) r = kNoReg;
+    pr.in[1] = b.constant3(Color(0.5f));      // base colour
+    pr.in[22] = b.constant(0.25f);            // alpha
+    Material mat;
+    mat.name = "leaf";
+    mat.program = b.build();
+    uint32_t id = scene->add_material(mat);
+    const Material& m = scene->material(id);
+    EXPECT_FALSE(m.program);  // constant: plain lobes
+    EXPECT_NEAR(m.alpha, 0.25f, 1e-6f);
+    ASSERT_GE(m.lobes.size(), 1u);
+    EXPECT_EQ(m.lobes[0].kind, LobeKind::PrincipledDiffuse);
+    EXPECT_NEAR(m.lobes[0].weight.x, 0.5f, 1e-6f);
+}
+
+TEST(ShaderProgram, BadProgramsAreRefusedOrMadeHarmless) {
+    Builder b;
+    ShaderOp& e = b.op(ShaderOpCode::Emission);
+    e.in[1] = 500;  // beyond the register file
+    EXPECT_THROW(ShaderProgram(b.ops, b.regs, {}, {}), std::invalid_argument);
+    ShaderOpCode code;
+    EXPECT_FALSE(ShaderProgram::op_by_name("no_such_op", &code));
+    EXPECT_TRUE(ShaderProgram::op_by_name("tex_noise", &code));
+    // NaN socket values are zeroed, absurd scales and log of negatives stay finite.
+    Builder n;
+    uint16_t out = n.alloc(1);
+    ShaderOp& m = n.op(ShaderOpCode::Math);
+    m.in[0] = n.constant(-1.0f), m.in[1] = n.constant(std::numeric_limits<float>::quiet_NaN());
+    m.out[0] = out, m.i[0] = int(shading::MathOp::Logarithm);
+    ShaderOp& em = n.op(ShaderOpCode::Emission);
+    em.in[1] = n.constant3(Color(1e30f));
+    em.in[2] = out;
+    auto p = n.build();
+    ShaderResult r = p->eval_constant();
+    EXPECT_TRUE(is_finite(r.emission));
+}
+
+}  // namespace

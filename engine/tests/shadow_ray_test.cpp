@@ -1,0 +1,112 @@
+// Shadow rays towards mesh lights: a receiver close to a mesh light's plane must see the light.
+// The scene: a diffuse ceiling (albedo 0.8) and a 1 x 1 emissive quad (radiance 1, two-sided) a
+// small gap below it, the ceiling lit by the quad's top side. The ceiling's radiance is then
+// 0.8 / pi x the irradiance of a uniform parallel rectangle, known in closed form.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "integrators/path_tracing.h"
+#include "test_scenes.h"
+
+using namespace smis;
+using namespace smis::testing;
+
+namespace {
+
+// Irradiance at height h below the corner of an A x B rectangle of unit radiance in a parallel
+// plane: pi x the point-to-rectangle form factor.
+double corner_irradiance(double a, double b, double h) {
+    double x = a / h, y = b / h;
+    return 0.5 * (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) +
+                  y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y)));
+}
+// ... at (x, y) from the square [-s, s]^2, by signed corner rectangles.
+double square_irradiance(double x, double y, double s, double h) {
+    double e = 0.0;
+    for (double dx : {s - x, s + x})
+        for (double dy : {s - y, s + y})
+            e += (dx < 0 ? -1 : 1) * (dy < 0 ? -1 : 1) * corner_irradiance(std::fabs(dx), std::fabs(dy), h);
+    return e;
+}
+
+struct GapScene {
+    std::shared_ptr<Scene> scene = std::make_shared<Scene>();
+    Vec3 offset;
+    float gap;
+    GapScene(const Vec3& at, float gap_) : offset(at), gap(gap_) {
+        uint32_t white = scene->add_material(diffuse(Color(0.8f)));
+        uint32_t light = scene->add_material(diffuse(Color(0.0f), Color(1.0f)));
+        const float z = 2.0f, zl = 2.0f - gap;
+        float v[] = {-3, -3, z, 3, -3, z, 3, 3, z, -3, 3, z,  // ceiling, facing down
+                     -0.5f, -0.5f, zl, 0.5f, -0.5f, zl, 0.5f, 0.5f, zl, -0.5f, 0.5f, zl};  // light, facing up
+        for (int i = 0; i < 8; ++i) v[3 * i] += at.x, v[3 * i + 1] += at.y, v[3 * i + 2] += at.z;
+        int32_t t[] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7};
+        int32_t slot[] = {0, 0, 1, 1};
+        scene->add_instance(scene->add_mesh(v, 8, t, 4, nullptr, slot, {white, light}), Transform());
+        scene->set_camera(camera_at(at, 8, 8));
+        scene->commit();
+    }
+    // The ceiling's shading point above (x, y), found by a ray from just below it.
+    ShadingPoint ceiling(float x, float y, Ray* ray) const {
+        *ray = Ray{offset + Vec3(x, y, 2.0f - 0.5f * gap), Vec3(0, 0, 1), 0.0f, kInf};
+        SurfaceHit hit;
+        EXPECT_TRUE(scene->intersect(*ray, &hit));
+        return make_shading_point(*scene, hit, ray->d);
+    }
+    double expected(float x, float y) const { return 0.8 / kPi * square_irradiance(x, y, 0.5, gap); }
+};
+
+// Light samples alone (no BSDF samples: the MIS weight is 1): the ceiling point sees the light.
+void expect_light_samples_match(const GapScene& g, float x, float y) {
+    Ray ray;
+    ShadingPoint sp = g.ceiling(x, y, &ray);
+    RenderSettings settings;
+    Rng rng(3, 0);
+    LocalCounters counters;
+    stats::MeanEstimator est;
+    for (int i = 0; i < 40000; ++i) {
+        DirectSample ds = sample_direct(*g.scene, settings, sp, rng, counters, -1, 1, 0);
+        est.add(ds.valid ? double(sp.bsdf.eval(sp.wo, ds.wi).y * ds.weighted.y) : 0.0);
+    }
+    double ref = g.expected(x, y);
+    EXPECT_NEAR(est.mean(), ref, 0.02 * ref + 4.0 * est.std_error()) << "at (" << x << ", " << y << ")";
+}
+
+// The path tracer at Cycles' bounce limit 0 (light samples and BSDF samples combined by MIS).
+void expect_direct_lighting_matches(const GapScene& g, float x, float y) {
+    Ray ray;
+    g.ceiling(x, y, &ray);
+    RenderSettings settings;
+    settings.max_bounces = 0;
+    Rng rng(5, 0);
+    LocalCounters counters;
+    stats::MeanEstimator est;
+    for (int i = 0; i < 40000; ++i) est.add(trace_path(*g.scene, settings, ray, PathState{}, rng, counters).y);
+    double ref = g.expected(x, y);
+    EXPECT_NEAR(est.mean(), ref, 0.02 * ref + 4.0 * est.std_error()) << "at (" << x << ", " << y << ")";
+}
+
+}  // namespace
+
+// 20 cm gap at coordinates near 2: the origin's offset used to bring every light sample's shadow ray
+// onto the light's own triangle before its end (all of them counted as occluded).
+TEST(ShadowRays, MeshLightCloseBelowACeilingLightsIt) {
+    GapScene g(Vec3(0.0f), 0.2f);
+    for (float x : {0.0f, 0.3f, -0.8f}) {
+        expect_light_samples_match(g, x, 0.1f);
+        expect_direct_lighting_matches(g, x, 0.1f);
+    }
+}
+
+// The same far from the origin (offsets of 256 ulps grow with the coordinates) and a 5 cm gap, as in
+// the Cornell box whose light hangs 5 cm below the ceiling.
+TEST(ShadowRays, MeshLightCloseBelowACeilingFarFromTheOrigin) {
+    GapScene near_gap(Vec3(0.0f), 0.05f);
+    expect_light_samples_match(near_gap, 0.2f, 0.0f);
+    GapScene far(Vec3(60.0f, -40.0f, 30.0f), 0.2f);
+    for (float x : {0.0f, -0.8f}) {
+        expect_light_samples_match(far, x, 0.1f);
+        expect_direct_lighting_matches(far, x, 0.1f);
+    }
+}
