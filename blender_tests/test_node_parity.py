@@ -38,8 +38,12 @@ def block_mre(ours, ref):
     return float((np.abs(a - b) / np.maximum(b, EPS)).mean())
 
 
-def _scenes(tmp_path_factory, cache={}):
+_BUILT = {}
+
+
+def _scenes(tmp_path_factory):
     """Builds both scenes once per session with scenes/node_parity.py."""
+    cache = _BUILT
     if "dir" not in cache:
         out = str(tmp_path_factory.mktemp("node_parity"))
         proc = subprocess.run(["blender", "-b", "--factory-startup", "--python",

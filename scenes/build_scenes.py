@@ -802,6 +802,64 @@ def build_principled_coat(path):
     save(path)
 
 
+def _procedural_material(name, variant):
+    """A material of about ten procedural nodes (textures, ramps, maths, mix, bump) into a
+    Principled BSDF, as real scenes' materials look; `variant` changes the recipe."""
+    m, nt, out = _node_material(name)
+    bsdf = nt.nodes.new("ShaderNodeBsdfPrincipled")
+    nt.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    coord = nt.nodes.new("ShaderNodeTexCoord")
+    mapping = nt.nodes.new("ShaderNodeMapping")
+    mapping.inputs["Scale"].default_value = (2.0 + variant, 2.0, 2.0)
+    nt.links.new(coord.outputs["Object"], mapping.inputs["Vector"])
+    noise = nt.nodes.new("ShaderNodeTexNoise")
+    noise.inputs["Scale"].default_value = 4.0
+    noise.inputs["Detail"].default_value = 4.0
+    nt.links.new(mapping.outputs["Vector"], noise.inputs["Vector"])
+    voronoi = nt.nodes.new("ShaderNodeTexVoronoi")
+    voronoi.inputs["Scale"].default_value = 6.0
+    nt.links.new(mapping.outputs["Vector"], voronoi.inputs["Vector"])
+    ramp = nt.nodes.new("ShaderNodeValToRGB")
+    ramp.color_ramp.elements[0].color = (0.05, 0.1 * variant, 0.3, 1.0)
+    ramp.color_ramp.elements[1].color = (0.9, 0.6, 0.2, 1.0)
+    nt.links.new(noise.outputs["Fac"], ramp.inputs["Fac"])
+    mix = nt.nodes.new("ShaderNodeMix")
+    mix.data_type = 'RGBA'
+    mix.blend_type = 'MULTIPLY'
+    mix.inputs["Factor"].default_value = 0.6
+    nt.links.new(ramp.outputs["Color"], mix.inputs[6])
+    nt.links.new(voronoi.outputs["Color"], mix.inputs[7])
+    nt.links.new(mix.outputs[2], bsdf.inputs["Base Color"])
+    math = nt.nodes.new("ShaderNodeMath")
+    math.operation = 'MULTIPLY_ADD'
+    math.inputs[1].default_value = 0.5
+    math.inputs[2].default_value = 0.2
+    nt.links.new(voronoi.outputs["Distance"], math.inputs[0])
+    nt.links.new(math.outputs[0], bsdf.inputs["Roughness"])
+    bump = nt.nodes.new("ShaderNodeBump")
+    bump.inputs["Strength"].default_value = 0.4
+    nt.links.new(noise.outputs["Fac"], bump.inputs["Height"])
+    nt.links.new(bump.outputs["Normal"], bsdf.inputs["Normal"])
+    layer = nt.nodes.new("ShaderNodeLayerWeight")
+    nt.links.new(layer.outputs["Facing"], bsdf.inputs["Specular"])
+    return m
+
+
+def build_procedural(path):
+    """Three objects and a floor whose materials have about ten procedural nodes each (noise,
+    voronoi, mapping, colour ramp, mix, math, bump, layer weight): the node evaluator's speed
+    against Cycles (bench/path_speed.py) and its agreement on a lit scene."""
+    sc = new_scene(160, 120, samples=256)
+    set_world(sc, (0.3, 0.35, 0.4), 1.0)
+    box_object(sc, "Floor", (-3.0, -3.0, -0.1), (3.0, 3.0, 0.0), _procedural_material("FloorNodes", 0))
+    sphere_object(sc, "Sphere", _procedural_material("SphereNodes", 1), (-0.7, 0.0, 0.5), 0.5)
+    unit_cube_object(sc, "Cube", _procedural_material("CubeNodes", 2), (0.7, 0.2, 0.4), 30.0, (0.7, 0.7, 0.8))
+    aim(add_light(sc, "Key", 'AREA', (-2.0, -2.0, 3.0), shape='SQUARE', size=1.5, energy=300.0),
+        (0.0, 0.0, 0.3))
+    add_camera(sc, (0.0, -3.4, 1.4), (72.0, 0.0, 0.0), lens=35.0)
+    save(path)
+
+
 def save(path):
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
     print("build_scenes: wrote", path)
@@ -818,6 +876,7 @@ SCENE_NAMES = {
     "volume_planes": build_volume_planes,
     "many_lights": build_many_lights,
     "principled_coat": build_principled_coat,
+    "procedural": build_procedural,
 }
 
 

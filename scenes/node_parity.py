@@ -290,13 +290,9 @@ def t_color_ramp_linear(t, em):
 
 def t_color_ramp_constant(t, em):
     x, y, _ = t.separate_xyz(t.coords("Generated"))
-    n = _ramp(t, t.math('ADD', x, y), 'CONSTANT', [(0.0, (0.9, 0.6, 0.1)), (0.5, (0.1, 0.8, 0.7)),
-                                                    (1.0, (0.7, 0.2, 0.9)), (1.5, (0.9, 0.9, 0.9))])
-    ramp = n.color_ramp
-    # positions are clamped to 0..1 by Blender; spread the stops over the Fac range 0..2 via a scale
-    ramp.elements[0].position, ramp.elements[1].position = 0.0, 0.3
-    ramp.elements[2].position, ramp.elements[3].position = 0.55, 0.8
-    t.set(n, "Fac", t.math('MULTIPLY', t.math('ADD', x, y), 0.5))
+    fac = t.math('MULTIPLY', t.math('ADD', x, y), 0.5)
+    n = _ramp(t, fac, 'CONSTANT', [(0.0, (0.9, 0.6, 0.1)), (0.3, (0.1, 0.8, 0.7)), (0.55, (0.7, 0.2, 0.9)),
+                                    (0.8, (0.9, 0.9, 0.9))])
     t.set(em, "Color", out(n, "Color"))
 
 

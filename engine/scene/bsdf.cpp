@@ -513,12 +513,34 @@ void Bsdf::selection_probabilities(const Vec3& wo_local, float* probs) const {
     for (int i = 0; i < count_; ++i) probs[i] *= inv;
 }
 
+float Bsdf::bump_shadowing(const Vec3& wi) const {
+    // g = cos(base, wi) / (cos(N, wi) cos(base, N)): 1 where the bent normal sees no more of the
+    // light than the surface does, smoothly to 0 at the surface's own horizon.
+    Vec3 base = bump_base_;
+    float cos_ni = dot(frame_.n, wi);
+    if (cos_ni < 0.0f) base = -base;
+    float denom = cos_ni * dot(base, frame_.n);
+    float g = denom != 0.0f ? dot(base, wi) / denom : 0.0f;
+    if (g >= 1.0f) return 1.0f;
+    if (!(g >= 0.0f)) return 0.0f;
+    float g2 = g * g;
+    return -g2 * g + g2 + g;
+}
+
 Color Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
     if (count_ == 0) return Color(0.0f);
     Vec3 wo_l = frame_.to_local(wo), wi_l = frame_.to_local(wi);
     if (!sides_consistent(ng_, wo, wi, wo_l, wi_l)) return Color(0.0f);
     Color sum(0.0f);
-    for (int i = 0; i < count_; ++i) sum += lobe_eval(lobes_[i], wo_l, wi_l);
+    if (!bumped_) {
+        for (int i = 0; i < count_; ++i) sum += lobe_eval(lobes_[i], wo_l, wi_l);
+    } else {
+        float shadowing = bump_shadowing(wi);
+        for (int i = 0; i < count_; ++i) {
+            Color c = lobe_eval(lobes_[i], wo_l, wi_l);
+            sum += diffuse_labelled(lobes_[i]) ? c * shadowing : c;
+        }
+    }
     return is_finite(sum) ? sum : Color(0.0f);
 }
 
@@ -526,6 +548,11 @@ bool Bsdf::eval_terms(const Vec3& wo, const Vec3& wi, LobeTerms* terms) const {
     Vec3 wo_l = frame_.to_local(wo), wi_l = frame_.to_local(wi);
     if (count_ == 0 || !sides_consistent(ng_, wo, wi, wo_l, wi_l)) return false;
     for (int i = 0; i < count_; ++i) terms[i] = lobe_terms(lobes_[i], wo_l, wi_l);
+    if (bumped_) {
+        float shadowing = bump_shadowing(wi);
+        for (int i = 0; i < count_; ++i)
+            if (diffuse_labelled(lobes_[i])) terms[i].geom *= shadowing;
+    }
     return true;
 }
 
@@ -626,6 +653,7 @@ BsdfSample Bsdf::sample(const Vec3& wo, Point2 u, float u_lobe) const {
             out.value += r.value;
             out.pdf += probs[i] * r.pdf;
         }
+        if (bumped_) out.value = eval(wo, wi);  // the same mixture value with diffuse lobes shadowed
     }
     if (!out.valid()) return BsdfSample{};
     return out;

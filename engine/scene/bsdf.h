@@ -156,14 +156,28 @@ public:
     Color albedo_weight() const;
     const Frame& frame() const { return frame_; }
     const Vec3& ng() const { return ng_; }
+    // A node tree bent the shading normal (Bump, Normal Map) away from the surface's own smooth
+    // normal `base`: diffuse lobes are then darkened towards the terminator by Cycles' bump
+    // shadowing term (Chiang, Li and Burley 2019, "Taming the Shadow Terminator"), in eval() and
+    // sample() alike, as Cycles 3.4 does; pdfs are unchanged.
+    void set_bump_base(const Vec3& base) {
+        bump_base_ = base;
+        bumped_ = true;
+    }
 
 private:
+    float bump_shadowing(const Vec3& wi) const;
+    static bool diffuse_labelled(const Lobe& lobe) {
+        return lobe.kind == LobeKind::Diffuse || lobe.kind == LobeKind::PrincipledDiffuse || lobe.kind == LobeKind::Sheen;
+    }
     void selection_probabilities(const Vec3& wo_local, float* probs) const;
     Frame frame_;
     Vec3 ng_{0, 0, 1};
     Lobe lobes_[kMaxLobes];
     int count_ = 0;
     int delta_count_ = 0;
+    bool bumped_ = false;
+    Vec3 bump_base_;
 };
 
 }  // namespace smis

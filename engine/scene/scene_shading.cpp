@@ -3,6 +3,8 @@
 // shade, emit and cut out.
 #include "scene/scene.h"
 
+#include "shading/normals.h"
+
 namespace smis {
 namespace {
 
@@ -78,7 +80,9 @@ ShaderContext Scene::shader_context(const SurfaceAttribs& at, const Vec3& wo, co
         if (std::fabs(det) > 1e-20f) {
             dpdu = (e1 * dv2 - e2 * dv1) / det;
             dpdv = (e2 * du1 - e1 * du2) / det;
-            c.tangent_sign = (det < 0.0f ? -1.0f : 1.0f) * mirror;
+            // The UV winding of the object's own mesh (Normal Map works in object space): a flattened
+            // mirrored mesh had two corners swapped at commit, which flipped its winding.
+            c.tangent_sign = (det < 0.0f ? -1.0f : 1.0f) * (inst.identity ? mirror : 1.0f);
         }
     }
     c.dPdu = dpdu;
@@ -115,11 +119,16 @@ Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3
     ShaderContext ctx = shader_context(at, wo, ray);
     ShaderResult res;
     m.program->eval(ctx, &res);
-    Vec3 ns = res.has_normal ? res.normal : ctx.N;
-    if (dot(ns, ctx.Ng) <= 0.0f) ns = ctx.N;
+    Vec3 ns = ctx.N;
+    if (res.has_normal) {
+        ns = shading::ensure_valid_reflection(ctx.Ng, ctx.I, res.normal);
+        if (!is_finite(ns) || !(dot(ns, ctx.Ng) > 0.0f)) ns = ctx.N;
+    }
     *ns_out = ns;
     Color emission;
-    return m.program_bsdf(res, Frame(ns), ctx.Ng, backfacing, &emission);
+    Bsdf bsdf = m.program_bsdf(res, Frame(ns), ctx.Ng, backfacing, &emission);
+    if (!(ns == ctx.N)) bsdf.set_bump_base(ctx.N);
+    return bsdf;
 }
 
 Color Scene::program_emission(const SurfaceAttribs& at, uint32_t material, const Vec3& wo) const {

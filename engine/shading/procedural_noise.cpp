@@ -394,10 +394,11 @@ inline P4 distort(P4 p, float d) {
 }
 
 template <class P>
-TextureOut noise_texture_nd(P p, int axes, float detail, float roughness, float distortion) {
+TextureOut noise_texture_nd(P p, int axes, float detail, float roughness, float distortion, bool color) {
     if (distortion != 0.0f) p = distort(p, distortion);
     TextureOut out;
     out.fac = fractal(p, detail, roughness);
+    if (!color) return out;  // Cycles skips the colour too when nothing reads it
     float seed = static_cast<float>(axes);
     out.color = Color(out.fac, fractal(p + random_offset(p, seed), detail, roughness),
                       fractal(p + random_offset(p, seed + 1.0f), detail, roughness));
@@ -533,14 +534,14 @@ float fractal_noise_4d(const Vec3& p, float w, float octaves, float roughness) {
 // ---- Texture nodes ----
 
 TextureOut noise_texture(int dimensions, const Vec3& co, float w, float scale, float detail,
-                         float roughness, float distortion) {
+                         float roughness, float distortion, bool color) {
     Vec3 c = co * scale;
     float ws = w * scale;
     switch (dimensions) {
-        case 1: return noise_texture_nd(P1{ws}, 1, detail, roughness, distortion);
-        case 2: return noise_texture_nd(P2{c.x, c.y}, 2, detail, roughness, distortion);
-        case 3: return noise_texture_nd(P3{c.x, c.y, c.z}, 3, detail, roughness, distortion);
-        case 4: return noise_texture_nd(P4{c.x, c.y, c.z, ws}, 4, detail, roughness, distortion);
+        case 1: return noise_texture_nd(P1{ws}, 1, detail, roughness, distortion, color);
+        case 2: return noise_texture_nd(P2{c.x, c.y}, 2, detail, roughness, distortion, color);
+        case 3: return noise_texture_nd(P3{c.x, c.y, c.z}, 3, detail, roughness, distortion, color);
+        case 4: return noise_texture_nd(P4{c.x, c.y, c.z, ws}, 4, detail, roughness, distortion, color);
         default: return {};
     }
 }

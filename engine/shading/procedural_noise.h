@@ -80,8 +80,9 @@ struct TextureOut {
 
 // Noise Texture. dimensions 1-4: 1D uses w, 2D co.x/co.y, 3D co, 4D co and w. Both co and w are
 // multiplied by scale. fac is the value output, color the colour output (color.x == fac).
+// `color`: compute the Color output too (three fractal sums instead of one).
 TextureOut noise_texture(int dimensions, const Vec3& co, float w, float scale, float detail,
-                         float roughness, float distortion);
+                         float roughness, float distortion, bool color = true);
 
 // Musgrave types. Values are Blender's DNA / Cycles' (NodeMusgraveType) values, so a node's stored
 // integer casts directly; Blender's UI lists them as Multifractal, Ridged, Hybrid, fBM, Hetero.

@@ -9,6 +9,7 @@
 #include "scene/scene.h"
 #include "shading/image_projection.h"
 #include "shading/node_math.h"
+#include "shading/normals.h"
 #include "shading/procedural_cells.h"
 #include "shading/procedural_noise.h"
 
@@ -569,8 +570,7 @@ void ShaderProgram::run(const ShaderOp& op, const ShaderContext* ctxp, float* r,
             float absdet = std::fabs(det);
             Vec3 bumped = safe_normalize(n * absdet - grad * (dist * (det < 0.0f ? -1.0f : 1.0f)), n);
             Vec3 res = safe_normalize(bumped * strength + n * (1.0f - strength), n);
-            if (dot(res, c.Ng) <= 0.0f) res = n;  // never below the surface (Cycles: ensure_valid_reflection)
-            store3(r, op.out[0], res);
+            store3(r, op.out[0], ensure_valid_reflection(c.Ng, c.I, res));
             break;
         }
         case Op::NormalMap: {
@@ -579,26 +579,32 @@ void ShaderProgram::run(const ShaderOp& op, const ShaderContext* ctxp, float* r,
             float strength = std::max(load1(r, op.in[0], 1.0f), 0.0f);
             Vec3 m = col * 2.0f - Vec3(1.0f);
             Vec3 n;
+            // Cycles forms the map's normal in object space (the tangent frame of the object's own
+            // mesh, the smooth normal unflipped) and turns it into world space as a normal, so a
+            // non-uniformly scaled object bends it as Cycles does.
+            Vec3 front = c.backfacing ? -c.N : c.N;
+            Vec3 n_obj = safe_normalize(c.to_world.normal_to_object(front), front);
             switch (op.i[0]) {
                 case 0: {  // tangent space, the UV map's tangent frame
-                    Vec3 t = c.dPdu - c.N * dot(c.N, c.dPdu);
+                    Vec3 t = c.to_object.vector(c.dPdu);
+                    t = t - n_obj * dot(n_obj, t);
                     if (!(length_sq(t) > 0.0f)) {
-                        n = c.N;
+                        n = front;
                         break;
                     }
                     t = normalize(t);
-                    Vec3 b = cross(c.N, t) * (c.tangent_sign < 0.0f ? -1.0f : 1.0f);
-                    n = safe_normalize(t * m.x + b * m.y + c.N * m.z, c.N);
+                    Vec3 b = cross(n_obj, t) * (c.tangent_sign < 0.0f ? -1.0f : 1.0f);
+                    n = safe_normalize(c.to_world.normal(t * m.x + b * m.y + n_obj * m.z), front);
                     break;
                 }
-                case 1: n = safe_normalize(c.to_world.normal(m), c.N); break;    // object space
-                case 2: n = safe_normalize(m, c.N); break;                        // world space
-                case 3: n = safe_normalize(c.to_world.normal(Vec3(m.x, m.y, -m.z)), c.N); break;  // Blender object
-                default: n = safe_normalize(Vec3(m.x, m.y, -m.z), c.N); break;   // Blender world
+                case 1: n = safe_normalize(c.to_world.normal(m), front); break;    // object space
+                case 2: n = safe_normalize(m, front); break;                        // world space
+                case 3: n = safe_normalize(c.to_world.normal(Vec3(m.x, m.y, -m.z)), front); break;  // Blender object
+                default: n = safe_normalize(Vec3(m.x, m.y, -m.z), front); break;   // Blender world
             }
-            if (c.backfacing && op.i[0] != 0) n = -n;
+            if (c.backfacing) n = -n;
             if (strength != 1.0f) n = safe_normalize(c.N + (n - c.N) * strength, c.N);
-            if (dot(n, c.Ng) < 0.0f) n = c.N;
+            n = ensure_valid_reflection(c.Ng, c.I, n);
             store3(r, op.out[0], n);
             break;
         }
@@ -630,7 +636,7 @@ void ShaderProgram::run(const ShaderOp& op, const ShaderContext* ctxp, float* r,
         case Op::TexNoise: {
             TextureOut t = noise_texture(op.i[0], load3(r, op.in[0], zero), load1(r, op.in[1], 0.0f),
                                          load1(r, op.in[2], 5.0f), load1(r, op.in[3], 2.0f), load1(r, op.in[4], 0.5f),
-                                         load1(r, op.in[5], 0.0f));
+                                         load1(r, op.in[5], 0.0f), op.out[1] != kNoReg);
             store1(r, op.out[0], t.fac);
             store3(r, op.out[1], t.color);
             break;
