@@ -84,3 +84,79 @@ bpy.data.objects['Cube'].data.materials.append(mat)
     lines = [l for l in run.output.splitlines() if "Noisy" in l and "Toon" in l]
     assert len(lines) == 1, run.output[-3000:]
     assert img[..., :3].max() > 0.0  # the fallback diffuse is lit
+
+
+# Shader nodes fed with bad input: the default cube's material (an emission so the value shows in the
+# image without lighting noise) gets the node set-up of each case.
+NODE_CASE = SMALL + """
+cube = bpy.data.objects['Cube']
+mat = bpy.data.materials.new('Bad')
+mat.use_nodes = True
+nt = mat.node_tree
+nt.nodes.clear()
+out = nt.nodes.new('ShaderNodeOutputMaterial')
+emit = nt.nodes.new('ShaderNodeEmission')
+nt.links.new(emit.outputs[0], out.inputs['Surface'])
+cube.data.materials.clear()
+cube.data.materials.append(mat)
+"""
+
+
+def test_missing_image_renders_magenta_with_a_warning_naming_the_file():
+    run = render(setup=NODE_CASE + """
+img = bpy.data.images.new('brick_wall', 4, 4)  # then pointed at a file that is not there
+img.source = 'FILE'
+img.filepath = '/nonexistent/folder/brick_wall.png'
+img.reload()
+tex = nt.nodes.new('ShaderNodeTexImage')
+tex.image = img
+nt.links.new(tex.outputs['Color'], emit.inputs['Color'])
+""")
+    img = assert_clean_image(run)
+    centre = img[10:14, 14:18, :3].reshape(-1, 3)
+    np.testing.assert_allclose(centre, np.broadcast_to([1.0, 0.0, 1.0], centre.shape), atol=1e-6)
+    warnings = [l for l in run.output.splitlines() if "brick_wall" in l]
+    assert warnings and "magenta" in warnings[0], run.output[-3000:]
+
+
+def test_bad_node_values_never_reach_the_film():
+    # Division by zero, the logarithm of a negative, a power of a negative, absurd scales and a NaN
+    # socket value, all into the emission: finite pixels, the safe maths' values as in Cycles.
+    run = render(setup=NODE_CASE + """
+def math(op, a, b):
+    n = nt.nodes.new('ShaderNodeMath')
+    n.operation = op
+    n.inputs[0].default_value = a
+    n.inputs[1].default_value = b
+    return n
+div = math('DIVIDE', 1.0, 0.0)
+log = math('LOGARITHM', -2.0, 10.0)
+pw = math('POWER', -2.0, 0.5)
+coord = nt.nodes.new('ShaderNodeTexCoord')
+noise = nt.nodes.new('ShaderNodeTexNoise')
+noise.inputs['Scale'].default_value = 1e30
+noise.inputs['Detail'].default_value = float('nan')
+nt.links.new(coord.outputs['Object'], noise.inputs['Vector'])
+add1 = nt.nodes.new('ShaderNodeMath'); add1.operation = 'ADD'
+add2 = nt.nodes.new('ShaderNodeMath'); add2.operation = 'ADD'
+add3 = nt.nodes.new('ShaderNodeMath'); add3.operation = 'ADD'
+nt.links.new(div.outputs[0], add1.inputs[0]); nt.links.new(log.outputs[0], add1.inputs[1])
+nt.links.new(add1.outputs[0], add2.inputs[0]); nt.links.new(pw.outputs[0], add2.inputs[1])
+nt.links.new(add2.outputs[0], add3.inputs[0]); nt.links.new(noise.outputs['Fac'], add3.inputs[1])
+nt.links.new(add3.outputs[0], emit.inputs['Strength'])
+emit.inputs['Color'].default_value = (1e30, float('nan'), 1.0, 1.0)
+""")
+    assert_clean_image(run)
+
+
+def test_node_group_without_output_renders_black_with_a_warning():
+    run = render(setup=NODE_CASE + """
+group = bpy.data.node_groups.new('NoOutput', 'ShaderNodeTree')
+group.outputs.new('NodeSocketColor', 'Color')
+g = nt.nodes.new('ShaderNodeGroup')
+g.node_tree = group
+nt.links.new(g.outputs[0], emit.inputs['Color'])
+""")
+    img = assert_clean_image(run)
+    assert np.all(img[10:14, 14:18, :3] == 0.0)
+    assert any("Group Output" in l for l in run.output.splitlines()), run.output[-3000:]

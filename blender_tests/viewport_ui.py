@@ -1,6 +1,6 @@
 """Drives Blender's UI (under Xvfb) for test_viewport.py: switches the 3D view to Rendered shading
 with SMIS (after a Solid-shading screenshot), waits for the progressive render, screenshots the 3D view, moves the cube, edits
-its mesh, its material's colour and the lamp's power, screenshotting after each; finally renders the material's preview icon.
+its mesh, its material's checker colour (a node value of a per-hit program) and the lamp's power, screenshotting after each; finally renders the material's preview icon.
 
     xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --addons smis_render \\
         --python blender_tests/viewport_ui.py -- OUT_DIR
@@ -31,6 +31,13 @@ def screenshot(name):
 
 def start():
     screenshot("solid.png")  # Blender's Solid shading, for comparison
+    # The cube's material is a node program (a checker on the base colour), so the material edit
+    # below is a node value edit of a per-hit program.
+    nt = bpy.data.materials["Material"].node_tree
+    checker = nt.nodes.new("ShaderNodeTexChecker")
+    checker.name = "Checker"
+    checker.inputs["Scale"].default_value = 3.0
+    nt.links.new(checker.outputs["Color"], nt.nodes["Principled BSDF"].inputs["Base Color"])
     scene = bpy.context.scene
     scene.render.engine = 'SMIS'
     scene.smis.viewport_samples = 16
@@ -56,8 +63,8 @@ def edit_mesh():
 
 def edit_material():
     screenshot("edited.png")
-    bsdf = bpy.data.materials["Material"].node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Base Color"].default_value = (0.8, 0.05, 0.02, 1.0)
+    checker = bpy.data.materials["Material"].node_tree.nodes["Checker"]
+    checker.inputs["Color1"].default_value = (0.8, 0.05, 0.02, 1.0)
     print("SMIS viewport test: edited the material", flush=True)
 
 

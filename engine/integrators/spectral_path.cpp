@@ -217,15 +217,18 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
         float lum = luminance(weighted);
         if (lum > 0.0f) L += p.emission(spectral_.emitter(light), lum);
     };
-    ShaderRay sray;  // what the Light Path node reports for the next hit
+    ShaderRay sray;  // what the Light Path node reports for the next hit (scenes with programs)
     sray.camera = state.depth == 0;
+    const bool programs = scene.has_programs();
     for (;; ++state.depth) {
         SurfaceHit hit;
         bool found = scene.intersect(ray, &hit);
         for_each_emission_along(scene, settings, ray, found, hit, state, add_emission);
         if (!found || state.depth > settings.max_bounces) break;
-        sray.depth = state.depth;
-        sray.length = hit.t;
+        if (programs) {
+            sray.depth = state.depth;
+            sray.length = hit.t;
+        }
         ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
         if (sp.bsdf.empty()) break;
         const SpectralMaterial& sm = spectral_.material(hit.material);
@@ -250,7 +253,7 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
             for (int i = 0; i < p.n; ++i) p.beta[i] *= f[i] * inv_pdf;
         }
         if (bs.transmission) eta_scale *= sqr(bs.eta);
-        next_shader_ray(sp.bsdf, bs, &sray);
+        if (programs) next_shader_ray(sp.bsdf, bs, &sray);
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;
         state.prev_p = hit.p;

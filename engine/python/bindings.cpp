@@ -204,6 +204,23 @@ struct MeshArgs {
     }
 };
 
+// Named per-corner attributes for shader programs, {name: (M, 3, k) floats} with k = 1..4, checked
+// and converted; the arrays stay alive as members.
+struct MeshAttributes {
+    std::vector<FloatArray> arrays;
+    std::vector<AttributeInput> inputs;
+    MeshAttributes(const py::dict& attributes, size_t nt) {
+        for (auto item : attributes) {
+            FloatArray arr = item.second.cast<FloatArray>();
+            if (arr.ndim() != 3 || size_t(arr.shape(0)) != nt || arr.shape(1) != 3 || arr.shape(2) < 1 ||
+                arr.shape(2) > 4)
+                throw py::value_error("attribute arrays must be (M, 3, k) with k in 1..4");
+            inputs.push_back({item.first.cast<std::string>(), arr.data(), int(arr.shape(2))});
+            arrays.push_back(std::move(arr));
+        }
+    }
+};
+
 // A closure's non-constant colour: "texture" (id from add_texture), "object_color", "to_f0".
 LobeInput parse_lobe_input(const Scene& s, const py::dict& d) {
     LobeInput in;
@@ -436,21 +453,11 @@ PYBIND11_MODULE(_smis, m) {
             [](Scene& s, FloatArray vertices, IntArray triangles, py::object corner_normals, py::object material_index,
                std::vector<uint32_t> materials, py::object corner_uvs, py::dict attributes) {
                 MeshArgs a(vertices, triangles, corner_normals, material_index, corner_uvs);
-                // Named per-corner attributes: {name: (M, 3, k) floats}, k = 1..4.
-                std::vector<FloatArray> keep;
-                std::vector<AttributeInput> attrs;
-                for (auto item : attributes) {
-                    FloatArray arr = item.second.cast<FloatArray>();
-                    if (arr.ndim() != 3 || size_t(arr.shape(0)) != a.nt || arr.shape(1) != 3 || arr.shape(2) < 1 ||
-                        arr.shape(2) > 4)
-                        throw py::value_error("attribute arrays must be (M, 3, k) with k in 1..4");
-                    attrs.push_back({item.first.cast<std::string>(), arr.data(), int(arr.shape(2))});
-                    keep.push_back(std::move(arr));
-                }
+                MeshAttributes attrs(attributes, a.nt);
                 py::gil_scoped_release release;
                 return value_errors([&] {
                     return s.add_mesh(a.vertices, a.nv, a.triangles, a.nt, a.normals, a.material_index, materials, a.uvs,
-                                      attrs);
+                                      attrs.inputs);
                 });
             },
             py::arg("vertices"), py::arg("triangles"), py::arg("corner_normals") = py::none(),
@@ -461,15 +468,18 @@ PYBIND11_MODULE(_smis, m) {
         .def(
             "replace_mesh",
             [](Scene& s, uint32_t mesh, FloatArray vertices, IntArray triangles, py::object corner_normals,
-               py::object material_index, std::vector<uint32_t> materials, py::object corner_uvs) {
+               py::object material_index, std::vector<uint32_t> materials, py::object corner_uvs, py::dict attributes) {
                 MeshArgs a(vertices, triangles, corner_normals, material_index, corner_uvs);
+                MeshAttributes attrs(attributes, a.nt);
                 py::gil_scoped_release release;
-                return s.replace_mesh(mesh, a.vertices, a.nv, a.triangles, a.nt, a.normals, a.material_index, materials,
-                                      a.uvs);
+                return value_errors([&] {
+                    return s.replace_mesh(mesh, a.vertices, a.nv, a.triangles, a.nt, a.normals, a.material_index,
+                                          materials, a.uvs, attrs.inputs);
+                });
             },
             py::arg("mesh"), py::arg("vertices"), py::arg("triangles"), py::arg("corner_normals") = py::none(),
             py::arg("material_index") = py::none(), py::arg("materials") = std::vector<uint32_t>{},
-            py::arg("corner_uvs") = py::none(),
+            py::arg("corner_uvs") = py::none(), py::arg("attributes") = py::dict(),
             "Viewport scenes: replace a committed mesh in place (same arguments as add_mesh); False if the "
             "scene must be rebuilt instead")
         .def(

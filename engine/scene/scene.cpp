@@ -174,6 +174,7 @@ uint32_t Scene::add_material(Material material) {
     if (committed_) throw std::logic_error("scene already committed");
     sanitize(material);
     varying_materials_ = varying_materials_ || !material.inputs.empty() || material.program;
+    programs_ = programs_ || material.program;
     materials_.push_back(std::move(material));
     return static_cast<uint32_t>(materials_.size() - 1);
 }
@@ -191,6 +192,7 @@ bool Scene::replace_material(uint32_t id, Material material) {
     bool emissive = material.emissive();
     materials_[id] = std::move(material);
     varying_materials_ = varying_materials_ || !materials_[id].inputs.empty() || materials_[id].program;
+    programs_ = programs_ || materials_[id].program;
     update_skipped();
     if (emissive) rebuild_lights();  // the triangle lights carry the emission
     else update_spectral_content();
@@ -202,24 +204,8 @@ uint32_t Scene::add_mesh(const float* vertices, size_t nv, const int32_t* triang
                          const std::vector<uint32_t>& slot_materials, const float* corner_uvs,
                          const std::vector<AttributeInput>& attributes) {
     if (committed_) throw std::logic_error("scene already committed");
-    std::vector<AttributeInput> named;
-    for (const AttributeInput& a : attributes) {
-        if (!a.corners || a.dims < 1 || a.dims > 4) throw std::invalid_argument("mesh attribute '" + a.name + "' is malformed");
-        named.push_back(a);
-    }
     Mesh mesh = make_mesh(vertices, nv, triangles, nt, corner_normals, material_index, slot_materials, corner_uvs);
-    for (const AttributeInput& a : named) {
-        MeshAttribute attr{attribute_id(a.name), a.dims, {}};
-        attr.corners.reserve(mesh.indices.size() * a.dims);
-        for (uint32_t t : mesh.kept)
-            for (int k = 0; k < 3 * a.dims; ++k) {
-                float v = a.corners[size_t(t) * 3 * a.dims + k];
-                attr.corners.push_back(std::isfinite(v) ? v : 0.0f);
-            }
-        mesh.attributes.push_back(std::move(attr));
-    }
-    mesh.kept.clear();
-    mesh.kept.shrink_to_fit();
+    attach_attributes(mesh, attributes);
     stats_.dropped_triangles += mesh.dropped;
     meshes_.push_back(std::move(mesh));
     return static_cast<uint32_t>(meshes_.size() - 1);
@@ -305,9 +291,13 @@ bool Scene::set_instance_transforms(const float* rows, size_t n) {
 
 bool Scene::replace_mesh(uint32_t id, const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
                          const float* corner_normals, const int32_t* material_index,
-                         const std::vector<uint32_t>& slot_materials, const float* corner_uvs) {
+                         const std::vector<uint32_t>& slot_materials, const float* corner_uvs,
+                         const std::vector<AttributeInput>& attributes) {
     if (!committed_ || !fast_build_ || id >= meshes_.size() || !meshes_[id].prototype) return false;
     Mesh mesh = make_mesh(vertices, nv, triangles, nt, corner_normals, material_index, slot_materials, corner_uvs);
+    attach_attributes(mesh, attributes);
+    mesh.texspace_location = meshes_[id].texspace_location;
+    mesh.texspace_size = meshes_[id].texspace_size;
     if (mesh.indices.empty() || emissive(mesh) || emissive(meshes_[id])) return false;
     mesh.users = meshes_[id].users;
     build_prototype(mesh);
@@ -322,6 +312,23 @@ bool Scene::replace_mesh(uint32_t id, const float* vertices, size_t nv, const in
     meshes_[id] = std::move(mesh);
     rtcCommitScene(scene_);
     return embree_error_.empty();
+}
+
+void Scene::attach_attributes(Mesh& mesh, const std::vector<AttributeInput>& attributes) {
+    for (const AttributeInput& a : attributes)
+        if (!a.corners || a.dims < 1 || a.dims > 4) throw std::invalid_argument("mesh attribute '" + a.name + "' is malformed");
+    for (const AttributeInput& a : attributes) {
+        MeshAttribute attr{attribute_id(a.name), a.dims, {}};
+        attr.corners.reserve(mesh.indices.size() * a.dims);
+        for (uint32_t t : mesh.kept)
+            for (int k = 0; k < 3 * a.dims; ++k) {
+                float v = a.corners[size_t(t) * 3 * a.dims + k];
+                attr.corners.push_back(std::isfinite(v) ? v : 0.0f);
+            }
+        mesh.attributes.push_back(std::move(attr));
+    }
+    mesh.kept.clear();
+    mesh.kept.shrink_to_fit();
 }
 
 void Scene::set_mesh_texspace(uint32_t mesh, const Vec3& location, const Vec3& size) {
@@ -742,10 +749,12 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
     hit->material = mesh.materials[prim];
     if (kWithTextures) {
         hit->attr.object_color = inst.object_color;
-        hit->attr.instance = geom_to_instance_[top];
-        hit->attr.prim = prim;
-        hit->attr.bu = u;
-        hit->attr.bv = v;
+        if (programs_) {
+            hit->attr.instance = geom_to_instance_[top];
+            hit->attr.prim = prim;
+            hit->attr.bu = u;
+            hit->attr.bv = v;
+        }
     }
     hit->light = -1;
     if (inst.light_base >= 0) {

@@ -111,7 +111,8 @@ public:
     bool set_instance_transforms(const float* rows, size_t n);
     bool replace_mesh(uint32_t mesh, const float* vertices, size_t nv, const int32_t* triangles, size_t nt,
                       const float* corner_normals, const int32_t* material_index,
-                      const std::vector<uint32_t>& slot_materials, const float* corner_uvs = nullptr);
+                      const std::vector<uint32_t>& slot_materials, const float* corner_uvs = nullptr,
+                      const std::vector<AttributeInput>& attributes = {});
     // A material edit: false (nothing changed) when what commit() derived from the material would
     // change (cut-out or not, emissive or not, volumes); emission edits rebuild the light table.
     bool replace_material(uint32_t id, Material material);
@@ -153,6 +154,12 @@ public:
     const Material& material(uint32_t id) const { return materials_[id]; }
     // Some material's lobes vary over surfaces (textures, object colour): hits' SurfaceAttribs matter.
     bool has_varying_materials() const { return kWithTextures && varying_materials_; }
+    // Some material has a shader program: hits must record where they are (SurfaceAttribs'
+    // instance, triangle, barycentrics) and paths their Light Path state.
+    bool has_programs() const { return kWithTextures && programs_; }
+    // The World is a program that varies over directions (an EnvironmentLight): paths keep their
+    // Light Path state for it (a backplate seen by camera rays only).
+    bool world_has_program() const { return world_desc_.program != nullptr; }
     const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
     const Light& light(uint32_t i) const { return *lights_[i]; }
     const DiscreteDistribution& light_selection() const { return light_selection_; }
@@ -222,6 +229,8 @@ private:
                    const int32_t* material_index, const std::vector<uint32_t>& slot_materials,
                    const float* corner_uvs) const;
     void build_prototype(Mesh& mesh);
+    // The named corner attributes of the triangles make_mesh kept.
+    void attach_attributes(Mesh& mesh, const std::vector<AttributeInput>& attributes);
     bool emissive(const Mesh& mesh) const;
     RTCBuildQuality build_quality() const { return fast_build_ ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_HIGH; }
     void add_triangle_lights(Instance& inst);
@@ -252,7 +261,7 @@ private:
     std::vector<uint32_t> hittable_lights_, infinite_lights_;
     DiscreteDistribution light_selection_;
     Camera camera_;
-    bool has_camera_ = false, committed_ = false, fast_build_ = false, varying_materials_ = false;
+    bool has_camera_ = false, committed_ = false, fast_build_ = false, varying_materials_ = false, programs_ = false;
     Color world_{0.0f};  // the constant World's radiance (also a program that folded to a constant)
     WorldDesc world_desc_;  // the program, map size and visibility
     std::vector<Medium> media_;

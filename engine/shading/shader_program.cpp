@@ -12,6 +12,7 @@
 #include "shading/normals.h"
 #include "shading/procedural_cells.h"
 #include "shading/procedural_noise.h"
+#include "spectral/color.h"
 
 namespace smis {
 namespace {
@@ -52,6 +53,7 @@ constexpr struct {
     {"convert", Op::Convert}, {"mix_weights", Op::MixWeights}, {"diffuse", Op::Diffuse}, {"glossy", Op::Glossy},
     {"glass", Op::Glass}, {"transparent", Op::Transparent}, {"principled", Op::Principled},
     {"emission", Op::Emission}, {"holdout", Op::Holdout}, {"tex_environment", Op::TexEnvironment},
+    {"tex_sky", Op::TexSky},
     {"background", Op::Background},
 };
 
@@ -146,6 +148,27 @@ Vec3 to_camera_space(const Camera& cam, const Vec3& p, bool point) {
 // Texture Coordinate in the World (Cycles' svm_node_tex_coord with no object): Generated, Object
 // and Position are the direction D, Normal -D, UV 0, Reflection the incoming I = -D, Camera D in
 // camera axes (the point at distance 1 along D from the camera), Window that point's projection.
+// The Sky Texture's Preetham model (Cycles 3.4 svm/sky.h, "A Practical Analytic Model for Daylight").
+// data: the sun's polar angle and azimuth (atan2(x, y), Cycles' spherical convention), a pad, the
+// zenith Y, x, y normalised by the Perez function at the zenith, and the Perez coefficients A..E of
+// Y, x and y, as the add-on's shader_compiler._sky_preetham computes them from turbidity and sun.
+constexpr size_t kSkyDataSize = 21;
+float sky_perez(const float* lam, float theta, float gamma) {
+    float cg = std::cos(gamma);
+    return (1.0f + lam[0] * std::exp(lam[1] / std::cos(theta))) * (1.0f + lam[2] * std::exp(lam[3] * gamma) + lam[4] * cg * cg);
+}
+Color sky_preetham(const float* d, const Vec3& dir) {
+    float theta = std::acos(clampf(dir.z, -1.0f, 1.0f)), phi = std::atan2(dir.x, dir.y);
+    float sun_theta = d[0], sun_phi = d[1];
+    float cospsi = std::sin(theta) * std::sin(sun_theta) * std::cos(sun_phi - phi) + std::cos(theta) * std::cos(sun_theta);
+    float gamma = std::acos(clampf(cospsi, -1.0f, 1.0f));
+    theta = std::min(theta, 0.5f * kPi - 0.001f);  // the ground repeats the horizon
+    float x = d[4] * sky_perez(d + 11, theta, gamma), y = d[5] * sky_perez(d + 16, theta, gamma);
+    float Y = d[3] * sky_perez(d + 6, theta, gamma);
+    Vec3 xyz(y != 0.0f ? x / y * Y : 0.0f, Y, y != 0.0f && Y != 0.0f ? (1.0f - x - y) / y * Y : 0.0f);
+    return spectral::xyz_to_rgb(xyz);
+}
+
 // object_tfm: the node's Object (world -> object rows), or null.
 void tex_coord_background(const ShaderOp& op, const ShaderContext& c, const float* object_tfm, float* r) {
     store3(r, op.out[0], c.P);
@@ -194,6 +217,8 @@ ShaderProgram::ShaderProgram(std::vector<ShaderOp> ops, std::vector<float> regis
             if (op.i[0] < 1 || size_t(op.data) + size_t(op.i[0]) * 4 > data_.size())
                 throw std::invalid_argument("shader program: table out of range");
         }
+        if (op.code == Op::TexSky && size_t(op.data) + kSkyDataSize > data_.size())
+            throw std::invalid_argument("shader program: sky data out of range");
         if (op.code == Op::TexCoord && op.i[0] == 1 && size_t(op.data) + 12 > data_.size())
             throw std::invalid_argument("shader program: object transform out of range");
         if (op.code >= Op::Count) throw std::invalid_argument("shader program: unknown op");
@@ -249,21 +274,27 @@ void ShaderProgram::analyse() {
     templates_.push_back(straight);
     bool varying_closure = false;
     may_emit_ = may_be_transparent_ = false;
+    // Whether a float (varies1) or a colour (varies3) input is written per hit.
+    auto varies1 = [&](uint16_t reg) { return reg != kNoReg && varying[reg]; };
+    auto varies3 = [&](uint16_t reg) { return reg != kNoReg && (varying[reg] || varying[reg + 1] || varying[reg + 2]); };
+    const float* r = registers_.data();
     for (uint32_t k : closures_) {
         const ShaderOp& op = ops_[k];
         varying_closure = varying_closure || reads_varying(op);
-        const float* r = registers_.data();
-        bool weight_zero = !reads_varying(op) && !(load1(r, op.in[0], 1.0f) != 0.0f);
-        if (op.code == Op::Emission || op.code == Op::Background) {
-            bool zero = !reads_varying(op) && (weight_zero || is_black(load3(r, op.in[1], Color(1.0f)) * load1(r, op.in[2], 1.0f)));
+        // Only the inputs that decide it: a textured base colour does not make a material emissive.
+        bool weight_zero = !varies1(op.in[0]) && !(load1(r, op.in[0], 1.0f) != 0.0f);
+        if (op.code == Op::Emission) {
+            bool varying_e = varies1(op.in[0]) || varies3(op.in[1]) || varies1(op.in[2]);
+            bool zero = !varying_e && (weight_zero || is_black(load3(r, op.in[1], Color(1.0f)) * load1(r, op.in[2], 1.0f)));
             may_emit_ = may_emit_ || !zero;
         }
         if (op.code == Op::Principled) {
             using namespace principled_in;
-            bool zero = !reads_varying(op) && (weight_zero || is_black(load3(r, op.in[Emission], Color(0.0f)) *
-                                                                        load1(r, op.in[EmissionStrength], 0.0f)));
+            bool varying_e = varies1(op.in[Weight]) || varies3(op.in[Emission]) || varies1(op.in[EmissionStrength]);
+            bool zero = !varying_e && (weight_zero || is_black(load3(r, op.in[Emission], Color(0.0f)) *
+                                                                load1(r, op.in[EmissionStrength], 0.0f)));
             may_emit_ = may_emit_ || !zero;
-            bool opaque = !reads_varying(op) && (weight_zero || load1(r, op.in[Alpha], 1.0f) >= 1.0f);
+            bool opaque = !varies1(op.in[Alpha]) && (weight_zero || load1(r, op.in[Alpha], 1.0f) >= 1.0f);
             may_be_transparent_ = may_be_transparent_ || !opaque;
         }
         if (op.code == Op::Transparent) may_be_transparent_ = may_be_transparent_ || !weight_zero;
@@ -702,6 +733,9 @@ void ShaderProgram::run(const ShaderOp& op, const ShaderContext* ctxp, float* r,
             store3(r, op.out[1], t.color);
             break;
         }
+        case Op::TexSky:
+            store3(r, op.out[0], sky_preetham(&data_[op.data], load3(r, op.in[0], zero)));
+            break;
         case Op::TexEnvironment: {
             // Cycles' Environment Texture: the vector's direction projected onto the image,
             // equirectangular (i1 = 0) or mirror ball (1); the image's own interpolation.

@@ -29,7 +29,7 @@ enum class ShaderOpCode : uint16_t {
     BumpEnter, BumpLeave, Bump, NormalMap,
     // textures
     TexImage, TexNoise, TexVoronoi, TexMusgrave, TexWave, TexMagic, TexChecker, TexBrick, TexGradient, TexWhiteNoise,
-    TexEnvironment,
+    TexEnvironment, TexSky,
     // colour
     Mix, MixFloat, MixVector, RgbCurves, VectorCurves, Invert, HueSatVal, BrightContrast, Gamma,
     // vector

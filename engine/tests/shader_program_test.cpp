@@ -88,6 +88,34 @@ TEST(ShaderProgram, HitDependentOpsStayAndTheirConstantInputsFold) {
     EXPECT_FALSE(p->may_be_transparent());
 }
 
+// A textured base colour makes neither an emitter nor a cut-out: only the emission and alpha inputs
+// (and the weight) decide those, so such a material gets no triangle lights.
+TEST(ShaderProgram, TexturedPrincipledIsNeitherEmissiveNorTransparent) {
+    Builder b;
+    uint16_t co = b.alloc(3);
+    b.op(ShaderOpCode::TexCoord).out[3] = co;
+    // The weight register sits right before the per-hit colour: a float input must not be taken
+    // for varying because its neighbours are (a vector read spans three registers, a float one).
+    uint16_t weight = b.constant(1.0f);
+    uint16_t col = b.alloc(3);
+    ShaderOp& ch = b.op(ShaderOpCode::TexChecker);
+    ch.in[0] = co, ch.out[0] = col;
+    ShaderOp& pr = b.op(ShaderOpCode::Principled);
+    pr.in[0] = weight;
+    pr.in[1] = col;
+    pr.in[20] = b.constant3(Color(0.0f));  // Emission black
+    pr.in[21] = b.constant(1.0f);          // Emission Strength
+    pr.in[22] = b.constant(1.0f);          // Alpha
+    auto p = b.build();
+    EXPECT_FALSE(p->is_constant());
+    EXPECT_FALSE(p->may_emit());
+    EXPECT_FALSE(p->may_be_transparent());
+    // The same material with the checker into Emission does emit.
+    Builder e = b;
+    e.ops.back().in[20] = col;
+    EXPECT_TRUE(e.build()->may_emit());
+}
+
 // Through a scene: a quad whose material is checker(Object coordinates) into emission; the camera
 // sees the pattern, and the program's emission at a hit agrees with the checker's definition.
 TEST(ShaderProgram, EvaluatesAtSceneHits) {

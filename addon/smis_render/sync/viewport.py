@@ -135,7 +135,7 @@ class ViewportSync:
                 buf, mat_ids = mesh_of(obj, self.export.materials, self.cache)
                 if buf is None or not scene.replace_mesh(
                         self.cache.mesh_ids[key], buf.vertices, buf.triangles, buf.corner_normals,
-                        buf.material_index, mat_ids, buf.corner_uvs):
+                        buf.material_index, mat_ids, buf.corner_uvs, buf.attributes or {}):
                     return False
         except (RuntimeError, ValueError):  # e.g. a new material: the committed scene can't take it
             return False
