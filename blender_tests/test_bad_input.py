@@ -160,3 +160,20 @@ nt.links.new(g.outputs[0], emit.inputs['Color'])
     img = assert_clean_image(run)
     assert np.all(img[10:14, 14:18, :3] == 0.0)
     assert any("Group Output" in l for l in run.output.splitlines()), run.output[-3000:]
+
+
+def test_zero_scale_and_nan_objects_are_skipped_by_name():
+    # One object scaled to zero (hidden in an animation) and one with a NaN location: both are
+    # named in one warning and the rest of the scene (the default cube) still renders.
+    run = render(setup=SMALL + """
+bpy.ops.mesh.primitive_uv_sphere_add(location=(0, 0, 3))
+bpy.context.active_object.name = 'Flattened'
+bpy.context.active_object.scale = (0.0, 0.0, 0.0)
+bpy.ops.mesh.primitive_cone_add(location=(0, 3, 0))
+bpy.context.active_object.name = 'Broken'
+bpy.context.active_object.location = (float('nan'), 0.0, 0.0)
+""")
+    img = assert_clean_image(run)
+    assert img[10:14, 14:18, :3].max() > 0.0  # the cube is there
+    skipped = [l for l in run.output.splitlines() if "Skipped" in l]
+    assert len(skipped) == 1 and "'Flattened'" in skipped[0] and "'Broken'" in skipped[0], run.output[-3000:]

@@ -561,11 +561,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 const PathRecord& t = records[nb[jj]];
                 float pj = techniques[jj].area_density(z, z_ng);
                 if (pj > 0.0f && jj != sampled_by) {
-                    Vec3 dz = z - t.p;
-                    float dd = length(dz);
-                    Vec3 wz = dz / dd;
-                    if (scene.occluded(offset_ray_origin(t.p, dot(wz, t.ng) > 0 ? t.ng : -t.ng), wz, dd * (1.0f - 1e-4f)))
-                        pj = 0.0f;
+                    const ShadowRay s = shadow_ray_between(t.p, t.ng, z);
+                    if (scene.occluded(s.o, s.d, s.tmax)) pj = 0.0f;
                 }
                 denom += pj;
             }
@@ -612,9 +609,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 Color L_z = smp.L_out;
                 if (exact) {
                     // Visibility and z1's scattering for the new direction (§4.2).
-                    if (scene.occluded(offset_ray_origin(q.p, dot(c.dir, q.ng) > 0 ? q.ng : -q.ng), c.dir,
-                                       std::sqrt(c.dist2) * (1.0f - 1e-4f)))
-                        continue;
+                    const ShadowRay s = shadow_ray_between(q.p, q.ng, smp.z);
+                    if (scene.occluded(s.o, s.d, s.tmax)) continue;
                     Vec3 z_wo = -c.dir;
                     bool back = dot(z_wo, smp.z_ng) < 0.0f;
                     Vec3 zng = back ? -smp.z_ng : smp.z_ng;

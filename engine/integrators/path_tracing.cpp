@@ -43,10 +43,10 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
     const ShadowRay shadow = shadow_ray(sp, ls.wi, ls.dist);
     Color tr(1.0f);
     if (!scene.has_media()) {
-        if (scene.occluded(shadow.o, shadow.d, shadow.tmax)) return ds;
+        if (scene.occluded(shadow.o, shadow.d, shadow.tmax) || !reaches_mesh_light(scene, shadow, li)) return ds;
     } else {
         tr = shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, medium_towards(scene, sp, ls.wi, medium));
-        if (is_black(tr)) return ds;
+        if (is_black(tr) || !reaches_mesh_light(scene, shadow, li)) return ds;
     }
     float light_pdf = pmf * ls.pdf;
     const float n = float(light_samples);
@@ -91,8 +91,9 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
                       LocalCounters& counters) {
     Color L(0.0f), beta(1.0f);
     float eta_scale = 1.0f;
-    ShaderRay sray;  // what the Light Path node reports for the next hit
+    ShaderRay sray;  // what the Light Path node reports for the next hit (scenes with programs)
     sray.camera = state.depth == 0;
+    const bool programs = scene.has_programs() || scene.world_has_program();
     for (;; ++state.depth) {
         SurfaceHit hit;
         bool found;
@@ -114,8 +115,10 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         }
         // The ray leaving the last allowed bounce only collects emission (Cycles' max_bounces).
         if (!found || state.depth > settings.max_bounces) break;
-        sray.depth = state.depth;
-        sray.length = hit.t;
+        if (programs) {
+            sray.depth = state.depth;
+            sray.length = hit.t;
+        }
         ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
         if (sp.bsdf.empty()) break;
 
@@ -139,7 +142,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         }
         beta *= bs.value / bs.pdf;
         if (bs.transmission) eta_scale *= sqr(bs.eta);
-        next_shader_ray(sp.bsdf, bs, &sray);
+        if (programs) next_shader_ray(sp.bsdf, bs, &sray);
         if constexpr (kMedia) state.medium = medium_towards(scene, sp, bs.wi, state.medium);
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;

@@ -531,28 +531,33 @@ Color Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
     if (count_ == 0) return Color(0.0f);
     Vec3 wo_l = frame_.to_local(wo), wi_l = frame_.to_local(wi);
     if (!sides_consistent(ng_, wo, wi, wo_l, wi_l)) return Color(0.0f);
+    if (bumped_) return eval_bumped(wi, wo_l, wi_l);
     Color sum(0.0f);
-    if (!bumped_) {
-        for (int i = 0; i < count_; ++i) sum += lobe_eval(lobes_[i], wo_l, wi_l);
-    } else {
-        float shadowing = bump_shadowing(wi);
-        for (int i = 0; i < count_; ++i) {
-            Color c = lobe_eval(lobes_[i], wo_l, wi_l);
-            sum += diffuse_labelled(lobes_[i]) ? c * shadowing : c;
-        }
+    for (int i = 0; i < count_; ++i) sum += lobe_eval(lobes_[i], wo_l, wi_l);
+    return is_finite(sum) ? sum : Color(0.0f);
+}
+
+Color Bsdf::eval_bumped(const Vec3& wi, const Vec3& wo_l, const Vec3& wi_l) const {
+    float shadowing = bump_shadowing(wi);
+    Color sum(0.0f);
+    for (int i = 0; i < count_; ++i) {
+        Color c = lobe_eval(lobes_[i], wo_l, wi_l);
+        sum += diffuse_labelled(lobes_[i]) ? c * shadowing : c;
     }
     return is_finite(sum) ? sum : Color(0.0f);
+}
+
+void Bsdf::shadow_diffuse_terms(const Vec3& wi, LobeTerms* terms) const {
+    float shadowing = bump_shadowing(wi);
+    for (int i = 0; i < count_; ++i)
+        if (diffuse_labelled(lobes_[i])) terms[i].geom *= shadowing;
 }
 
 bool Bsdf::eval_terms(const Vec3& wo, const Vec3& wi, LobeTerms* terms) const {
     Vec3 wo_l = frame_.to_local(wo), wi_l = frame_.to_local(wi);
     if (count_ == 0 || !sides_consistent(ng_, wo, wi, wo_l, wi_l)) return false;
     for (int i = 0; i < count_; ++i) terms[i] = lobe_terms(lobes_[i], wo_l, wi_l);
-    if (bumped_) {
-        float shadowing = bump_shadowing(wi);
-        for (int i = 0; i < count_; ++i)
-            if (diffuse_labelled(lobes_[i])) terms[i].geom *= shadowing;
-    }
+    if (bumped_) shadow_diffuse_terms(wi, terms);
     return true;
 }
 
@@ -653,7 +658,7 @@ BsdfSample Bsdf::sample(const Vec3& wo, Point2 u, float u_lobe) const {
             out.value += r.value;
             out.pdf += probs[i] * r.pdf;
         }
-        if (bumped_) out.value = eval(wo, wi);  // the same mixture value with diffuse lobes shadowed
+        if (bumped_) out.value = eval_bumped(wi, wo_l, ls.wi);  // the mixture with diffuse lobes shadowed
     }
     if (!out.valid()) return BsdfSample{};
     return out;

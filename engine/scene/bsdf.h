@@ -167,6 +167,9 @@ public:
 
 private:
     float bump_shadowing(const Vec3& wi) const;
+    // Out of line, so the common (unbent) path of eval() and sample() keeps its inlining.
+    [[gnu::noinline]] Color eval_bumped(const Vec3& wi, const Vec3& wo_l, const Vec3& wi_l) const;
+    [[gnu::noinline]] void shadow_diffuse_terms(const Vec3& wi, LobeTerms* terms) const;
     static bool diffuse_labelled(const Lobe& lobe) {
         return lobe.kind == LobeKind::Diffuse || lobe.kind == LobeKind::PrincipledDiffuse || lobe.kind == LobeKind::Sheen;
     }

@@ -107,6 +107,8 @@ public:
     float pdf(const Vec3& ref, const Vec3& wi) const override;
     // Density of hitting point p (normal n) from ref, already known from a BVH hit.
     float pdf_at(const Vec3& ref, const Vec3& p) const;
+    // Distance from a point of the triangle (a light sample) to the nearest of its edges.
+    float distance_to_edge(const Vec3& p) const;
     bool point_independent_of_reference() const override { return true; }
     float power(float scene_radius) const override;
     const Color& radiance() const { return radiance_; }

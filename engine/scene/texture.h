@@ -72,6 +72,9 @@ public:
     TextureSample lookup(Point2 uv) const;
     int width() const { return width_; }
     int height() const { return height_; }
+    // One texel that every lookup returns whatever the coordinate (not clipped): Cycles' magenta
+    // stand-in for a missing image, a 1 x 1 colour image.
+    bool constant() const { return width_ == 1 && height_ == 1 && options_.wrap != Wrap::Clip; }
     // Mean RGB over the texels (for light selection by power); at least a tiny positive value so
     // that a dark texture's emitters can still be chosen.
     Color mean() const { return mean_; }

@@ -2,10 +2,28 @@
 // feature points come from Cycles' Jenkins lookup3 hashes of the cell coordinates' float bits, so
 // the cells (and their colours) land exactly where Cycles puts them. Loops visit neighbour cells in
 // Cycles' order (x fastest) because Smooth F1's blend and F2's tie-breaking depend on it.
+//
+// Speed: the feature points of a whole block of neighbour cells (3^N, or 5^N for Smooth F1) are
+// hashed and measured first, as loops over arrays that the compiler vectorises; only the choice of
+// the nearest point (and Smooth F1's blend) then runs cell by cell in Cycles' order. Each lane does
+// the scalar code's operations, so the values are those of a cell-by-cell evaluation. The metric is
+// a template parameter, so its switch is outside the loops. voronoi_texture is compiled twice
+// (baseline x86-64 and AVX2, chosen at load time); AVX2 alone enables no FMA contraction, so both
+// compute the same values.
 #include "shading/procedural_cells.h"
+
+#include "shading/lookup3.h"
 
 #include <cstdint>
 #include <cstring>
+
+#define SMIS_CELLS_INLINE inline __attribute__((always_inline))
+#define SMIS_CELLS_CLONES __attribute__((target_clones("avx2", "default")))
+#if defined(__GNUC__) && !defined(__clang__)
+#define SMIS_CELLS_NO_VECTORIZE __attribute__((optimize("no-tree-vectorize")))
+#else
+#define SMIS_CELLS_NO_VECTORIZE
+#endif
 
 namespace smis::shading {
 
@@ -13,362 +31,349 @@ namespace {
 
 // ---- Cycles' hashes (util/hash.h): Bob Jenkins' lookup3 on the float bit patterns ----
 
-inline uint32_t cell_rot(uint32_t x, int k) { return (x << k) | (x >> (32 - k)); }
-
-inline void cell_mix(uint32_t& a, uint32_t& b, uint32_t& c) {
-    a -= c; a ^= cell_rot(c, 4);  c += b;
-    b -= a; b ^= cell_rot(a, 6);  a += c;
-    c -= b; c ^= cell_rot(b, 8);  b += a;
-    a -= c; a ^= cell_rot(c, 16); c += b;
-    b -= a; b ^= cell_rot(a, 19); a += c;
-    c -= b; c ^= cell_rot(b, 4);  b += a;
-}
-
-inline void cell_final(uint32_t& a, uint32_t& b, uint32_t& c) {
-    c ^= b; c -= cell_rot(b, 14);
-    a ^= c; a -= cell_rot(c, 11);
-    b ^= a; b -= cell_rot(a, 25);
-    c ^= b; c -= cell_rot(b, 16);
-    a ^= c; a -= cell_rot(c, 4);
-    b ^= a; b -= cell_rot(a, 14);
-    c ^= b; c -= cell_rot(b, 24);
-}
-
-uint32_t cell_hash_uint(uint32_t kx) {
-    uint32_t a, b, c;
-    a = b = c = 0xdeadbeefu + (1u << 2) + 13u;
-    a += kx;
-    cell_final(a, b, c);
-    return c;
-}
-
-uint32_t cell_hash_uint2(uint32_t kx, uint32_t ky) {
-    uint32_t a, b, c;
-    a = b = c = 0xdeadbeefu + (2u << 2) + 13u;
-    b += ky;
-    a += kx;
-    cell_final(a, b, c);
-    return c;
-}
-
-uint32_t cell_hash_uint3(uint32_t kx, uint32_t ky, uint32_t kz) {
-    uint32_t a, b, c;
-    a = b = c = 0xdeadbeefu + (3u << 2) + 13u;
-    c += kz;
-    b += ky;
-    a += kx;
-    cell_final(a, b, c);
-    return c;
-}
-
-uint32_t cell_hash_uint4(uint32_t kx, uint32_t ky, uint32_t kz, uint32_t kw) {
-    uint32_t a, b, c;
-    a = b = c = 0xdeadbeefu + (4u << 2) + 13u;
-    a += kx;
-    b += ky;
-    c += kz;
-    cell_mix(a, b, c);
-    a += kw;
-    cell_final(a, b, c);
-    return c;
-}
-
-inline uint32_t cell_bits(float f) {
+SMIS_CELLS_INLINE uint32_t cell_bits(float f) {
     uint32_t u;
     std::memcpy(&u, &f, sizeof(u));
     return u;
 }
 
+constexpr uint32_t kBitsOne = 0x3f800000u;  // 1.0f
+constexpr uint32_t kBitsTwo = 0x40000000u;  // 2.0f
+
 // [0, 2^32-1] -> [0, 1] inclusive, as Cycles' uint_to_float_incl.
-inline float cell_uint_to_unit(uint32_t n) { return static_cast<float>(n) * (1.0f / static_cast<float>(0xFFFFFFFFu)); }
-
-float cell_hash_float_to_float(float k) { return cell_uint_to_unit(cell_hash_uint(cell_bits(k))); }
-float cell_hash_float2_to_float(float x, float y) {
-    return cell_uint_to_unit(cell_hash_uint2(cell_bits(x), cell_bits(y)));
-}
-float cell_hash_float3_to_float(float x, float y, float z) {
-    return cell_uint_to_unit(cell_hash_uint3(cell_bits(x), cell_bits(y), cell_bits(z)));
-}
-float cell_hash_float4_to_float(float x, float y, float z, float w) {
-    return cell_uint_to_unit(cell_hash_uint4(cell_bits(x), cell_bits(y), cell_bits(z), cell_bits(w)));
+SMIS_CELLS_INLINE float cell_uint_to_unit(uint32_t n) {
+    return static_cast<float>(n) * (1.0f / static_cast<float>(0xFFFFFFFFu));
 }
 
-Vec3 cell_hash_float_to_float3(float k) {
-    return {cell_hash_float_to_float(k), cell_hash_float2_to_float(k, 1.0f),
-            cell_hash_float2_to_float(k, 2.0f)};
-}
-Vec3 cell_hash_float2_to_float3(float x, float y) {
-    return {cell_hash_float2_to_float(x, y), cell_hash_float3_to_float(x, y, 1.0f),
-            cell_hash_float3_to_float(x, y, 2.0f)};
-}
-Vec3 cell_hash_float3_to_float3(float x, float y, float z) {
-    return {cell_hash_float3_to_float(x, y, z), cell_hash_float4_to_float(x, y, z, 1.0f),
-            cell_hash_float4_to_float(x, y, z, 2.0f)};
-}
-Vec3 cell_hash_float4_to_float3(float x, float y, float z, float w) {
-    return {cell_hash_float4_to_float(x, y, z, w), cell_hash_float4_to_float(z, x, w, y),
-            cell_hash_float4_to_float(w, z, y, x)};
+SMIS_CELLS_INLINE float cell_hash_float_to_float(float k) {
+    return cell_uint_to_unit(lookup3::hash1(cell_bits(k)));
 }
 
-// ---- N-dimensional helpers ----
-
-template <int N>
-struct VecN {
-    float v[N] = {};
-    float& operator[](int i) { return v[i]; }
-    float operator[](int i) const { return v[i]; }
-};
-
-template <int N>
-VecN<N> add(const VecN<N>& a, const VecN<N>& b) {
-    VecN<N> r;
-    for (int i = 0; i < N; ++i) r[i] = a[i] + b[i];
-    return r;
-}
-template <int N>
-VecN<N> sub(const VecN<N>& a, const VecN<N>& b) {
-    VecN<N> r;
-    for (int i = 0; i < N; ++i) r[i] = a[i] - b[i];
-    return r;
-}
-template <int N>
-float dotn(const VecN<N>& a, const VecN<N>& b) {
-    float s = 0.0f;
-    for (int i = 0; i < N; ++i) s += a[i] * b[i];
-    return s;
-}
-
-// Cycles' point hash per dimension: hash_float{,2,3,4}_to_float{,2,3,4}.
-template <int N>
-VecN<N> cell_point_hash(const VecN<N>& k);
-template <>
-VecN<1> cell_point_hash<1>(const VecN<1>& k) { return {{cell_hash_float_to_float(k[0])}}; }
-template <>
-VecN<2> cell_point_hash<2>(const VecN<2>& k) {
-    return {{cell_hash_float2_to_float(k[0], k[1]), cell_hash_float3_to_float(k[0], k[1], 1.0f)}};
-}
-template <>
-VecN<3> cell_point_hash<3>(const VecN<3>& k) {
-    Vec3 h = cell_hash_float3_to_float3(k[0], k[1], k[2]);
-    return {{h.x, h.y, h.z}};
-}
-template <>
-VecN<4> cell_point_hash<4>(const VecN<4>& k) {
-    return {{cell_hash_float4_to_float(k[0], k[1], k[2], k[3]),
-             cell_hash_float4_to_float(k[3], k[0], k[1], k[2]),
-             cell_hash_float4_to_float(k[2], k[3], k[0], k[1]),
-             cell_hash_float4_to_float(k[1], k[2], k[3], k[0])}};
-}
-
-// Cycles' cell colour hash per dimension: hash_float{,2,3,4}_to_float3.
-template <int N>
-Vec3 cell_color_hash(const VecN<N>& k);
-template <>
-Vec3 cell_color_hash<1>(const VecN<1>& k) { return cell_hash_float_to_float3(k[0]); }
-template <>
-Vec3 cell_color_hash<2>(const VecN<2>& k) { return cell_hash_float2_to_float3(k[0], k[1]); }
-template <>
-Vec3 cell_color_hash<3>(const VecN<3>& k) { return cell_hash_float3_to_float3(k[0], k[1], k[2]); }
-template <>
-Vec3 cell_color_hash<4>(const VecN<4>& k) { return cell_hash_float4_to_float3(k[0], k[1], k[2], k[3]); }
-
-template <int N>
-float euclidean(const VecN<N>& a, const VecN<N>& b) {
-    if (N == 1) return std::fabs(a[0] - b[0]);
-    VecN<N> d = sub(a, b);
-    return std::sqrt(dotn(d, d));
-}
-
-// 1D ignores the metric (Cycles' voronoi_distance_1d is always |b - a|).
-template <int N>
-float metric_distance(const VecN<N>& a, const VecN<N>& b, VoronoiMetric metric, float exponent) {
-    if (N == 1) return std::fabs(b[0] - a[0]);
-    switch (metric) {
-        case VoronoiMetric::Euclidean: return euclidean(a, b);
-        case VoronoiMetric::Manhattan: {
-            float s = 0.0f;
-            for (int i = 0; i < N; ++i) s += std::fabs(a[i] - b[i]);
-            return s;
-        }
-        case VoronoiMetric::Chebychev: {
-            float m = std::fabs(a[N - 1] - b[N - 1]);
-            for (int i = N - 2; i >= 0; --i) m = std::max(std::fabs(a[i] - b[i]), m);
-            return m;
-        }
-        case VoronoiMetric::Minkowski: {
-            float s = 0.0f;
-            for (int i = 0; i < N; ++i) s += std::pow(std::fabs(a[i] - b[i]), exponent);
-            return std::pow(s, 1.0f / exponent);
-        }
-    }
-    return 0.0f;
-}
+// ---- Neighbour blocks ----
 
 constexpr int ipow(int b, int e) { return e == 0 ? 1 : b * ipow(b, e - 1); }
 
-// Offset of neighbour number idx in a (2r+1)^N block, x varying fastest as Cycles' nested loops.
-template <int N>
-VecN<N> neighbour_offset(int idx, int r) {
-    VecN<N> o;
-    int side = 2 * r + 1;
-    for (int i = 0; i < N; ++i) {
-        o[i] = static_cast<float>(idx % side - r);
-        idx /= side;
+// The offsets of the (2R+1)^N cells around a cell, x varying fastest as Cycles' nested loops.
+template <int N, int R> struct Block {
+    static constexpr int K = ipow(2 * R + 1, N);
+    static constexpr int kCentre = K / 2;  // the all-zero offset
+    float off[N][K] = {};
+};
+template <int N, int R> constexpr Block<N, R> make_block() {
+    Block<N, R> b;
+    for (int k = 0; k < Block<N, R>::K; ++k) {
+        int idx = k;
+        for (int d = 0; d < N; ++d) {
+            b.off[d][k] = static_cast<float>(idx % (2 * R + 1) - R);
+            idx /= 2 * R + 1;
+        }
     }
-    return o;
+    return b;
+}
+template <int N, int R> constexpr Block<N, R> kBlock = make_block<N, R>();
+
+// The hash keys (float bits of cell + offset) of K cells given as offsets from `cell`.
+template <int N, int K>
+SMIS_CELLS_INLINE void cell_keys(const float* cell, const float (&off)[N][K], uint32_t (&key)[N][K]) {
+    for (int d = 0; d < N; ++d)
+        for (int k = 0; k < K; ++k) key[d][k] = cell_bits(cell[d] + off[d][k]);
 }
 
+// Cycles' point hash per dimension (hash_float{,2,3,4}_to_float{,2,3,4}) of K keys, as raw uint32.
+template <int N, int K>
+SMIS_CELLS_INLINE void point_hashes(const uint32_t (&key)[N][K], uint32_t (&h)[N][K]) {
+    for (int k = 0; k < K; ++k) {
+        if constexpr (N == 1) {
+            h[0][k] = lookup3::hash1(key[0][k]);
+        } else if constexpr (N == 2) {
+            h[0][k] = lookup3::hash2(key[0][k], key[1][k]);
+            h[1][k] = lookup3::hash3(key[0][k], key[1][k], kBitsOne);
+        } else if constexpr (N == 3) {
+            h[0][k] = lookup3::hash3(key[0][k], key[1][k], key[2][k]);
+            h[1][k] = lookup3::hash4(key[0][k], key[1][k], key[2][k], kBitsOne);
+            h[2][k] = lookup3::hash4(key[0][k], key[1][k], key[2][k], kBitsTwo);
+        } else {
+            h[0][k] = lookup3::hash4(key[0][k], key[1][k], key[2][k], key[3][k]);
+            h[1][k] = lookup3::hash4(key[3][k], key[0][k], key[1][k], key[2][k]);
+            h[2][k] = lookup3::hash4(key[2][k], key[3][k], key[0][k], key[1][k]);
+            h[3][k] = lookup3::hash4(key[1][k], key[2][k], key[3][k], key[0][k]);
+        }
+    }
+}
+
+// Cycles' cell colour hash per dimension (hash_float{,2,3,4}_to_float3) of one key. Its first
+// components are the point hash's (all three in 3D), so callers holding those pass them in.
 template <int N>
-VecN<N> feature_point(const VecN<N>& cell, const VecN<N>& offset, float randomness) {
-    VecN<N> h = cell_point_hash<N>(add(cell, offset));
-    VecN<N> p;
-    for (int i = 0; i < N; ++i) p[i] = offset[i] + h[i] * randomness;
-    return p;
+SMIS_CELLS_INLINE Vec3 cell_color(const uint32_t* key, const uint32_t* point_hash) {
+    uint32_t c0 = point_hash[0], c1, c2;
+    if constexpr (N == 1) {
+        c1 = lookup3::hash2(key[0], kBitsOne);
+        c2 = lookup3::hash2(key[0], kBitsTwo);
+    } else if constexpr (N == 2) {
+        c1 = point_hash[1];
+        c2 = lookup3::hash3(key[0], key[1], kBitsTwo);
+    } else if constexpr (N == 3) {
+        c1 = point_hash[1];
+        c2 = point_hash[2];
+    } else {
+        c1 = lookup3::hash4(key[2], key[0], key[3], key[1]);
+        c2 = lookup3::hash4(key[3], key[2], key[1], key[0]);
+    }
+    return {cell_uint_to_unit(c0), cell_uint_to_unit(c1), cell_uint_to_unit(c2)};
 }
 
-inline float smoothstep01(float x) {
+// The feature points (offset + hash * randomness, relative to `cell`) of K cells, plus their keys and
+// point hashes for the colour.
+template <int N, int K> struct CellPoints {
+    uint32_t key[N][K];
+    uint32_t hash[N][K];
+    float p[N][K];
+};
+template <int N, int K>
+SMIS_CELLS_INLINE void feature_points(const float* cell, const float (&off)[N][K], float randomness,
+                                      CellPoints<N, K>& cp) {
+    cell_keys(cell, off, cp.key);
+    point_hashes(cp.key, cp.hash);
+    for (int d = 0; d < N; ++d)
+        for (int k = 0; k < K; ++k) cp.p[d][k] = off[d][k] + cell_uint_to_unit(cp.hash[d][k]) * randomness;
+}
+
+// The colour of cell k of a CellPoints block.
+template <int N, int K> SMIS_CELLS_INLINE Vec3 color_of(const CellPoints<N, K>& cp, int k) {
+    uint32_t key[N], hash[N];
+    for (int d = 0; d < N; ++d) key[d] = cp.key[d][k], hash[d] = cp.hash[d][k];
+    return cell_color<N>(key, hash);
+}
+
+// Distance of feature point k to `local` (both relative to the cell) under metric M; 1D ignores the
+// metric (Cycles' voronoi_distance_1d is always |b - a|). Sums start with their first term rather
+// than 0 + it: squares, absolute values and their powers are never -0, so 0 + x == x.
+template <VoronoiMetric M, int N, int K>
+SMIS_CELLS_INLINE float metric_distance(const float (&p)[N][K], int k, const float* local, float exponent) {
+    if constexpr (N == 1) {
+        return std::fabs(local[0] - p[0][k]);
+    } else if constexpr (M == VoronoiMetric::Euclidean) {
+        float s = (p[0][k] - local[0]) * (p[0][k] - local[0]);
+        for (int d = 1; d < N; ++d) s += (p[d][k] - local[d]) * (p[d][k] - local[d]);
+        return std::sqrt(s);
+    } else if constexpr (M == VoronoiMetric::Manhattan) {
+        float s = std::fabs(p[0][k] - local[0]);
+        for (int d = 1; d < N; ++d) s += std::fabs(p[d][k] - local[d]);
+        return s;
+    } else if constexpr (M == VoronoiMetric::Chebychev) {
+        float m = std::fabs(p[N - 1][k] - local[N - 1]);
+        for (int d = N - 2; d >= 0; --d) m = std::max(std::fabs(p[d][k] - local[d]), m);
+        return m;
+    } else {
+        float s = std::pow(std::fabs(p[0][k] - local[0]), exponent);
+        for (int d = 1; d < N; ++d) s += std::pow(std::fabs(p[d][k] - local[d]), exponent);
+        return std::pow(s, 1.0f / exponent);
+    }
+}
+
+template <VoronoiMetric M, int N, int K>
+SMIS_CELLS_INLINE void distances(const CellPoints<N, K>& cp, const float* local, float exponent,
+                                 float (&dist)[K]) {
+    for (int k = 0; k < K; ++k) dist[k] = metric_distance<M, N, K>(cp.p, k, local, exponent);
+}
+
+// Euclidean length of a - b for N-vectors (|a - b| in 1D).
+template <int N> SMIS_CELLS_INLINE float euclidean(const float* a, const float* b) {
+    if constexpr (N == 1) {
+        return std::fabs(a[0] - b[0]);
+    } else {
+        float s = (a[0] - b[0]) * (a[0] - b[0]);
+        for (int d = 1; d < N; ++d) s += (a[d] - b[d]) * (a[d] - b[d]);
+        return std::sqrt(s);
+    }
+}
+
+SMIS_CELLS_INLINE float smoothstep01(float x) {
     if (x < 0.0f) return 0.0f;
     if (x >= 1.0f) return 1.0f;
     return (3.0f - 2.0f * x) * (x * x);
 }
 
 // Result in scaled space: position is absolute (cell + local), not yet divided by scale.
-template <int N>
-struct CellResult {
+template <int N> struct CellResult {
     float distance = 0.0f;
     Vec3 color{0.0f};
-    VecN<N> position;
+    float position[N] = {};
     float radius = 0.0f;
 };
 
-template <int N>
-void split(const VecN<N>& coord, VecN<N>& cell, VecN<N>& local) {
-    for (int i = 0; i < N; ++i) {
-        cell[i] = std::floor(coord[i]);
-        local[i] = coord[i] - cell[i];
+template <int N> SMIS_CELLS_INLINE void split(const float* coord, float* cell, float* local) {
+    for (int d = 0; d < N; ++d) {
+        cell[d] = std::floor(coord[d]);
+        local[d] = coord[d] - cell[d];
     }
 }
 
-template <int N>
-CellResult<N> voronoi_f1(const VecN<N>& coord, float exponent, float randomness, VoronoiMetric metric) {
-    VecN<N> cell, local;
-    split(coord, cell, local);
-    float min_distance = 8.0f;
-    VecN<N> target_offset, target_position;
-    for (int idx = 0; idx < ipow(3, N); ++idx) {
-        VecN<N> off = neighbour_offset<N>(idx, 1);
-        VecN<N> p = feature_point(cell, off, randomness);
-        float d = metric_distance(p, local, metric, exponent);
-        if (d < min_distance) {
-            target_offset = off;
-            min_distance = d;
-            target_position = p;
-        }
+// Colour and absolute position of block cell `k`; k < 0 (no distance below the initial 8, e.g. NaN
+// input) stands for Cycles' zero-initialised offset and position: the cell itself, position = cell.
+template <int N, int K>
+SMIS_CELLS_INLINE void pick(const CellPoints<N, K>& cp, int k, const float* cell, CellResult<N>& r) {
+    r.color = color_of(cp, k < 0 ? Block<N, 1>::kCentre : k);
+    for (int d = 0; d < N; ++d) r.position[d] = (k < 0 ? 0.0f : cp.p[d][k]) + cell[d];
+}
+
+// The metric's distances of the feature points to `local`; metric values outside the enum
+// (`no_metric`) measure every distance as 0, as Cycles' switch without a matching case does.
+template <VoronoiMetric M, int N, int K>
+SMIS_CELLS_INLINE void block_distances(const CellPoints<N, K>& cp, const float* local, float exponent,
+                                       bool no_metric, float (&dist)[K]) {
+    if (no_metric) {
+        for (int k = 0; k < K; ++k) dist[k] = 0.0f;
+        return;
     }
+    distances<M>(cp, local, exponent, dist);
+}
+
+template <VoronoiMetric M, int N>
+SMIS_CELLS_INLINE CellResult<N> voronoi_f1(const float* coord, float exponent, bool no_metric,
+                                           float randomness) {
+    using B = Block<N, 1>;
+    float cell[N], local[N];
+    split<N>(coord, cell, local);
+    CellPoints<N, B::K> cp;
+    feature_points(cell, kBlock<N, 1>.off, randomness, cp);
+    float dist[B::K];
+    block_distances<M>(cp, local, exponent, no_metric, dist);
+    float min_distance = 8.0f;
+    int best = -1;
+    for (int k = 0; k < B::K; ++k)
+        if (dist[k] < min_distance) min_distance = dist[k], best = k;
     CellResult<N> r;
     r.distance = min_distance;
-    r.color = cell_color_hash<N>(add(cell, target_offset));
-    r.position = add(target_position, cell);
+    pick(cp, best, cell, r);
     return r;
 }
 
-template <int N>
-CellResult<N> voronoi_f2(const VecN<N>& coord, float exponent, float randomness, VoronoiMetric metric) {
-    VecN<N> cell, local;
-    split(coord, cell, local);
+template <VoronoiMetric M, int N>
+SMIS_CELLS_INLINE CellResult<N> voronoi_f2(const float* coord, float exponent, bool no_metric,
+                                           float randomness) {
+    using B = Block<N, 1>;
+    float cell[N], local[N];
+    split<N>(coord, cell, local);
+    CellPoints<N, B::K> cp;
+    feature_points(cell, kBlock<N, 1>.off, randomness, cp);
+    float dist[B::K];
+    block_distances<M>(cp, local, exponent, no_metric, dist);
     float d1 = 8.0f, d2 = 8.0f;
-    VecN<N> off1, pos1, off2, pos2;
-    for (int idx = 0; idx < ipow(3, N); ++idx) {
-        VecN<N> off = neighbour_offset<N>(idx, 1);
-        VecN<N> p = feature_point(cell, off, randomness);
-        float d = metric_distance(p, local, metric, exponent);
+    int i1 = -1, i2 = -1;
+    for (int k = 0; k < B::K; ++k) {
+        float d = dist[k];
         if (d < d1) {
-            d2 = d1;
-            d1 = d;
-            off2 = off1;
-            off1 = off;
-            pos2 = pos1;
-            pos1 = p;
+            d2 = d1, i2 = i1;
+            d1 = d, i1 = k;
         } else if (d < d2) {
-            d2 = d;
-            off2 = off;
-            pos2 = p;
+            d2 = d, i2 = k;
         }
     }
     CellResult<N> r;
     r.distance = d2;
-    r.color = cell_color_hash<N>(add(cell, off2));
-    r.position = add(pos2, cell);
+    pick(cp, i2, cell, r);
     return r;
 }
 
 // Smooth F1 blends every point of a 5^N block with a polynomial smooth minimum; smoothness is
-// already halved and clamped to [0, 0.5] as the node does.
-template <int N>
-CellResult<N> voronoi_smooth_f1(const VecN<N>& coord, float smoothness, float exponent,
-                                float randomness, VoronoiMetric metric) {
-    VecN<N> cell, local;
-    split(coord, cell, local);
+// already halved and clamped to [0, 0.5] as the node does. The blend is a chain through the cells
+// in order; the points and distances feeding it are computed beforehand.
+//
+// Most cells of the block are too far to contribute: their blend weight h is exactly 0 (their
+// distance exceeds the running one by more than the smoothness). With finite distances such a
+// cell changes nothing (the correction is +0 and x + 0 * (y - x) - 0 == x, the sums never being
+// -0), so it is passed over, and colours are hashed only for the cells blended in (in 2D the
+// block is small and the colours are cheaper hashed all at once, with the points).
+template <VoronoiMetric M, int N>
+SMIS_CELLS_INLINE CellResult<N> voronoi_smooth_f1(const float* coord, float smoothness, float exponent,
+                                                  bool no_metric, float randomness) {
+    using B = Block<N, 2>;
+    constexpr int K = B::K;
+    constexpr bool kColorsAhead = N == 2;
+    float cell[N], local[N];
+    split<N>(coord, cell, local);
+    CellPoints<N, K> cp;
+    feature_points(cell, kBlock<N, 2>.off, randomness, cp);
+    float dist[K];
+    block_distances<M>(cp, local, exponent, no_metric, dist);
+    uint32_t color2[kColorsAhead ? K : 1];  // 2D: the third colour hash; the others are point hashes
+    if constexpr (kColorsAhead)
+        for (int k = 0; k < K; ++k) color2[k] = lookup3::hash3(cp.key[0][k], cp.key[1][k], kBitsTwo);
+
+    const float correction_scale = 1.0f + 3.0f * smoothness;
     float smooth_distance = 8.0f;
-    Vec3 smooth_color(0.0f);
-    VecN<N> smooth_position;
-    for (int idx = 0; idx < ipow(5, N); ++idx) {
-        VecN<N> off = neighbour_offset<N>(idx, 2);
-        VecN<N> p = feature_point(cell, off, randomness);
-        float d = metric_distance(p, local, metric, exponent);
-        float h = smoothstep01(0.5f + 0.5f * (smooth_distance - d) / smoothness);
+    float sc[3] = {0.0f, 0.0f, 0.0f};
+    float sp[N] = {};
+    for (int k = 0; k < K; ++k) {
+        float d = dist[k];
+        float x = 0.5f + 0.5f * (smooth_distance - d) / smoothness;
+        if (x < 0.0f && std::isfinite(d) && std::isfinite(smooth_distance)) continue;  // h == 0
+        float h = smoothstep01(x);
         float correction = smoothness * h * (1.0f - h);
         smooth_distance = smooth_distance + h * (d - smooth_distance) - correction;
-        correction /= 1.0f + 3.0f * smoothness;
-        Vec3 c = cell_color_hash<N>(add(cell, off));
-        smooth_color = smooth_color + h * (c - smooth_color) - Vec3(correction);
-        for (int i = 0; i < N; ++i)
-            smooth_position[i] = smooth_position[i] + h * (p[i] - smooth_position[i]) - correction;
+        correction /= correction_scale;
+        Vec3 color;
+        if constexpr (kColorsAhead)
+            color = Vec3(cell_uint_to_unit(cp.hash[0][k]), cell_uint_to_unit(cp.hash[1][k]),
+                         cell_uint_to_unit(color2[k]));
+        else
+            color = color_of(cp, k);
+        for (int c = 0; c < 3; ++c) sc[c] = sc[c] + h * (color[c] - sc[c]) - correction;
+        for (int i = 0; i < N; ++i) sp[i] = sp[i] + h * (cp.p[i][k] - sp[i]) - correction;
     }
     CellResult<N> r;
     r.distance = smooth_distance;
-    r.color = smooth_color;
-    r.position = add(cell, smooth_position);
+    r.color = Vec3(sc[0], sc[1], sc[2]);
+    for (int i = 0; i < N; ++i) r.position[i] = cell[i] + sp[i];
     return r;
 }
 
-// Distance to the nearest Voronoi edge (always Euclidean), Quilez' two-pass method on a 3^N block.
-template <int N>
-float voronoi_distance_to_edge(const VecN<N>& coord, float randomness) {
-    VecN<N> cell, local;
-    split(coord, cell, local);
-    VecN<N> to_closest;
+// Distance to the nearest Voronoi edge (always Euclidean), Quilez' two-pass method on a 3^N block;
+// both passes visit the same feature points, so they are computed once.
+template <int N> SMIS_CELLS_INLINE float voronoi_distance_to_edge(const float* coord, float randomness) {
+    using B = Block<N, 1>;
+    constexpr int K = B::K;
+    float cell[N], local[N];
+    split<N>(coord, cell, local);
+    CellPoints<N, K> cp;
+    feature_points(cell, kBlock<N, 1>.off, randomness, cp);
+    float to_point[N][K], dist_sq[K];
+    for (int d = 0; d < N; ++d)
+        for (int k = 0; k < K; ++k) to_point[d][k] = cp.p[d][k] - local[d];
+    for (int k = 0; k < K; ++k) {
+        float s = 0.0f;
+        for (int d = 0; d < N; ++d) s += to_point[d][k] * to_point[d][k];
+        dist_sq[k] = s;
+    }
     float min_distance = 8.0f;
-    for (int idx = 0; idx < ipow(3, N); ++idx) {
-        VecN<N> off = neighbour_offset<N>(idx, 1);
-        VecN<N> to_point = sub(feature_point(cell, off, randomness), local);
-        float d = dotn(to_point, to_point);
-        if (d < min_distance) {
-            min_distance = d;
-            to_closest = to_point;
-        }
+    int closest = -1;
+    for (int k = 0; k < K; ++k)
+        if (dist_sq[k] < min_distance) min_distance = dist_sq[k], closest = k;
+    float to_closest[N];
+    for (int d = 0; d < N; ++d) to_closest[d] = closest < 0 ? 0.0f : to_point[d][closest];
+
+    // Distance to the perpendicular bisector of the closest point and each other point.
+    float edge[K];
+    bool valid[K];
+    for (int k = 0; k < K; ++k) {
+        float perp[N], perp_sq = 0.0f;
+        for (int d = 0; d < N; ++d) perp[d] = to_point[d][k] - to_closest[d];
+        for (int d = 0; d < N; ++d) perp_sq += perp[d] * perp[d];
+        valid[k] = perp_sq > 0.0001f;
+        float len = std::sqrt(perp_sq);
+        float e = 0.0f;
+        for (int d = 0; d < N; ++d) e += ((to_closest[d] + to_point[d][k]) / 2.0f) * (perp[d] / len);
+        edge[k] = e;
     }
     min_distance = 8.0f;
-    for (int idx = 0; idx < ipow(3, N); ++idx) {
-        VecN<N> off = neighbour_offset<N>(idx, 1);
-        VecN<N> to_point = sub(feature_point(cell, off, randomness), local);
-        VecN<N> perp = sub(to_point, to_closest);
-        float perp_sq = dotn(perp, perp);
-        if (perp_sq > 0.0001f) {
-            float len = std::sqrt(perp_sq);
-            VecN<N> mid, dir;
-            for (int i = 0; i < N; ++i) {
-                mid[i] = (to_closest[i] + to_point[i]) / 2.0f;
-                dir[i] = perp[i] / len;
-            }
-            min_distance = std::min(min_distance, dotn(mid, dir));
-        }
-    }
+    for (int k = 0; k < K; ++k)
+        if (valid[k]) min_distance = std::min(min_distance, edge[k]);
     return min_distance;
 }
 
 // 1D has its own edge rule: the midpoints towards the left and right neighbours' points.
-float voronoi_distance_to_edge_1d(float w, float randomness) {
+SMIS_CELLS_INLINE float voronoi_distance_to_edge_1d(float w, float randomness) {
     float cell = std::floor(w);
     float local = w - cell;
     float mid = cell_hash_float_to_float(cell) * randomness;
@@ -380,59 +385,113 @@ float voronoi_distance_to_edge_1d(float w, float randomness) {
 }
 
 // Half the distance from the nearest point to its own nearest neighbour (Euclidean).
-template <int N>
-float voronoi_n_sphere_radius(const VecN<N>& coord, float randomness) {
-    VecN<N> cell, local;
-    split(coord, cell, local);
-    VecN<N> closest, closest_offset;
+template <int N> SMIS_CELLS_INLINE float voronoi_n_sphere_radius(const float* coord, float randomness) {
+    using B = Block<N, 1>;
+    constexpr int K = B::K;
+    float cell[N], local[N];
+    split<N>(coord, cell, local);
+    CellPoints<N, K> cp;
+    feature_points(cell, kBlock<N, 1>.off, randomness, cp);
+    float dist[K];
+    for (int k = 0; k < K; ++k) {
+        float p[N];
+        for (int d = 0; d < N; ++d) p[d] = cp.p[d][k];
+        dist[k] = euclidean<N>(p, local);
+    }
     float min_distance = 8.0f;
-    for (int idx = 0; idx < ipow(3, N); ++idx) {
-        VecN<N> off = neighbour_offset<N>(idx, 1);
-        VecN<N> p = feature_point(cell, off, randomness);
-        float d = euclidean(p, local);
-        if (d < min_distance) {
-            min_distance = d;
-            closest = p;
-            closest_offset = off;
-        }
+    int best = -1;
+    for (int k = 0; k < K; ++k)
+        if (dist[k] < min_distance) min_distance = dist[k], best = k;
+    float closest[N], closest_offset[N];
+    for (int d = 0; d < N; ++d) {
+        closest[d] = best < 0 ? 0.0f : cp.p[d][best];
+        closest_offset[d] = best < 0 ? 0.0f : kBlock<N, 1>.off[d][best];
+    }
+
+    // The block around the closest point's cell (its own cell, the centre, is skipped).
+    float off[N][K];
+    for (int d = 0; d < N; ++d)
+        for (int k = 0; k < K; ++k) off[d][k] = kBlock<N, 1>.off[d][k] + closest_offset[d];
+    CellPoints<N, K> np;
+    feature_points(cell, off, randomness, np);
+    for (int k = 0; k < K; ++k) {
+        float p[N];
+        for (int d = 0; d < N; ++d) p[d] = np.p[d][k];
+        dist[k] = euclidean<N>(closest, p);
     }
     min_distance = 8.0f;
-    VecN<N> closest_to_closest;
-    const int centre = ipow(3, N) / 2;  // the all-zero offset
-    for (int idx = 0; idx < ipow(3, N); ++idx) {
-        if (idx == centre) continue;
-        VecN<N> off = add(neighbour_offset<N>(idx, 1), closest_offset);
-        VecN<N> p = feature_point(cell, off, randomness);
-        float d = euclidean(closest, p);
-        if (d < min_distance) {
-            min_distance = d;
-            closest_to_closest = p;
+    float closest_to_closest[N] = {};
+    for (int k = 0; k < K; ++k) {
+        if (k == B::kCentre) continue;
+        if (dist[k] < min_distance) {
+            min_distance = dist[k];
+            for (int d = 0; d < N; ++d) closest_to_closest[d] = np.p[d][k];
         }
     }
-    return euclidean(closest_to_closest, closest) / 2.0f;
+    return euclidean<N>(closest_to_closest, closest) / 2.0f;
 }
 
-template <int N>
-CellResult<N> voronoi_dispatch(const VecN<N>& coord, VoronoiFeature feature, VoronoiMetric metric,
-                               float smoothness, float exponent, float randomness) {
+template <int N, VoronoiMetric M>
+SMIS_CELLS_INLINE CellResult<N> voronoi_feature(const float* coord, VoronoiFeature feature,
+                                                float smoothness, float exponent, bool no_metric,
+                                                float randomness) {
     CellResult<N> r;
     switch (feature) {
-        case VoronoiFeature::F1: return voronoi_f1(coord, exponent, randomness, metric);
-        case VoronoiFeature::F2: return voronoi_f2(coord, exponent, randomness, metric);
+        case VoronoiFeature::F1: return voronoi_f1<M, N>(coord, exponent, no_metric, randomness);
+        case VoronoiFeature::F2: return voronoi_f2<M, N>(coord, exponent, no_metric, randomness);
         case VoronoiFeature::SmoothF1:
-            return voronoi_smooth_f1(coord, smoothness, exponent, randomness, metric);
+            return voronoi_smooth_f1<M, N>(coord, smoothness, exponent, no_metric, randomness);
         case VoronoiFeature::DistanceToEdge:
-            r.distance = N == 1 ? voronoi_distance_to_edge_1d(coord[0], randomness)
-                                : voronoi_distance_to_edge(coord, randomness);
+            if constexpr (N == 1) r.distance = voronoi_distance_to_edge_1d(coord[0], randomness);
+            else r.distance = voronoi_distance_to_edge<N>(coord, randomness);
             return r;
         case VoronoiFeature::NSphereRadius:
-            r.radius = voronoi_n_sphere_radius(coord, randomness);
+            r.radius = voronoi_n_sphere_radius<N>(coord, randomness);
             return r;
     }
     return r;
 }
 
-inline float safe_divide(float a, float b) { return b != 0.0f ? a / b : 0.0f; }
+// The metric as a template argument. 1D ignores it; Distance to Edge and N-Sphere Radius are always
+// Euclidean.
+template <int N>
+SMIS_CELLS_INLINE CellResult<N> voronoi_nd(const float* coord, VoronoiFeature feature, VoronoiMetric metric,
+                                           float smoothness, float exponent, float randomness) {
+    using F = VoronoiFeature;
+    using M = VoronoiMetric;
+    if (N == 1 || feature == F::DistanceToEdge || feature == F::NSphereRadius) metric = M::Euclidean;
+    const float sm = smoothness, ex = exponent, rn = randomness;
+    switch (metric) {
+        case M::Euclidean: return voronoi_feature<N, M::Euclidean>(coord, feature, sm, ex, false, rn);
+        case M::Manhattan: return voronoi_feature<N, M::Manhattan>(coord, feature, sm, ex, false, rn);
+        case M::Chebychev: return voronoi_feature<N, M::Chebychev>(coord, feature, sm, ex, false, rn);
+        case M::Minkowski: return voronoi_feature<N, M::Minkowski>(coord, feature, sm, ex, false, rn);
+    }
+    return voronoi_feature<N, M::Euclidean>(coord, feature, sm, ex, true, rn);  // not a metric
+}
+
+// One function per dimension, so each has a stack frame of its own size; 2D-4D in two versions.
+// 1D blocks have 3 or 5 cells, too few for vectors (the split into vector and scalar parts costs
+// more than it saves), so 1D stays scalar.
+SMIS_CELLS_NO_VECTORIZE CellResult<1> voronoi_1d(const float* coord, VoronoiFeature feature,
+                                                  VoronoiMetric metric, float smoothness, float exponent,
+                                                  float randomness) {
+    return voronoi_nd<1>(coord, feature, metric, smoothness, exponent, randomness);
+}
+SMIS_CELLS_CLONES CellResult<2> voronoi_2d(const float* coord, VoronoiFeature feature, VoronoiMetric metric,
+                                           float smoothness, float exponent, float randomness) {
+    return voronoi_nd<2>(coord, feature, metric, smoothness, exponent, randomness);
+}
+SMIS_CELLS_CLONES CellResult<3> voronoi_3d(const float* coord, VoronoiFeature feature, VoronoiMetric metric,
+                                           float smoothness, float exponent, float randomness) {
+    return voronoi_nd<3>(coord, feature, metric, smoothness, exponent, randomness);
+}
+SMIS_CELLS_CLONES CellResult<4> voronoi_4d(const float* coord, VoronoiFeature feature, VoronoiMetric metric,
+                                           float smoothness, float exponent, float randomness) {
+    return voronoi_nd<4>(coord, feature, metric, smoothness, exponent, randomness);
+}
+
+SMIS_CELLS_INLINE float safe_divide(float a, float b) { return b != 0.0f ? a / b : 0.0f; }
 
 }  // namespace
 
@@ -455,22 +514,24 @@ VoronoiOut voronoi_texture(int dimensions, VoronoiFeature feature, VoronoiMetric
                               feature == VoronoiFeature::SmoothF1;
     switch (dimensions) {
         case 1: {
-            CellResult<1> r = voronoi_dispatch<1>({{pw}}, feature, metric, smoothness, exponent, randomness);
+            const float coord[1] = {pw};
+            CellResult<1> r = voronoi_1d(coord, feature, metric, smoothness, exponent, randomness);
             fill(r.distance, r.color, r.radius);
             if (has_position) out.w = safe_divide(r.position[0], scale);
             break;
         }
         case 2: {
-            CellResult<2> r = voronoi_dispatch<2>({{p.x, p.y}}, feature, metric, smoothness, exponent,
-                                                  randomness);
+            const float coord[2] = {p.x, p.y};
+            CellResult<2> r = voronoi_2d(coord, feature, metric, smoothness, exponent, randomness);
             fill(r.distance, r.color, r.radius);
             if (has_position)
-                out.position = Vec3(safe_divide(r.position[0], scale), safe_divide(r.position[1], scale), 0.0f);
+                out.position =
+                    Vec3(safe_divide(r.position[0], scale), safe_divide(r.position[1], scale), 0.0f);
             break;
         }
         case 3: {
-            CellResult<3> r = voronoi_dispatch<3>({{p.x, p.y, p.z}}, feature, metric, smoothness,
-                                                  exponent, randomness);
+            const float coord[3] = {p.x, p.y, p.z};
+            CellResult<3> r = voronoi_3d(coord, feature, metric, smoothness, exponent, randomness);
             fill(r.distance, r.color, r.radius);
             if (has_position)
                 out.position = Vec3(safe_divide(r.position[0], scale), safe_divide(r.position[1], scale),
@@ -478,8 +539,8 @@ VoronoiOut voronoi_texture(int dimensions, VoronoiFeature feature, VoronoiMetric
             break;
         }
         case 4: {
-            CellResult<4> r = voronoi_dispatch<4>({{p.x, p.y, p.z, pw}}, feature, metric, smoothness,
-                                                  exponent, randomness);
+            const float coord[4] = {p.x, p.y, p.z, pw};
+            CellResult<4> r = voronoi_4d(coord, feature, metric, smoothness, exponent, randomness);
             fill(r.distance, r.color, r.radius);
             if (has_position) {
                 out.position = Vec3(safe_divide(r.position[0], scale), safe_divide(r.position[1], scale),

@@ -261,7 +261,11 @@ void ShaderProgram::analyse() {
             for (size_t t = op.i[5]; t < templates_.size(); ++t) templates_[t].index = uint8_t(std::min<size_t>(t, 255));
             continue;
         }
-        if (reads_context(op.code) || reads_varying(op)) {
+        // An image of one texel (Cycles' magenta stand-in for a missing file) looks the same from
+        // everywhere: its lookup folds whatever its vector.
+        bool single_texel = ((op.code == Op::TexImage && op.i[1] != 1) || op.code == Op::TexEnvironment) &&
+                            textures_[op.i[0]]->constant();
+        if (!single_texel && (reads_context(op.code) || reads_varying(op))) {
             varying_.push_back(k);
             for (uint16_t r : op.out)
                 if (r != kNoReg) varying[r] = varying[r + 1] = varying[r + 2] = true;
@@ -299,12 +303,9 @@ void ShaderProgram::analyse() {
         }
         if (op.code == Op::Transparent) may_be_transparent_ = may_be_transparent_ || !weight_zero;
     }
-    // A closure reading a varying register keeps the program per hit even with no varying value op
-    // (cannot happen today: a varying register has a varying writer), and vice versa.
-    if (!varying_closure && !varying_.empty()) {
-        // Values vary but no closure reads them (e.g. a texture feeding nothing): nothing to run.
-        varying_.clear();
-    }
+    // Values that vary but feed no closure (a texture into nothing, or into an input that folded) make
+    // no difference per hit: the program is constant, and those ops are never run.
+    needs_hit_ = varying_closure;
 }
 
 void ShaderProgram::fold_constants() {
@@ -334,7 +335,8 @@ void ShaderProgram::eval(const ShaderContext& ctx_in, ShaderResult* out) const {
     float r[kMaxRegisters + 3];
     std::memcpy(r, registers_.data(), registers_.size() * sizeof(float));
     ShaderContext ctx = ctx_in;  // bump evaluation moves the point
-    for (uint32_t k : varying_) run(ops_[k], &ctx, r, out);
+    if (needs_hit_)
+        for (uint32_t k : varying_) run(ops_[k], &ctx, r, out);
     ctx = ctx_in;
     for (uint32_t k : closures_) run(ops_[k], &ctx, r, out);
 }

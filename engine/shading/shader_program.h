@@ -77,7 +77,7 @@ public:
                   std::vector<std::shared_ptr<const Texture>> textures);
     // Folds every op that reads nothing of the hit into the initial registers (see the header).
     void fold_constants();
-    bool is_constant() const { return varying_.empty(); }
+    bool is_constant() const { return !needs_hit_; }
     // Runs the per-hit ops, then the closure ops, into `out`.
     void eval(const ShaderContext& ctx, ShaderResult* out) const;
     // Evaluates a constant program (no context needed).
@@ -90,7 +90,7 @@ public:
     bool may_emit() const { return may_emit_; }
     bool may_be_transparent() const { return may_be_transparent_; }
     size_t op_count() const { return ops_.size(); }
-    size_t varying_op_count() const { return varying_.size(); }
+    size_t varying_op_count() const { return needs_hit_ ? varying_.size() : 0; }
     size_t register_count() const { return registers_.size(); }
     // Parses an op name as the compiler writes it; false for unknown names.
     static bool op_by_name(const std::string& name, ShaderOpCode* code);
@@ -107,6 +107,7 @@ private:
     std::vector<std::shared_ptr<const Texture>> textures_;
     std::vector<Lobe> templates_;
     bool may_emit_ = false, may_be_transparent_ = false;
+    bool needs_hit_ = false;  // some closure reads a value that varies over the surface
 };
 
 }  // namespace smis

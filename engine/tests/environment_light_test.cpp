@@ -100,10 +100,11 @@ std::shared_ptr<const ShaderProgram> hdr_world() {
 }
 
 // A constant World (value c) that does not fold: a 1 x 1 image looked up per direction.
+// (Two equal texels: an image of one texel folds to a constant, which would bypass the sampler.)
 std::shared_ptr<const ShaderProgram> constant_world_via_image(float c) {
-    const float px[4] = {c, c, c, 1.0f};
+    const float px[8] = {c, c, c, 1.0f, c, c, c, 1.0f};
     Builder b;
-    b.background(b.environment(b.direction(), std::make_shared<Texture>(px, 1, 1, "linear", Texture::Options{})), 1.0f);
+    b.background(b.environment(b.direction(), std::make_shared<Texture>(px, 2, 1, "linear", Texture::Options{})), 1.0f);
     return b.build();
 }
 

@@ -116,6 +116,31 @@ TEST(ShaderProgram, TexturedPrincipledIsNeitherEmissiveNorTransparent) {
     EXPECT_TRUE(e.build()->may_emit());
 }
 
+// An image of one texel (the magenta stand-in for a missing file) folds whatever reads it: the
+// program is constant, and the hit-reading ops before it are never run without a hit (they were,
+// and crashed, when a missing environment image folded a World).
+TEST(ShaderProgram, SingleTexelImageFoldsAndSkipsItsDeadInputs) {
+    Builder b;
+    uint16_t co = b.alloc(3);
+    ShaderOp& tc = b.op(ShaderOpCode::TexCoord);
+    tc.out[3] = co;
+    uint16_t col = b.alloc(3);
+    ShaderOp& img = b.op(ShaderOpCode::TexImage);
+    img.in[0] = co, img.out[0] = col, img.i[0] = 0;
+    ShaderOp& e = b.op(ShaderOpCode::Emission);
+    e.in[1] = col;
+    const float magenta[4] = {1, 0, 1, 1};
+    auto p = std::make_shared<ShaderProgram>(b.ops, b.regs, std::vector<float>{},
+                                             std::vector<std::shared_ptr<const Texture>>{std::make_shared<Texture>(
+                                                 magenta, 1, 1, "linear", Texture::Options{})});
+    p->fold_constants();
+    EXPECT_TRUE(p->is_constant());
+    ShaderResult r = p->eval_constant();
+    EXPECT_FLOAT_EQ(r.emission.x, 1.0f);
+    EXPECT_FLOAT_EQ(r.emission.y, 0.0f);
+    EXPECT_FLOAT_EQ(r.emission.z, 1.0f);
+}
+
 // Through a scene: a quad whose material is checker(Object coordinates) into emission; the camera
 // sees the pattern, and the program's emission at a hit agrees with the checker's definition.
 TEST(ShaderProgram, EvaluatesAtSceneHits) {

@@ -110,3 +110,42 @@ TEST(ShadowRays, MeshLightCloseBelowACeilingFarFromTheOrigin) {
         expect_direct_lighting_matches(far, x, 0.1f);
     }
 }
+
+// A mesh light behind a wall that meets it at an edge (the emissive end of a lamp's housing): from
+// the far side of the wall nothing of the light is visible. A shadow ray stopping 1e-4 short of the
+// light point missed the wall for light points within that stretch of it (here those within 1 mm of
+// the shared edge, 1e-3 of the light), and they lit the far side through the wall (the slit lamp
+// of rendererer/prism.blend lit the ground around its housing).
+TEST(ShadowRays, MeshLightDoesNotLeakThroughAWallAtItsEdge) {
+    auto scene = std::make_shared<Scene>();
+    uint32_t white = scene->add_material(diffuse(Color(0.8f)));
+    uint32_t light = scene->add_material(diffuse(Color(0.0f), Color(1.0f)));
+    float v[] = {0, -0.5f, 0, 1, -0.5f, 0, 1, 0.5f, 0, 0, 0.5f, 0,          // light, z = 0, x in [0, 1]
+                 0, -0.5f, -1, 0, 0.5f, -1, 0, 0.5f, 1, 0, -0.5f, 1,          // wall x = 0 through its edge
+                 -10, -1, -1, -10, 1, -1, -10, 1, 1, -10, -1, 1};             // receiver x = -10, facing +x
+    int32_t t[] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7, 8, 9, 10, 8, 10, 11};
+    int32_t slot[] = {1, 1, 0, 0, 0, 0};
+    scene->add_instance(scene->add_mesh(v, 12, t, 6, nullptr, slot, {white, light}), Transform());
+    scene->set_camera(camera_at(Vec3(-5, 0, 0), 8, 8));
+    scene->commit();
+    Ray ray{Vec3(-9.0f, 0.0f, 0.05f), Vec3(-1, 0, 0), 0.0f, kInf};
+    SurfaceHit hit;
+    ASSERT_TRUE(scene->intersect(ray, &hit));
+    ShadingPoint sp = make_shading_point(*scene, hit, ray.d);
+    RenderSettings settings;
+    Rng rng(9, 0);
+    LocalCounters counters;
+    int lit = 0;
+    for (int i = 0; i < 100000; ++i) lit += sample_direct(*scene, settings, sp, rng, counters, -1, 1, 0).valid;
+    // Without the test of the last stretch 101 of these samples lit the receiver; what remains is
+    // the sliver of the light within float precision of the wall (1 sample here).
+    EXPECT_LE(lit, 3);
+}
+
+TEST(ShadowRays, TriangleLightDistanceToEdge) {
+    TriangleLight t(Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(0, 1, 1), Color(1.0f));
+    EXPECT_NEAR(t.distance_to_edge(Vec3(0.25f, 0.25f, 1)), 0.25f, 1e-6f);
+    EXPECT_NEAR(t.distance_to_edge(Vec3(0.1f, 0.5f, 1)), 0.1f, 1e-6f);
+    EXPECT_NEAR(t.distance_to_edge(Vec3(0.45f, 0.45f, 1)), 0.1f / std::sqrt(2.0f), 1e-6f);  // hypotenuse
+    EXPECT_NEAR(t.distance_to_edge(Vec3(0.3f, 0.0f, 1)), 0.0f, 1e-6f);
+}

@@ -191,6 +191,7 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
     instances each object became."""
     counts = ExportCounts()
     prototypes = {}   # prototype key -> engine mesh id, or None for empty geometry
+    singular, broken = [], []  # objects skipped (the rest of the scene still renders)
     for kind, inst, obj in walk_instances(depsgraph, reporter, test_break):
         if kind == 'LIGHT':
             if lights.export_light(scene, obj, instance_matrix(inst), reporter):
@@ -202,13 +203,34 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
         if key in prototypes:
             mesh_id = prototypes[key]
         else:
-            mesh_id = prototypes[key] = _export_prototype(obj, scene, materials, counts, cache)
+            try:
+                mesh_id = _export_prototype(obj, scene, materials, counts, cache)
+            except (RuntimeError, ValueError, TypeError) as exc:
+                broken.append("%s (%s)" % (obj.name, exc))
+                mesh_id = None
+            prototypes[key] = mesh_id
         if mesh_id is not None:
             # Object Info: Cycles' random is the instance's random_id over 2^32, the pass index
             # the object's.
-            scene.add_instance(mesh_id, instance_matrix(inst), obj.color[:],
-                               (inst.random_id & 0xFFFFFFFF) / 4294967295.0, float(obj.pass_index))
+            try:
+                scene.add_instance(mesh_id, instance_matrix(inst), obj.color[:],
+                                   (inst.random_id & 0xFFFFFFFF) / 4294967295.0, float(obj.pass_index))
+            except ValueError:
+                # A zero scale (a common way to hide an object in an animation) or a non-finite
+                # transform: Cycles renders nothing of the object either.
+                singular.append(obj.name)
+                continue
             counts.instances += 1
             if cache is not None:
                 cache.record_instance(obj, mesh_id)
+    _warn_skipped(reporter, singular, "with a zero-scale, singular or non-finite transform")
+    _warn_skipped(reporter, broken, "whose geometry could not be exported")
     return counts
+
+
+def _warn_skipped(reporter, names, why):
+    if not names:
+        return
+    shown = ", ".join("'%s'" % n for n in names[:10]) + (" and %d more" % (len(names) - 10) if len(names) > 10 else "")
+    reporter.warning("Skipped %d object%s %s: %s; the rest of the scene renders"
+                     % (len(names), "" if len(names) == 1 else "s", why, shown))

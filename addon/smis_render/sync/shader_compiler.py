@@ -13,6 +13,8 @@ prepared-BSDF path. Nodes the engine cannot evaluate fall back with one warning 
 and node.
 """
 
+import math
+
 from . import nodes
 from .mesh import ACTIVE_COLOR
 
@@ -319,12 +321,16 @@ class ShaderCompiler:
 # -- value nodes -----------------------------------------------------------------------------------
 
 def _outs(c, node, kinds):
-    """Allocate registers for the node's outputs: {identifier: Value} in the given order."""
+    """Allocate registers for the node's linked outputs: ({identifier: Value}, the op's output list
+    in the given order, None for an output nothing reads, so the engine can skip computing it)."""
     result, regs = {}, []
     for name, kind in kinds:
+        sock = node.outputs.get(name)
+        if sock is not None and not sock.is_linked:
+            regs.append(None)
+            continue
         v = c.alloc(kind)
         regs.append(v)
-        sock = node.outputs.get(name)
         if sock is not None:
             result[sock.identifier] = v
         result[name] = v
@@ -948,8 +954,14 @@ def compile_material(material, output_node, warn, textures, scene):
 # radiance; Texture Coordinate, Geometry and Light Path read the direction and the ray's kind.
 
 class _EnvironmentNode:
-    """An Environment Texture node as TextureCache reads an Image Texture node: Cycles repeats it."""
+    """An Environment Texture node as TextureCache reads an Image Texture node: Cycles repeats it,
+    and it has no Alpha output (the colour stays as stored)."""
     extension = "REPEAT"
+
+    class _Unlinked:
+        is_linked = False
+
+    outputs = {"Alpha": _Unlinked()}
 
     def __init__(self, node):
         self._node = node
@@ -987,10 +999,49 @@ def _tex_environment(c, node, ctx):
     return res
 
 
+def _sky_perez(lam, theta, gamma):
+    return ((1.0 + lam[0] * math.exp(lam[1] / math.cos(theta))) *
+            (1.0 + lam[2] * math.exp(lam[3] * gamma) + lam[4] * math.cos(gamma) ** 2))
+
+
+def _sky_preetham(sun_direction, turbidity):
+    """Cycles 3.4's Preetham precomputation (scene/shader_nodes.cpp): the sun's spherical angles, the
+    zenith Y, x, y over the Perez function at the zenith and the Perez coefficients of Y, x, y, in
+    the layout of the engine's tex_sky op (shader_program.cpp, sky_preetham)."""
+    sx, sy, sz = sun_direction
+    theta = math.acos(max(-1.0, min(1.0, sz)))
+    phi = math.atan2(sx, sy)
+    t, t2 = turbidity, turbidity * turbidity
+    th, th2, th3 = theta, theta * theta, theta ** 3
+    chi = (4.0 / 9.0 - t / 120.0) * (math.pi - 2.0 * theta)
+    zenith_Y = ((4.0453 * t - 4.9710) * math.tan(chi) - 0.2155 * t + 2.4192) * 0.06
+    zenith_x = ((0.00166 * th3 - 0.00375 * th2 + 0.00209 * th) * t2 +
+                (-0.02903 * th3 + 0.06377 * th2 - 0.03202 * th + 0.00394) * t +
+                (0.11693 * th3 - 0.21196 * th2 + 0.06052 * th + 0.25886))
+    zenith_y = ((0.00275 * th3 - 0.00610 * th2 + 0.00317 * th) * t2 +
+                (-0.04214 * th3 + 0.08970 * th2 - 0.04153 * th + 0.00516) * t +
+                (0.15346 * th3 - 0.26756 * th2 + 0.06670 * th + 0.26688))
+    perez_Y = [0.1787 * t - 1.4630, -0.3554 * t + 0.4275, -0.0227 * t + 5.3251, 0.1206 * t - 2.5771,
+               -0.0670 * t + 0.3703]
+    perez_x = [-0.0193 * t - 0.2592, -0.0665 * t + 0.0008, -0.0004 * t + 0.2125, -0.0641 * t - 0.8989,
+               -0.0033 * t + 0.0452]
+    perez_y = [-0.0167 * t - 0.2608, -0.0950 * t + 0.0092, -0.0079 * t + 0.2102, -0.0441 * t - 1.6537,
+               -0.0109 * t + 0.0529]
+    return ([theta, phi, 0.0, zenith_Y / _sky_perez(perez_Y, 0.0, theta),
+             zenith_x / _sky_perez(perez_x, 0.0, theta), zenith_y / _sky_perez(perez_y, 0.0, theta)]
+            + perez_Y + perez_x + perez_y)
+
+
 def _tex_sky(c, node, ctx):
-    c.warn_node(node, "(Sky Texture, %s) is not supported by SMIS yet: it renders black. Bake the sky "
-                      "into an image and use an Environment Texture instead" % node.sky_type)
     res, regs = _outs(c, node, [("Color", COLOR)])
+    if node.sky_type != "PREETHAM":
+        c.warn_node(node, "(Sky Texture, %s) is not supported by SMIS yet (only Preetham is): it renders "
+                          "black. Bake the sky into an image and use an Environment Texture instead"
+                    % node.sky_type)
+        return res
+    offset = len(c.data)
+    c.data.extend(float(v) for v in _sky_preetham(tuple(node.sun_direction), float(node.turbidity)))
+    c.op("tex_sky", [c.vector_input(node, ctx)], regs, [0], data=offset)
     return res
 
 

@@ -1,44 +1,73 @@
-"""The scene's World -> a constant background radiance."""
+"""The scene's World -> the engine's world: a constant radiance, or the World's Surface compiled
+into a shader program (shader_compiler.compile_world) that the engine evaluates per direction and
+importance-samples (engine/scene/environment_light.h). A program that folds to a constant (a
+Background with unlinked inputs, an RGB node, ...) costs what the constant colour does."""
 
 from . import nodes
+from .shader_compiler import compile_world
+from .textures import TextureCache
 from .volumes import translate_volume
 
-# Emission behaves exactly like Background when plugged into the World Output.
-_BACKGROUND_NODES = {'ShaderNodeBackground', 'ShaderNodeEmission'}
+# Cycles' automatic importance map (scene/light.cpp, 3.4): without a single Nishita sun at least
+# 4096 x 2048 cells, or the largest Environment Texture image when it is bigger.
+_AUTO_MAP = (4096, 2048)
+
+
+class _WorldImages:
+    """Stands in for the engine scene in a TextureCache: the World's images travel in its dict (the
+    engine keeps them with the program, so a world edit in the viewport frees the old ones)."""
+
+    def __init__(self):
+        self.images = []
+
+    def add_texture(self, rgba, colorspace, interpolation, extension, alpha_mode, byte_image, alpha_linked):
+        self.images.append({"rgba": rgba, "colorspace": colorspace, "interpolation": interpolation,
+                            "extension": extension, "alpha_mode": alpha_mode, "byte_image": bool(byte_image),
+                            "alpha_linked": bool(alpha_linked)})
+        return len(self.images) - 1
+
+    def add_missing_texture(self):
+        self.images.append({"missing": True})
+        return len(self.images) - 1
 
 
 def export_world(world, warn):
-    """{"color", "strength", "volume"} for `_smis.Scene.set_world`. No world -> black."""
-    desc = _export_background(world, warn)
-    if world is not None and world.use_nodes and world.node_tree is not None:
-        desc["volume"] = translate_volume(nodes.output_node(world.node_tree), "World '%s'" % world.name, warn)
+    """The dict for `_smis.Scene.set_world` / `replace_lights`: {"color", "strength"} (the constant
+    World), and for a node World "program", "images", "map_resolution", "visible_camera", "volume".
+    No world -> black."""
+    if world is None:
+        return {"color": (0.0, 0.0, 0.0), "strength": 0.0}
+    desc = {"color": tuple(world.color), "strength": 1.0}  # Cycles renders world.color without nodes
+    visibility = getattr(world, "cycles_visibility", None)
+    if visibility is not None:
+        desc["visible_camera"] = bool(visibility.camera)
+    if not world.use_nodes or world.node_tree is None:
+        return desc
+    output = nodes.output_node(world.node_tree)
+    desc["volume"] = translate_volume(output, "World '%s'" % world.name, warn)
+    if output is None:
+        warn("World '%s' has no World Output node; using the world colour" % world.name)
+        return desc
+    desc.update(color=(0.0, 0.0, 0.0), strength=0.0)  # an unlinked Surface is black, as in Cycles
+    if nodes.linked_output(output.inputs["Surface"]) is None:
+        return desc
+    images = _WorldImages()
+    program, sizes = compile_world(world, output, warn, TextureCache(images, warn))
+    desc.update(program=program, images=images.images, map_resolution=_map_resolution(world, sizes))
     return desc
 
 
-def _export_background(world, warn):
-    if world is None:
-        return {"color": (0.0, 0.0, 0.0), "strength": 0.0}
-    fallback = {"color": tuple(world.color), "strength": 1.0}
-    if not world.use_nodes or world.node_tree is None:
-        return fallback  # Cycles renders world.color for a world without nodes
-
-    output = nodes.output_node(world.node_tree)
-    if output is None:
-        warn("World '%s' has no World Output node; using the world colour" % world.name)
-        return fallback
-    src = nodes.linked_output(output.inputs["Surface"])
-    if src is None:
-        return {"color": (0.0, 0.0, 0.0), "strength": 0.0}  # unlinked Surface: black, as Cycles
-    node = src.node
-    if node.bl_idname not in _BACKGROUND_NODES:
-        warn("World '%s': node '%s' (%s) is not supported, using the world colour"
-             % (world.name, node.name, node.bl_idname))
-        return fallback
-
-    linked = nodes.linked_inputs(node)
-    if linked:
-        warn("World '%s': node '%s' has linked inputs (%s); textures are not supported, "
-             "using the inputs' own values" % (world.name, node.name, ", ".join(linked)))
-    color = node.inputs["Color"].default_value
-    return {"color": (float(color[0]), float(color[1]), float(color[2])),
-            "strength": float(node.inputs["Strength"].default_value)}
+def _map_resolution(world, environment_sizes):
+    """The importance map's (width, height) as Cycles picks it from the World's Settings."""
+    settings = getattr(world, "cycles", None)
+    method = getattr(settings, "sampling_method", "AUTOMATIC")
+    if method == "MANUAL":
+        res = max(int(getattr(settings, "sample_map_resolution", 1024)), 4)
+        return (res, res // 2)
+    if method == "NONE":
+        # Cycles then never samples the World as a light; a one-cell map samples it uniformly,
+        # which converges to the same image.
+        return (1, 1)
+    width = max([_AUTO_MAP[0]] + [w for w, h in environment_sizes])
+    height = max([_AUTO_MAP[1]] + [h for w, h in environment_sizes])
+    return (width, height)
