@@ -41,3 +41,30 @@ def test_presets_set_what_they_name():
             assert (abs(got - value) < 1e-6 if isinstance(value, float) else got == value), (name, key, got)
     bpy.ops.smis.apply_preset(preset="QUICK")
     assert scene.smis.samples == 16 and scene.smis.integrator == 'PATH'
+
+
+def test_last_render_warnings_stay_listed_in_the_render_properties():
+    """A render's warnings are kept for the SMIS Warnings panel (the status bar shows only the last
+    report), and the final statistics no longer go to the status bar."""
+    from smis_render.sync import reports
+    scene = bpy.context.scene
+    scene.render.engine = "SMIS"
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 16, 16, 100
+    scene.smis.samples = 1
+    mat = bpy.data.materials.new("Warned")
+    mat.use_nodes = True
+    nt = mat.node_tree
+    s2r = nt.nodes.new("ShaderNodeShaderToRGB")
+    nt.links.new(s2r.outputs["Color"], nt.nodes["Principled BSDF"].inputs["Base Color"])
+    cube = bpy.data.objects.get("Cube")
+    cube.data.materials.clear()
+    cube.data.materials.append(mat)
+    try:
+        bpy.ops.render.render()
+        listed = reports.recent_warnings["render"]
+        assert any("ShaderNodeShaderToRGB" in m and "'Warned'" in m for m in listed), listed
+        assert not any("counters" in m for m in listed), listed
+        assert hasattr(bpy.types, "SMIS_RENDER_PT_warnings")
+    finally:
+        cube.data.materials.clear()
+        bpy.data.materials.remove(mat)

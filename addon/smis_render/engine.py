@@ -203,14 +203,17 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         if nan:
             self._reporter.warning("%d non-finite samples (NaN/Inf) were caught and discarded"
                                    % nan)
-        others = ", ".join("%s %d" % (k.replace("_", " "), v) for k, v in sorted(counters.items())
+        # Statistics go to the console, not to the status bar, where they would replace the warnings
+        # that explain an image; named as a user reads them.
+        names = {"samples_rejected": "paths ended by a scattered direction below the surface"}
+        others = ", ".join("%s %d" % (names.get(k, k.replace("_", " ")), v) for k, v in sorted(counters.items())
                            if k != "nan_caught" and isinstance(v, int) and v)
         if others:
-            self._reporter.info("SMIS counters: " + others)
+            print("SMIS counters: " + others, flush=True)
         integrator = session.integrator_stats()
         if integrator:
-            self._reporter.info("SMIS integrator: " + ", ".join(
-                "%s %.4g" % (k.replace("_", " "), v) for k, v in sorted(integrator.items())))
+            print("SMIS integrator: " + ", ".join(
+                "%s %.4g" % (k.replace("_", " "), v) for k, v in sorted(integrator.items())), flush=True)
 
         skipped = list(session.skipped())
         parts = ["Cancelled" if p.get("cancelled") or self.break_requested() else "Done",

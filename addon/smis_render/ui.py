@@ -3,6 +3,7 @@
 import bpy
 
 from . import native, passes
+from .sync.reports import recent_warnings
 
 ENGINE = 'SMIS'
 
@@ -178,6 +179,33 @@ class SMIS_RENDER_PT_performance(SMISButtonsPanel, bpy.types.Panel):
                 col.label(text="Using Blender's fixed thread count: %d" % rd.threads)
             else:
                 col.label(text="Using all cores")
+
+
+class SMIS_RENDER_PT_warnings(SMISButtonsPanel, bpy.types.Panel):
+    """What the last render and the viewport warned about (a missing image, an unsupported node, a
+    skipped object), readable after the status bar has moved on."""
+    bl_label = "SMIS Warnings"
+    bl_options = {'DEFAULT_CLOSED'}
+    MAX_LINES = 30
+
+    def draw_header(self, context):
+        n = sum(len(v) for v in recent_warnings.values())
+        self.layout.label(text="(%d)" % n if n else "")
+
+    def draw(self, context):
+        layout = self.layout
+        shown = 0
+        for source, title in (("render", "Last render"), ("viewport", "Viewport")):
+            messages = recent_warnings[source]
+            if not messages:
+                continue
+            layout.label(text="%s: %d" % (title, len(messages)))
+            col = layout.column(align=True)
+            for message in messages[:max(0, self.MAX_LINES - shown)]:
+                col.label(text=message, icon='ERROR')
+                shown += 1
+        if shown == 0:
+            layout.label(text="No warnings")
 
 
 class SMIS_LIGHT_PT_light(SMISButtonsPanel, bpy.types.Panel):
@@ -366,6 +394,7 @@ classes = (
     SMIS_RENDER_PT_volumes,
     SMIS_RENDER_PT_direct_light,
     SMIS_RENDER_PT_performance,
+    SMIS_RENDER_PT_warnings,
     SMIS_VIEWLAYER_PT_passes,
     SMIS_LIGHT_PT_light,
     SMIS_MATERIAL_PT_surface,

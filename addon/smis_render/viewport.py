@@ -15,13 +15,14 @@ from gpu_extras.presets import draw_texture_2d
 
 from . import native, properties
 from .sync import ExportError, viewport as sync_viewport
-from .sync.reports import Reporter
+from .sync.reports import Reporter, recent_warnings
 
 
 class ViewportRenderer:
     def __init__(self):
         self.sync = sync_viewport.ViewportSync()
-        self.reporter = Reporter(None)  # console: viewport warnings must not pop up on every edit
+        # Console and the header's warning count: viewport warnings must not pop up on every edit.
+        self.reporter = Reporter(None, source="viewport")
         self.export = None
         self.session = None
         self.camera = None
@@ -71,7 +72,10 @@ class ViewportRenderer:
             engine.unbind_display_space_shader()
             gpu.state.blend_set('NONE')
         from .engine import stats_line  # engine imports this module
-        engine.update_stats("", stats_line(progress, self.session.skipped())
+        warned = len(recent_warnings["viewport"])
+        engine.update_stats("", (stats_line(progress, self.session.skipped())
+                                 + ("" if not warned else " · %d warning%s (Render Properties > SMIS Warnings)"
+                                    % (warned, "" if warned == 1 else "s")))
                             + " \u00b7 sync %.0f ms (%d meshes exported)"
                             % (1000 * self.sync.last_seconds, self.sync.last_exported))
         if not progress["finished"]:
