@@ -7,16 +7,11 @@ float transparency_keep(const ShaderResult& res) {
     return 1.0f - min_component(t);
 }
 
-Bsdf Material::program_bsdf(const ShaderResult& res, const Frame& frame, const Vec3& ng, bool backfacing,
-                            Color* emission) const {
+Bsdf Material::program_bsdf(const ShaderResult& res, const Frame& frame, const Vec3& ng, bool backfacing) const {
     Bsdf bsdf(frame, ng);
     float keep = transparency_keep(res);
-    if (!(keep > 1e-6f)) {
-        *emission = Color(0.0f);
-        return bsdf;
-    }
+    if (!(keep > 1e-6f)) return bsdf;
     float inv_keep = 1.0f / keep;
-    *emission = res.emission * inv_keep;
     for (int i = 0; i < res.count; ++i) {
         Lobe lobe = res.lobes[i];
         lobe.weight *= inv_keep;

@@ -113,8 +113,8 @@ struct Material {
     // weights T become a cut-out (the grey part g = min(T), which Scene's filter lets through with
     // probability g, so the kept hit's closures are divided by 1 - g) and a straight-through lobe of
     // the coloured rest (T - g) / (1 - g), as the constant path does in the add-on.
-    Bsdf program_bsdf(const ShaderResult& res, const Frame& frame, const Vec3& ng, bool backfacing,
-                      Color* emission) const;
+    // (The emission of such a hit is Scene::program_emission's.)
+    Bsdf program_bsdf(const ShaderResult& res, const Frame& frame, const Vec3& ng, bool backfacing) const;
 
 private:
     // Out of line: make_bsdf() at every vertex should not pay for this path's register pressure.

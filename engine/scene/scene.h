@@ -219,6 +219,9 @@ private:
         Transform to_object;   // inverse of to_world (Object texture coordinates)
         float random = 0.0f, pass_index = 0.0f, alpha = 1.0f;
     };
+    // Runs a material's program at a hit (the context it built into *ctx_out when given).
+    ShaderResult run_program(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
+                             ShaderContext* ctx_out = nullptr) const;
     Color program_emission(const SurfaceAttribs& at, uint32_t material, const Vec3& wo) const;
     // Cut-out filter for program materials: 1 - the grey part of the transparency at the hit.
     float program_keep(uint32_t instance, uint32_t prim, float bu, float bv, const Vec3& dir) const;

@@ -113,30 +113,33 @@ bool Scene::attribute(const ShaderContext& ctx, int32_t id, float* out) const {
     return false;
 }
 
-Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, bool backfacing,
-                         const ShaderRay& ray, Vec3* ns_out) const {
-    const Material& m = materials_[material];
+ShaderResult Scene::run_program(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
+                                ShaderContext* ctx_out) const {
     ShaderContext ctx = shader_context(at, wo, ray);
     ShaderResult res;
-    m.program->eval(ctx, &res);
+    materials_[material].program->eval(ctx, &res);
+    if (ctx_out) *ctx_out = ctx;
+    return res;
+}
+
+Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, bool backfacing,
+                         const ShaderRay& ray, Vec3* ns_out) const {
+    ShaderContext ctx;
+    ShaderResult res = run_program(material, at, wo, ray, &ctx);
     Vec3 ns = ctx.N;
     if (res.has_normal) {
         ns = shading::ensure_valid_reflection(ctx.Ng, ctx.I, res.normal);
         if (!is_finite(ns) || !(dot(ns, ctx.Ng) > 0.0f)) ns = ctx.N;
     }
     *ns_out = ns;
-    Color emission;
-    Bsdf bsdf = m.program_bsdf(res, Frame(ns), ctx.Ng, backfacing, &emission);
+    Bsdf bsdf = materials_[material].program_bsdf(res, Frame(ns), ctx.Ng, backfacing);
     if (!(ns == ctx.N)) bsdf.set_bump_base(ctx.N);
     return bsdf;
 }
 
 Color Scene::program_emission(const SurfaceAttribs& at, uint32_t material, const Vec3& wo) const {
-    const Material& m = materials_[material];
-    if (!m.program->may_emit()) return Color(0.0f);
-    ShaderContext ctx = shader_context(at, wo, ShaderRay{});
-    ShaderResult res;
-    m.program->eval(ctx, &res);
+    if (!materials_[material].program->may_emit()) return Color(0.0f);
+    ShaderResult res = run_program(material, at, wo, ShaderRay{});
     float keep = transparency_keep(res);
     return keep > 1e-6f ? res.emission / keep : Color(0.0f);
 }
@@ -146,24 +149,17 @@ Color Scene::emission(uint32_t instance, uint32_t prim, uint32_t material, float
     at.instance = instance, at.prim = prim, at.bu = bu, at.bv = bv;
     // A light sample is seen with the probability a ray would keep the hit (the cut-out), so its
     // emission is the kept hit's emission times that probability: the unscaled program emission.
-    const Material& m = materials_[material];
-    ShaderContext ctx = shader_context(at, wo, ShaderRay{});
-    ShaderResult res;
-    m.program->eval(ctx, &res);
+    ShaderResult res = run_program(material, at, wo, ShaderRay{});
     return is_finite(res.emission) ? res.emission : Color(0.0f);
 }
 
 float Scene::program_keep(uint32_t instance, uint32_t prim, float bu, float bv, const Vec3& dir) const {
-    const Instance& inst = instances_[instance];
-    const Material& m = materials_[meshes_[inst.mesh].materials[prim]];
     SurfaceAttribs at;
     at.instance = instance, at.prim = prim, at.bu = bu, at.bv = bv;
     // Embree's filter does not know the ray's kind: the cut-out is the one a camera ray sees, as in
     // program_bsdf for camera rays (a transparency keyed on Light Path's ray kinds is not honoured).
-    ShaderContext ctx = shader_context(at, -dir, ShaderRay{});
-    ShaderResult res;
-    m.program->eval(ctx, &res);
-    return transparency_keep(res);
+    uint32_t material = meshes_[instances_[instance].mesh].materials[prim];
+    return transparency_keep(run_program(material, at, -dir, ShaderRay{}));
 }
 
 }  // namespace smis

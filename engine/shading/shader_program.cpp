@@ -58,9 +58,11 @@ constexpr struct {
 };
 
 bool is_closure(Op code) { return code >= Op::Diffuse; }
-// Ops that read the hit (their outputs vary over surfaces whatever their inputs).
-bool reads_context(Op code) {
-    switch (code) {
+// Ops that read the hit (their outputs vary over surfaces whatever their inputs). A box-projected
+// image reads the surface normal to blend its three projections.
+bool reads_context(const ShaderOp& op) {
+    if (op.code == Op::TexImage && op.i[1] == 1) return true;
+    switch (op.code) {
         case Op::TexCoord: case Op::UvMap: case Op::Attribute: case Op::Geometry: case Op::ObjectInfo:
         case Op::LightPath: case Op::Fresnel: case Op::LayerWeight: case Op::CameraData: case Op::Tangent:
         case Op::BumpEnter: case Op::BumpLeave: case Op::Bump: case Op::NormalMap: case Op::VectorTransform:
@@ -265,7 +267,7 @@ void ShaderProgram::analyse() {
         // everywhere: its lookup folds whatever its vector.
         bool single_texel = ((op.code == Op::TexImage && op.i[1] != 1) || op.code == Op::TexEnvironment) &&
                             textures_[op.i[0]]->constant();
-        if (!single_texel && (reads_context(op.code) || reads_varying(op))) {
+        if (!single_texel && (reads_context(op) || reads_varying(op))) {
             varying_.push_back(k);
             for (uint16_t r : op.out)
                 if (r != kNoReg) varying[r] = varying[r + 1] = varying[r + 2] = true;
@@ -309,7 +311,6 @@ void ShaderProgram::analyse() {
 }
 
 void ShaderProgram::fold_constants() {
-    std::vector<uint32_t> keep;
     size_t v = 0;
     for (uint32_t k = 0; k < ops_.size(); ++k) {
         if (is_closure(ops_[k].code)) continue;
@@ -337,8 +338,7 @@ void ShaderProgram::eval(const ShaderContext& ctx_in, ShaderResult* out) const {
     ShaderContext ctx = ctx_in;  // bump evaluation moves the point
     if (needs_hit_)
         for (uint32_t k : varying_) run(ops_[k], &ctx, r, out);
-    ctx = ctx_in;
-    for (uint32_t k : closures_) run(ops_[k], &ctx, r, out);
+    for (uint32_t k : closures_) run(ops_[k], nullptr, r, out);  // closures read registers only
 }
 
 namespace {
@@ -435,7 +435,7 @@ void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
 
 }  // namespace
 
-void ShaderProgram::run(const ShaderOp& op, const ShaderContext* ctxp, float* r, ShaderResult* out) const {
+void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, ShaderResult* out) const {
     const Vec3 zero(0.0f);
     // Context ops never run without a context (they are never folded).
     switch (op.code) {
@@ -566,7 +566,7 @@ void ShaderProgram::run(const ShaderOp& op, const ShaderContext* ctxp, float* r,
             break;
         }
         case Op::BumpEnter: {
-            auto& c = const_cast<ShaderContext&>(*ctxp);
+            ShaderContext& c = *ctxp;
             if (op.i[0] == 0) {
                 c.P += c.dPdx;
                 c.uv = {c.uv.x + c.duvdx.x, c.uv.y + c.duvdx.y};
@@ -578,7 +578,7 @@ void ShaderProgram::run(const ShaderOp& op, const ShaderContext* ctxp, float* r,
         }
         case Op::BumpLeave: {
             // Restores the point (the caller's context copy is the unshifted one).
-            auto& c = const_cast<ShaderContext&>(*ctxp);
+            ShaderContext& c = *ctxp;
             if (op.i[0] == 0) {
                 c.P -= c.dPdx;
                 c.uv = {c.uv.x - c.duvdx.x, c.uv.y - c.duvdx.y};
@@ -647,8 +647,8 @@ void ShaderProgram::run(const ShaderOp& op, const ShaderContext* ctxp, float* r,
             TextureSample s;
             switch (op.i[1]) {
                 case 1: {  // BOX: up to three lookups blended by the object-space normal
-                    const ShaderContext& c = *ctxp;
-                    Vec3 n_obj = ctxp ? safe_normalize(c.to_world.normal_to_object(c.N), c.N) : Vec3(0, 0, 1);
+                    const ShaderContext& c = *ctxp;  // box projection reads the hit (reads_context)
+                    Vec3 n_obj = safe_normalize(c.to_world.normal_to_object(c.N), c.N);
                     BoxWeights bw = project_box(co, n_obj, op.f[0]);
                     for (int k = 0; k < 3; ++k)
                         if (bw.w[k] > 0.0f) {

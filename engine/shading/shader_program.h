@@ -24,7 +24,6 @@ namespace smis {
 enum class ShaderOpCode : uint16_t {
     // inputs (read the hit)
     TexCoord, UvMap, Attribute, Geometry, ObjectInfo, LightPath, Fresnel, LayerWeight, CameraData, Tangent,
-    NewGeometryNormal,
     // bump evaluation: the ops between Enter and Leave see the point moved by one footprint in x or y
     BumpEnter, BumpLeave, Bump, NormalMap,
     // textures
@@ -97,7 +96,8 @@ public:
     static constexpr size_t kMaxRegisters = 4096;
 
 private:
-    void run(const ShaderOp& op, const ShaderContext* ctx, float* r, ShaderResult* out) const;
+    // Context ops read (and the bump ops move) *ctx; it is null for folding and for closures.
+    void run(const ShaderOp& op, ShaderContext* ctx, float* r, ShaderResult* out) const;
     void analyse();
     std::vector<ShaderOp> ops_;
     std::vector<uint32_t> varying_;  // indices of the ops that run per hit (inputs and what they feed)

@@ -8,6 +8,7 @@
 #include "scene/scene.h"
 #include "shading/node_math.h"
 #include "shading/shader_program.h"
+#include "program_builder.h"
 #include "test_scenes.h"
 
 using namespace smis;
@@ -15,33 +16,8 @@ using smis::testing::camera_at;
 
 namespace {
 
-// A tiny program builder: registers hold floats, vectors take three.
-struct Builder {
-    std::vector<ShaderOp> ops;
-    std::vector<float> regs;
-    uint16_t constant(float v) {
-        regs.push_back(v);
-        return uint16_t(regs.size() - 1);
-    }
-    uint16_t constant3(const Vec3& v) {
-        regs.insert(regs.end(), {v.x, v.y, v.z});
-        return uint16_t(regs.size() - 3);
-    }
-    uint16_t alloc(int n) {
-        regs.resize(regs.size() + n, 0.0f);
-        return uint16_t(regs.size() - n);
-    }
-    ShaderOp& op(ShaderOpCode code) {
-        ops.emplace_back();
-        ops.back().code = code;
-        return ops.back();
-    }
-    std::shared_ptr<ShaderProgram> build() {
-        auto p = std::make_shared<ShaderProgram>(ops, regs, std::vector<float>{}, std::vector<std::shared_ptr<const Texture>>{});
-        p->fold_constants();
-        return p;
-    }
-};
+using Builder = smis::testing::ProgramBuilder;
+
 
 // Emission of (value of a Math op on constants) x colour: everything folds.
 TEST(ShaderProgram, ConstantTreeFoldsToNothingPerHit) {
@@ -124,16 +100,14 @@ TEST(ShaderProgram, SingleTexelImageFoldsAndSkipsItsDeadInputs) {
     uint16_t co = b.alloc(3);
     ShaderOp& tc = b.op(ShaderOpCode::TexCoord);
     tc.out[3] = co;
+    const float magenta[4] = {1, 0, 1, 1};
+    b.textures.push_back(std::make_shared<Texture>(magenta, 1, 1, "linear", Texture::Options{}));
     uint16_t col = b.alloc(3);
     ShaderOp& img = b.op(ShaderOpCode::TexImage);
     img.in[0] = co, img.out[0] = col, img.i[0] = 0;
     ShaderOp& e = b.op(ShaderOpCode::Emission);
     e.in[1] = col;
-    const float magenta[4] = {1, 0, 1, 1};
-    auto p = std::make_shared<ShaderProgram>(b.ops, b.regs, std::vector<float>{},
-                                             std::vector<std::shared_ptr<const Texture>>{std::make_shared<Texture>(
-                                                 magenta, 1, 1, "linear", Texture::Options{})});
-    p->fold_constants();
+    auto p = b.build();
     EXPECT_TRUE(p->is_constant());
     ShaderResult r = p->eval_constant();
     EXPECT_FLOAT_EQ(r.emission.x, 1.0f);

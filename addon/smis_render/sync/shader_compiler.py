@@ -493,12 +493,6 @@ def _tex_image(c, node, ctx):
     return res
 
 
-def _mapping_of(c, node, vec):
-    """Blender 2.8x+ texture nodes have no built-in mapping in Cycles 3.4 beyond node.texture_mapping,
-    which the UI hides; it is ignored."""
-    return vec
-
-
 def _tex_noise(c, node, ctx):
     res, regs = _outs(c, node, [("Fac", FLOAT), ("Color", COLOR)])
     ins = [c.vector_input(node, ctx)] + [c.input(node, n, ctx, FLOAT)
@@ -585,7 +579,6 @@ def _mix_rgb(c, node, ctx):
 
 def _mix(c, node, ctx):
     """Blender 3.4's Mix node: the enabled sockets depend on data_type (and factor_mode)."""
-    enabled = lambda i: node.inputs[i]  # noqa: E731
     by_type = {"FLOAT": (FLOAT, "mix_float"), "VECTOR": (VEC, "mix_vector"), "RGBA": (COLOR, "mix")}
     kind, opname = by_type.get(node.data_type, (COLOR, "mix"))
     fac_socket = next(s for s in node.inputs if s.enabled and s.name == "Factor")
@@ -603,7 +596,6 @@ def _mix(c, node, ctx):
         c.op("mix_float", [fac, av, bv], [out], [int(node.clamp_factor)])
     else:
         c.op("mix_vector", [fac, av, bv], [out], [int(node.clamp_factor), int(non_uniform)])
-    del enabled
     return {out_socket.identifier: out, "Result": out}
 
 
@@ -628,20 +620,15 @@ def _curve_table(c, mapping, channels):
     return offset, min_x, max_x
 
 
-def _rgb_curves(c, node, ctx):
-    res, regs = _outs(c, node, [("Color", COLOR)])
-    offset, lo, hi = _curve_table(c, node.mapping, "rgb")
-    c.op("rgb_curves", [c.input(node, "Fac", ctx, FLOAT), c.input(node, "Color", ctx, COLOR)], regs,
-         [RAMP_TABLE_SIZE, int(node.mapping.extend == "EXTRAPOLATED")], [lo, hi], data=offset)
-    return res
-
-
-def _vector_curves(c, node, ctx):
-    res, regs = _outs(c, node, [("Vector", VEC)])
-    offset, lo, hi = _curve_table(c, node.mapping, "vector")
-    c.op("vector_curves", [c.input(node, "Fac", ctx, FLOAT), c.input(node, "Vector", ctx, VEC)], regs,
-         [RAMP_TABLE_SIZE, int(node.mapping.extend == "EXTRAPOLATED")], [lo, hi], data=offset)
-    return res
+def _curves(opname, socket, kind, channels):
+    """RGB Curves and Vector Curves: the mapping baked into a table (_curve_table), looked up per hit."""
+    def handler(c, node, ctx):
+        res, regs = _outs(c, node, [(socket, kind)])
+        offset, lo, hi = _curve_table(c, node.mapping, channels)
+        c.op(opname, [c.input(node, "Fac", ctx, FLOAT), c.input(node, socket, ctx, kind)], regs,
+             [RAMP_TABLE_SIZE, int(node.mapping.extend == "EXTRAPOLATED")], [lo, hi], data=offset)
+        return res
+    return handler
 
 
 def _color_ramp(c, node, ctx):
@@ -727,8 +714,9 @@ def _combine_xyz(c, node, ctx):
 def _mapping(c, node, ctx):
     res, regs = _outs(c, node, [("Vector", VEC)])
     t = _index(MAPPING_TYPES, node.vector_type)
+    # Location applies to points and texture coordinates only (Blender hides it for the others).
     ins = [c.input(node, "Vector", ctx, VEC), c.input(node, "Location", ctx, VEC) if t in (0, 1) else None,
-           c.input(node, "Rotation", ctx, VEC), c.input(node, "Scale", ctx, VEC) if t != 2 or True else None]
+           c.input(node, "Rotation", ctx, VEC), c.input(node, "Scale", ctx, VEC)]
     c.op("mapping", ins, regs, [t])
     return res
 
@@ -818,8 +806,8 @@ VALUE_NODES = {
     "ShaderNodeTexWhiteNoise": _tex_white_noise,
     "ShaderNodeMixRGB": _mix_rgb,
     "ShaderNodeMix": _mix,
-    "ShaderNodeRGBCurve": _rgb_curves,
-    "ShaderNodeVectorCurve": _vector_curves,
+    "ShaderNodeRGBCurve": _curves("rgb_curves", "Color", COLOR, "rgb"),
+    "ShaderNodeVectorCurve": _curves("vector_curves", "Vector", VEC, "vector"),
     "ShaderNodeInvert": _simple("invert", [("Fac", FLOAT), ("Color", COLOR)], [("Color", COLOR)]),
     "ShaderNodeHueSaturation": _simple("hue_sat_val", [("Hue", FLOAT), ("Saturation", FLOAT), ("Value", FLOAT),
                                                        ("Fac", FLOAT), ("Color", COLOR)], [("Color", COLOR)]),
