@@ -904,15 +904,15 @@ def _principled(c, node, ctx, weight):
         else:
             ins.append(c.socket_value(sock, ctx, VEC if name in VECTOR_INPUTS_OF_PRINCIPLED else None))
     ignored = []
-    for name in ("Subsurface", "Anisotropic"):
-        s = node.inputs[name]
-        if s.is_linked or s.default_value > 0.0:
-            ignored.append(name)
+    used = lambda name: node.inputs[name].is_linked or node.inputs[name].default_value > 0.0  # noqa: E731
+    if used("Subsurface"):
+        ignored.append("Subsurface (rendered as diffuse of the mixed colour)")
+    if used("Anisotropic"):
+        ignored.append("Anisotropic")
     if node.distribution != "GGX":
         ignored.append("Multiscatter GGX (using GGX)")
     if ignored:
-        c.warn_node(node, "uses %s, not supported (subsurface is rendered as diffuse of the mixed colour)"
-                    % ", ".join(ignored))
+        c.warn_node(node, "uses %s, not supported" % ", ".join(ignored))
     c.op("principled", ins)
 
 
