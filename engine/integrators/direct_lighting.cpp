@@ -4,7 +4,6 @@ namespace smis {
 
 CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, const LightCandidate& x) {
     CandidateEval e;
-    e.light = x.light;
     e.ls = scene.light(x.light).sample(sp.hit.p, x.u);
     if (!e.ls.valid()) return e;
     Color f = sp.bsdf.eval(sp.wo, e.ls.wi);
@@ -17,7 +16,7 @@ CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, con
 
 bool candidate_visible(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e) {
     const ShadowRay shadow = shadow_ray(sp, e.ls.wi, e.ls.dist);
-    return !scene.occluded(shadow.o, shadow.d, shadow.tmax) && reaches_mesh_light(scene, shadow, e.light);
+    return !scene.occluded(shadow.o, shadow.d, shadow.tmax) && reaches_mesh_light(scene, shadow, e.ls);
 }
 
 Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng,

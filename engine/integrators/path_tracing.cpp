@@ -43,10 +43,10 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
     const ShadowRay shadow = shadow_ray(sp, ls.wi, ls.dist);
     Color tr(1.0f);
     if (!scene.has_media()) {
-        if (scene.occluded(shadow.o, shadow.d, shadow.tmax) || !reaches_mesh_light(scene, shadow, li)) return ds;
+        if (scene.occluded(shadow.o, shadow.d, shadow.tmax) || !reaches_mesh_light(scene, shadow, ls)) return ds;
     } else {
         tr = shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, medium_towards(scene, sp, ls.wi, medium));
-        if (is_black(tr) || !reaches_mesh_light(scene, shadow, li)) return ds;
+        if (is_black(tr) || !reaches_mesh_light(scene, shadow, ls)) return ds;
     }
     float light_pdf = pmf * ls.pdf;
     const float n = float(light_samples);

@@ -2,8 +2,6 @@
 // that reuse parts of paths (path-space filtering): shading-point set-up, next-event estimation,
 // emission found along a ray with its MIS weight, and tracing the rest of a path.
 #pragma once
-#include <typeinfo>
-
 #include "integrators/integrator.h"
 
 namespace smis {
@@ -66,11 +64,10 @@ inline ShadowRay shadow_ray_between(const Vec3& p, const Vec3& ng, const Vec3& t
 // the light's plane; the test costs a closest hit, 20% of a Cornell box's time when every sample
 // paid it); an object standing on the middle of an emissive triangle still leaks along its base.
 // Lamps are not geometry: nothing to test.
-inline bool reaches_mesh_light(const Scene& scene, const ShadowRay& s, uint32_t light) {
-    const Light& l = scene.light(light);
-    if (!std::isfinite(s.tmax) || typeid(l) != typeid(TriangleLight)) return true;
+inline bool reaches_mesh_light(const Scene& scene, const ShadowRay& s, const LightSample& ls) {
+    // Lamps and lights at infinity sample no edge (kInf); the comparison is false for them.
     const float len = s.tmax / (1.0f - 1e-4f);
-    if (static_cast<const TriangleLight&>(l).distance_to_edge(s.o + s.d * len) > 1e-3f * len) return true;
+    if (!(ls.edge_distance <= 1e-3f * len)) return true;
     SurfaceHit hit;
     return !scene.intersect(Ray{s.o, s.d, s.tmax, len * (1.0f + 2e-4f)}, &hit) || hit.light >= 0;
 }

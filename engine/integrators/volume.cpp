@@ -147,7 +147,7 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
         }
         float tmax = std::isinf(ls.dist) ? kInf : ls.dist * (1.0f - 1e-4f);
         Color tr = shadow_transmittance(scene, x, ls.wi, tmax, s.medium);
-        if (is_black(tr) || !reaches_mesh_light(scene, ShadowRay{x, ls.wi, tmax}, li)) continue;
+        if (is_black(tr) || !reaches_mesh_light(scene, ShadowRay{x, ls.wi, tmax}, ls)) continue;
         float phase = med.phase.eval(-ray.d, ls.wi);
         Color t_cam = media.transmittance(scene, s.t0) * transmittance(med.sigma_t(), ds.t);
         L += t_cam * med.sigma_s * tr * ls.L * (phase / (selection.pmf(li) * ls.pdf * pdf));

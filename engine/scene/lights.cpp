@@ -272,6 +272,8 @@ TriangleLight::TriangleLight(const Vec3& a, const Vec3& b, const Vec3& c, const 
     float len = length(n);
     area_ = 0.5f * len;
     n_ = len > 0.0f ? n / len : Vec3(0, 0, 1);
+    const float edge[3] = {length(e2_ - e1_), length(e2_), length(e1_)};
+    for (int k = 0; k < 3; ++k) height_[k] = edge[k] > 0.0f ? len / edge[k] : 0.0f;
 }
 
 LightSample TriangleLight::sample(const Vec3& ref, Point2 u) const {
@@ -284,6 +286,7 @@ LightSample TriangleLight::sample(const Vec3& ref, Point2 u) const {
     s.dist = std::sqrt(dist_sq);
     s.wi = d / s.dist;
     s.pdf = area_to_solid_angle(1.0f / area_, dist_sq, absdot(s.wi, n_));
+    s.edge_distance = std::min({(1.0f - b.x - b.y) * height_[0], b.x * height_[1], b.y * height_[2]});
     if (s.pdf > 0.0f) s.L = radiance_;
     if (kWithTexturedEmission && texture_) {
         float w = 1.0f - b.x - b.y;
@@ -311,17 +314,6 @@ float TriangleLight::pdf_at(const Vec3& ref, const Vec3& p) const {
     float dist_sq = length_sq(d);
     if (!(dist_sq > 0.0f) || !(area_ > 0.0f)) return 0.0f;
     return area_to_solid_angle(1.0f / area_, dist_sq, absdot(d / std::sqrt(dist_sq), n_));
-}
-
-float TriangleLight::distance_to_edge(const Vec3& p) const {
-    // p = a + b1 e1 + b2 e2; the distance to the edge opposite a corner is the corner's barycentric
-    // times the triangle's height over that edge, 2 area / edge length.
-    Vec3 d = p - a_, n2 = cross(e1_, e2_);
-    float inv = 1.0f / length_sq(n2);
-    float b1 = dot(cross(d, e2_), n2) * inv, b2 = dot(cross(e1_, d), n2) * inv;
-    float two_area = 2.0f * area_;
-    return std::min({(1.0f - b1 - b2) * two_area / length(e2_ - e1_), b1 * two_area / length(e2_),
-                     b2 * two_area / length(e1_)});
 }
 
 float TriangleLight::pdf(const Vec3& ref, const Vec3& wi) const {

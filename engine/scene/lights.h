@@ -20,6 +20,9 @@ struct LightSample {
     Color L{0.0f};    // radiance arriving at the reference point along -wi (unoccluded)
     float pdf = 0;    // solid-angle density of wi (for delta lights: 1, and delta = true)
     bool delta = false;
+    // Mesh lights: distance from the sampled point to the nearest edge of its triangle (the shadow
+    // ray's last stretch is tested near edges, reaches_mesh_light); lamps and the world: kInf.
+    float edge_distance = kInf;
     bool valid() const { return pdf > 0.0f && std::isfinite(pdf) && is_finite(L) && !is_black(L); }
 };
 
@@ -107,8 +110,6 @@ public:
     float pdf(const Vec3& ref, const Vec3& wi) const override;
     // Density of hitting point p (normal n) from ref, already known from a BVH hit.
     float pdf_at(const Vec3& ref, const Vec3& p) const;
-    // Distance from a point of the triangle (a light sample) to the nearest of its edges.
-    float distance_to_edge(const Vec3& p) const;
     bool point_independent_of_reference() const override { return true; }
     float power(float scene_radius) const override;
     const Color& radiance() const { return radiance_; }
@@ -117,6 +118,9 @@ public:
 private:
     Vec3 a_, e1_, e2_, n_;
     float area_;
+    // The triangle's heights over the edges opposite a, b and c (2 area / edge length): a point's
+    // distance to an edge is its barycentric of the opposite corner times that height.
+    float height_[3];
     Color radiance_;
     const Texture* texture_ = nullptr;  // owned by the scene's material
     Point2 uv_[3];

@@ -72,15 +72,6 @@ bool reads_context(const ShaderOp& op) {
     }
 }
 
-// Lobes a closure op can produce, in the order it emits them.
-int lobe_slots(Op code) {
-    switch (code) {
-        case Op::Diffuse: case Op::Glossy: case Op::Glass: return 1;
-        case Op::Principled: return 6;  // diffuse, specular, metal, transmission, sheen, clearcoat
-        default: return 0;
-    }
-}
-
 inline Vec3 load3(const float* r, uint16_t i, const Vec3& fallback) {
     return i == kNoReg ? fallback : Vec3(r[i], r[i + 1], r[i + 2]);
 }

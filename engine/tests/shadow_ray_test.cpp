@@ -4,6 +4,7 @@
 // 0.8 / pi x the irradiance of a uniform parallel rectangle, known in closed form.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "integrators/path_tracing.h"
@@ -142,10 +143,25 @@ TEST(ShadowRays, MeshLightDoesNotLeakThroughAWallAtItsEdge) {
     EXPECT_LE(lit, 3);
 }
 
-TEST(ShadowRays, TriangleLightDistanceToEdge) {
-    TriangleLight t(Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(0, 1, 1), Color(1.0f));
-    EXPECT_NEAR(t.distance_to_edge(Vec3(0.25f, 0.25f, 1)), 0.25f, 1e-6f);
-    EXPECT_NEAR(t.distance_to_edge(Vec3(0.1f, 0.5f, 1)), 0.1f, 1e-6f);
-    EXPECT_NEAR(t.distance_to_edge(Vec3(0.45f, 0.45f, 1)), 0.1f / std::sqrt(2.0f), 1e-6f);  // hypotenuse
-    EXPECT_NEAR(t.distance_to_edge(Vec3(0.3f, 0.0f, 1)), 0.0f, 1e-6f);
+// A mesh light's samples carry their distance to the triangle's nearest edge (which decides whether
+// reaches_mesh_light tests the shadow ray's last stretch): checked against point-segment distances.
+TEST(ShadowRays, TriangleLightSampleEdgeDistance) {
+    const Vec3 a(0, 0, 1), b(2, 0, 1), c(0.5f, 1, 1);
+    TriangleLight t(a, b, c, Color(1.0f));
+    auto segment_distance = [](const Vec3& p, const Vec3& s0, const Vec3& s1) {
+        const Vec3 e = s1 - s0;
+        const float f = clampf(dot(p - s0, e) / dot(e, e), 0.0f, 1.0f);
+        return length(p - (s0 + e * f));
+    };
+    Rng rng(3, 0);
+    for (int i = 0; i < 1000; ++i) {
+        LightSample ls = t.sample(Vec3(0.3f, 0.2f, 0.0f), Point2{rng.next_float(), rng.next_float()});
+        ASSERT_TRUE(ls.valid());
+        const Vec3 p = Vec3(0.3f, 0.2f, 0.0f) + ls.wi * ls.dist;
+        const float expected =
+            std::min({segment_distance(p, a, b), segment_distance(p, b, c), segment_distance(p, c, a)});
+        EXPECT_NEAR(ls.edge_distance, expected, 2e-5f) << i;
+    }
+    // Lamps sample no edge.
+    EXPECT_FALSE(LightSample{}.edge_distance < kInf);
 }
