@@ -119,6 +119,30 @@ nt.links.new(tex.outputs['Color'], emit.inputs['Color'])
     assert warnings and "magenta" in warnings[0], run.output[-3000:]
 
 
+def test_normal_map_on_ngons_falls_back_with_a_warning_naming_the_object():
+    # MikkTSpace (Blender's calc_tangents) refuses faces of more than four corners: the mesh still
+    # renders, its normal map on per-triangle tangents, and the warning says so and names it.
+    run = render(setup=NODE_CASE + """
+bpy.ops.mesh.primitive_cylinder_add(vertices=8)   # its caps are octagons
+cyl = bpy.context.active_object
+cube.data = cyl.data
+bpy.data.objects.remove(cyl)
+me = cube.data
+me.materials.append(mat)
+assert max(len(p.vertices) for p in me.polygons) > 4
+nmap = nt.nodes.new('ShaderNodeNormalMap')
+nmap.inputs['Color'].default_value = (0.7, 0.5, 0.9, 1.0)
+vm = nt.nodes.new('ShaderNodeVectorMath')
+vm.operation = 'ABSOLUTE'
+nt.links.new(nmap.outputs['Normal'], vm.inputs[0])
+nt.links.new(vm.outputs['Vector'], emit.inputs['Color'])
+""")
+    img = assert_clean_image(run)
+    assert img[..., :3].max() > 0.1, "the cube should show its normals"
+    warnings = [l for l in run.output.splitlines() if "more than four corners" in l]
+    assert warnings and "'Cube'" in warnings[0], run.output[-3000:]
+
+
 def test_bad_node_values_never_reach_the_film():
     # Division by zero, the logarithm of a negative, a power of a negative, absurd scales and a NaN
     # socket value, all into the emission: finite pixels, the safe maths' values as in Cycles.

@@ -904,6 +904,53 @@ def build_lit(outdir):
     save(os.path.join(outdir, "node_parity_lit.blend"))
 
 
+# -- tangent frames --------------------------------------------------------------------------------
+# Low-poly smooth spheres whose emission shows a world-space direction (0.5 + 0.5 v): a tangent-space
+# Normal Map, the Tangent node along the UV map and radially, and Geometry > Tangent. Per-triangle
+# tangents would show the facets; Cycles interpolates MikkTSpace tangents. One sphere is mirrored and
+# squashed (the frame's handedness and the normal transform).
+TANGENT_OBJECTS = ["tangent_normal_map", "tangent_uv", "tangent_radial_x", "geometry_tangent",
+                   "tangent_normal_map_mirrored"]
+
+
+def _direction_material(name, build):
+    mat, t, em = emission_material(name)
+    direction = build(t)
+    t.set(em, "Color", t.vmath('MULTIPLY_ADD', direction, (0.5, 0.5, 0.5), (0.5, 0.5, 0.5)))
+    return mat
+
+
+def _normal_map(t):
+    return out(t.node("ShaderNodeNormalMap", {"Color": (0.8, 0.35, 0.75), "Strength": 1.0}, space='TANGENT'))
+
+
+def build_tangents(outdir):
+    sc = new_scene(5 * 48, 48, samples=64, max_bounces=0)
+    set_world(sc, (0.0, 0.0, 0.0), 0.0)
+    builds = {
+        "tangent_normal_map": _normal_map,
+        "tangent_uv": lambda t: out(t.node("ShaderNodeTangent", direction_type='UV_MAP')),
+        "tangent_radial_x": lambda t: out(t.node("ShaderNodeTangent", direction_type='RADIAL', axis='X')),
+        "geometry_tangent": lambda t: out(t.node("ShaderNodeNewGeometry"), "Tangent"),
+        "tangent_normal_map_mirrored": _normal_map,
+    }
+    for k, name in enumerate(TANGENT_OBJECTS):
+        ob = mesh_object(sc, name, _direction_material(name, builds[name]), (-4.0 + 2.0 * k, 0.0, 0.0),
+                         bpy.ops.mesh.primitive_uv_sphere_add, radius=0.9, segments=10, ring_count=6)
+        bpy.ops.object.shade_smooth()
+        ob.rotation_euler = (math.radians(20.0), math.radians(-15.0), math.radians(35.0))
+        if name.endswith("mirrored"):
+            ob.scale = (-1.0, 1.0, 0.8)
+    cam_data = bpy.data.cameras.new("Camera")
+    cam_data.type = 'ORTHO'
+    cam_data.ortho_scale = 10.0
+    cam = bpy.data.objects.new("Camera", cam_data)
+    cam.location = (0.0, 0.0, 10.0)
+    sc.collection.objects.link(cam)
+    sc.camera = cam
+    save(os.path.join(outdir, "node_parity_tangents.blend"))
+
+
 def save(path):
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
     print("node_parity: wrote", path)
@@ -916,6 +963,7 @@ def main():
     os.makedirs(outdir, exist_ok=True)
     build_emission(outdir)
     build_lit(outdir)
+    build_tangents(outdir)
 
 
 main()

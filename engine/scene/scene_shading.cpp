@@ -42,6 +42,11 @@ ShaderContext Scene::shader_context(const SurfaceAttribs& at, const Vec3& wo, co
         const Vec3* cn = &mesh.corner_normals[3 * at.prim];
         ns = cn[0] * w + cn[1] * at.bu + cn[2] * at.bv;
     }
+    // Flattened meshes (identity instances) hold world-space normals, |det| M^-T times the object's.
+    if (!mesh.corner_normals.empty())
+        c.N_object = inst.identity ? inst.to_world.normal_to_object(ns) / std::fabs(inst.to_world.determinant3()) : ns;
+    else
+        c.N_object = normalize(inst.identity ? inst.to_world.normal_to_object(ng) : ng);
     Vec3 p = a * w + b * at.bu + cc * at.bv;
     Vec3 e1 = b - a, e2 = cc - a;
     if (!inst.identity) {

@@ -27,6 +27,9 @@ struct ShaderContext {
     // ray length and the camera's pixel spread, since the engine carries no ray differentials).
     Vec3 dPdx, dPdy;
     Point2 duvdx, duvdy;
+    // The smooth normal in object space, unflipped and unnormalised (interpolated corner normals; the
+    // unit geometric normal on flat meshes): what Cycles' tangent-space Normal Map combines.
+    Vec3 N_object;
     Vec3 dPdu;         // the default UV map's u direction on the triangle (tangents), 0 without UVs
     float tangent_sign = 1.0f;  // -1 where the UV map is mirrored (the bitangent flips)
     // Where attributes come from: the scene, the instance and the triangle with its barycentrics.

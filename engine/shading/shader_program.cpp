@@ -113,6 +113,23 @@ Vec3 rotate_euler_xyz(const Vec3& v, const Vec3& e, bool inverse) {
 inline Vec3 safe_divide(const Vec3& a, const Vec3& b) {
     return {b.x != 0.0f ? a.x / b.x : 0.0f, b.y != 0.0f ? a.y / b.y : 0.0f, b.z != 0.0f ? a.z / b.z : 0.0f};
 }
+// Cycles' object_normal_transform: the inverse transpose, which keeps a normal's direction under a
+// mirroring transform (Transform::normal is the cofactor matrix, det times that: flipped there).
+inline Vec3 object_normal_to_world(const ShaderContext& c, const Vec3& n) {
+    const Vec3 v = c.to_world.normal(n);
+    return c.to_world.determinant3() < 0.0f ? -v : v;
+}
+// Cycles' tangents are made perpendicular to the shading normal: N x normalize(t x N).
+inline Vec3 tangent_about_normal(const ShaderContext& c, const Vec3& t) {
+    return cross(c.N, safe_normalize(cross(t, c.N), Vec3(0.0f)));
+}
+// The radial tangent around the object's X, Y or Z axis through the texture space's centre
+// (Generated coordinates - 0.5), turned into world space as Cycles does (a normal transform).
+inline Vec3 radial_tangent(const ShaderContext& c, int axis) {
+    const Vec3 g = safe_divide(c.to_object.point(c.P) - c.texspace_location, c.texspace_size * 2.0f);
+    const Vec3 d = axis == 0 ? Vec3(0.0f, -g.z, g.y) : axis == 1 ? Vec3(-g.z, 0.0f, g.x) : Vec3(-g.y, g.x, 0.0f);
+    return tangent_about_normal(c, object_normal_to_world(c, d));
+}
 Vec3 mapping(int type, const Vec3& v, const Vec3& loc, const Vec3& rot, const Vec3& scale) {
     switch (type) {
         case 0: return rotate_euler_xyz(v * scale, rot, false) + loc;                    // POINT
@@ -475,10 +492,8 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             const ShaderContext& c = *ctxp;
             store3(r, op.out[0], c.P);
             store3(r, op.out[1], c.N);
-            if (op.out[2] != kNoReg) {
-                Vec3 t = c.dPdu - c.N * dot(c.N, c.dPdu);
-                store3(r, op.out[2], safe_normalize(t, Frame(c.N).s));
-            }
+            // Cycles' Geometry > Tangent: the radial tangent around the object's Z axis.
+            if (op.out[2] != kNoReg) store3(r, op.out[2], radial_tangent(c, 2));
             store3(r, op.out[3], c.Ng);
             store3(r, op.out[4], c.I);
             store3(r, op.out[5], Vec3(1.0f - c.bu - c.bv, c.bu, 0.0f));
@@ -543,17 +558,15 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
         }
         case Op::Tangent: {
             const ShaderContext& c = *ctxp;
-            Vec3 t;
-            if (op.i[0] == 1) {  // UV map tangent
-                t = c.dPdu;
-            } else {  // radial around the object's axis (Cycles: generated coordinates, axis X/Y/Z)
-                Vec3 g = safe_divide(c.to_object.point(c.P) - c.texspace_location, c.texspace_size * 2.0f);
-                Vec3 d = op.i[1] == 0 ? Vec3(0.0f, -(g.z), g.y) : op.i[1] == 1 ? Vec3(-g.z, 0.0f, g.x)
-                                                                                  : Vec3(-g.y, g.x, 0.0f);
-                t = c.to_world.vector(d);
+            if (op.i[0] == 1) {  // the UV map's MikkTSpace tangent; none without the map, as Cycles
+                float a[4];
+                const bool found = op.i[2] >= 0 && c.scene && c.scene->attribute(c, op.i[2], a);
+                // Without exported tangents (a mesh with n-gons) the triangle's UV derivative.
+                const Vec3 t = found ? object_normal_to_world(c, Vec3(a[0], a[1], a[2])) : c.dPdu;
+                store3(r, op.out[0], length_sq(t) > 0.0f ? tangent_about_normal(c, t) : Vec3(0.0f));
+            } else {
+                store3(r, op.out[0], radial_tangent(c, op.i[1]));
             }
-            t = cross(c.N, safe_normalize(cross(t, c.N), Vec3(0.0f)));
-            store3(r, op.out[0], safe_normalize(t, Frame(c.N).s));
             break;
         }
         case Op::BumpEnter: {
@@ -609,7 +622,15 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             Vec3 front = c.backfacing ? -c.N : c.N;
             Vec3 n_obj = safe_normalize(c.to_world.normal_to_object(front), front);
             switch (op.i[0]) {
-                case 0: {  // tangent space, the UV map's tangent frame
+                case 0: {  // tangent space: the UV map's MikkTSpace frame, as Cycles (unnormalised, interpolated)
+                    float a[4];
+                    if (op.i[1] >= 0 && c.scene && c.scene->attribute(c, op.i[1], a)) {
+                        const Vec3 t(a[0], a[1], a[2]), normal = c.N_object;
+                        const Vec3 b = cross(normal, t) * (a[3] < 0.0f ? -1.0f : 1.0f);
+                        n = safe_normalize(object_normal_to_world(c, t * m.x + b * m.y + normal * m.z), front);
+                        break;
+                    }
+                    // No exported tangents (a mesh with n-gons): the triangle's UV derivative.
                     Vec3 t = c.to_object.vector(c.dPdu);
                     t = t - n_obj * dot(n_obj, t);
                     if (!(length_sq(t) > 0.0f)) {
@@ -618,17 +639,18 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
                     }
                     t = normalize(t);
                     Vec3 b = cross(n_obj, t) * (c.tangent_sign < 0.0f ? -1.0f : 1.0f);
-                    n = safe_normalize(c.to_world.normal(t * m.x + b * m.y + n_obj * m.z), front);
+                    n = safe_normalize(object_normal_to_world(c, t * m.x + b * m.y + n_obj * m.z), front);
                     break;
                 }
-                case 1: n = safe_normalize(c.to_world.normal(m), front); break;    // object space
+                case 1: n = safe_normalize(object_normal_to_world(c, m), front); break;    // object space
                 case 2: n = safe_normalize(m, front); break;                        // world space
-                case 3: n = safe_normalize(c.to_world.normal(Vec3(m.x, m.y, -m.z)), front); break;  // Blender object
+                case 3: n = safe_normalize(object_normal_to_world(c, Vec3(m.x, m.y, -m.z)), front); break;  // Blender object
                 default: n = safe_normalize(Vec3(m.x, m.y, -m.z), front); break;   // Blender world
             }
             if (c.backfacing) n = -n;
+            // Cycles 3.4 bends the mapped normal back above the horizon only where a closure uses it
+            // (Scene::program_bsdf), not in the node: a Normal Map read as a colour is unclamped.
             if (strength != 1.0f) n = safe_normalize(c.N + (n - c.N) * strength, c.N);
-            n = ensure_valid_reflection(c.Ng, c.I, n);
             store3(r, op.out[0], n);
             break;
         }
@@ -791,7 +813,7 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             Vec3 v = load3(r, op.in[0], zero);
             int type = op.i[0];
             auto to_world = [&](const Vec3& x, int space) -> Vec3 {
-                if (space == 1) return type == 0 ? c.to_world.point(x) : type == 1 ? c.to_world.vector(x) : c.to_world.normal(x);
+                if (space == 1) return type == 0 ? c.to_world.point(x) : type == 1 ? c.to_world.vector(x) : object_normal_to_world(c, x);
                 if (space == 2 && c.scene) {
                     const Camera& cam = c.scene->camera();
                     Vec3 w = cam.right_axis() * x.x + cam.up_axis() * x.y + cam.forward_axis() * x.z;

@@ -97,8 +97,9 @@ class GeometryCache:
         self.mesh_ids, self.instance_keys = {}, []
 
     @classmethod
-    def key(cls, obj, uv_map):
-        return cls.identity(obj) + (uv_map,)
+    def key(cls, obj, surface_data):
+        """The cache key of an object's mesh exported with `surface_data` (its UV map and tangents)."""
+        return cls.identity(obj) + (surface_data,)
 
     def get(self, key):
         return self._entries.get(key)
@@ -119,14 +120,16 @@ def mesh_of(obj, materials, cache):
     it holds them."""
     mat_ids = _material_ids(obj, obj.data, materials)
     uv_map = materials.uv_map_for(mat_ids)
-    key = cache.key(obj, uv_map) if cache is not None else None
+    tangent_maps = materials.tangent_maps_for(mat_ids)
+    key = cache.key(obj, (uv_map, tangent_maps)) if cache is not None else None
     if key is not None and cache.get(key) is not None:
         return cache.get(key), mat_ids
     mesh = obj.to_mesh()
     if mesh is None:
         return None, mat_ids
     try:
-        buf = mesh_buffers(mesh, len(mat_ids), uv_map) if len(mesh.polygons) else None
+        buf = mesh_buffers(mesh, len(mat_ids), uv_map, tangent_maps, materials.warning, obj.name) \
+            if len(mesh.polygons) else None
     finally:
         obj.to_mesh_clear()
     if key is not None and buf is not None:

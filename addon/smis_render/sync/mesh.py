@@ -64,6 +64,38 @@ def _corner_uvs(mesh, tris, uv_map):
 
 
 ACTIVE_COLOR = "\x00active color"
+# The attribute holding a UV map's tangents (TANGENT_PREFIX + map name, '' = the active render map):
+# per corner the MikkTSpace tangent (object space) and the bitangent sign, as Cycles computes them.
+TANGENT_PREFIX = "\x00tangent:"
+
+
+def _corner_tangents(mesh, tris, uv_maps, warn, object_name):
+    """{TANGENT_PREFIX + name: (M, 3, 4)} for each UV map in `uv_maps` the mesh has. Blender's
+    calc_tangents is MikkTSpace, Cycles' tangent space; it refuses n-gons (Cycles triangulates
+    them first): such meshes get none and normal maps fall back to per-triangle tangents."""
+    out = {}
+    loops = np.empty(len(tris) * 3, dtype=np.int32)
+    tris.foreach_get("loops", loops)
+    for name in uv_maps:
+        layer = mesh.uv_layers.get(name) if name else next((l for l in mesh.uv_layers if l.active_render), None)
+        if layer is None:
+            continue
+        try:
+            with native.load().SerialTbb():
+                mesh.calc_tangents(uvmap=layer.name)
+        except RuntimeError:
+            if warn is not None:
+                warn("Object '%s' has faces with more than four corners; its normal maps use "
+                     "per-triangle tangents instead of MikkTSpace (triangulate it to match Cycles)" % object_name)
+            continue
+        n = len(mesh.loops)
+        tangent = np.empty(n * 3, dtype=np.float32)
+        sign = np.empty(n, dtype=np.float32)
+        mesh.loops.foreach_get("tangent", tangent)
+        mesh.loops.foreach_get("bitangent_sign", sign)
+        corner = np.concatenate([tangent.reshape(n, 3), sign[:, None]], axis=1)[loops]
+        out[TANGENT_PREFIX + name] = np.ascontiguousarray(corner.reshape(len(tris), 3, 4))
+    return out
 
 
 def _corner_attributes(mesh, tris):
@@ -101,13 +133,14 @@ def _corner_attributes(mesh, tris):
     return out
 
 
-def mesh_buffers(mesh, slot_count, uv_map=None):
+def mesh_buffers(mesh, slot_count, uv_map=None, tangent_maps=(), warn=None, object_name=""):
     """Triangulated buffers of a (temporary, evaluated) mesh.
 
     `slot_count` is the number of material slots the triangles' material
     indices refer to; out-of-range indices are clamped as Blender does.
     `uv_map`: the UV map textured materials read ('' = active render map), None
-    when no material needs UVs (then none are exported).
+    when no material needs UVs (then none are exported). `tangent_maps`: the UV maps whose
+    tangents normal maps read; `warn` reports meshes whose tangents cannot be computed.
     """
     mesh.calc_loop_triangles()
     tris = mesh.loop_triangles
@@ -135,6 +168,8 @@ def mesh_buffers(mesh, slot_count, uv_map=None):
 
     corner_uvs = _corner_uvs(mesh, tris, uv_map) if uv_map is not None and n_tris else None
     attributes = _corner_attributes(mesh, tris) if uv_map is not None and n_tris else None
+    if attributes is not None and tangent_maps:
+        attributes.update(_corner_tangents(mesh, tris, tangent_maps, warn, object_name))
     texspace = None
     if hasattr(mesh, "texspace_location"):
         texspace = (tuple(mesh.texspace_location), tuple(mesh.texspace_size))

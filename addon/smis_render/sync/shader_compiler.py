@@ -16,7 +16,7 @@ and node.
 import math
 
 from . import nodes
-from .mesh import ACTIVE_COLOR
+from .mesh import ACTIVE_COLOR, TANGENT_PREFIX
 
 # Enum identifiers in the engine's order (engine/shading/node_math.h, procedural_*.h).
 MATH_OPS = ["ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "MULTIPLY_ADD", "POWER", "LOGARITHM", "SQRT",
@@ -102,6 +102,7 @@ class ShaderCompiler:
         self._warned = set()
         self._bump = None             # 0 / 1 while compiling a Bump node's shifted heights
         self.uses_uv = False
+        self.tangent_maps = set()     # UV maps ('' = active render) whose MikkTSpace tangents are read
         self.surface_normal = None    # Value of the Displacement output's bump normal
 
     # -- registers and ops --------------------------------------------------------------------
@@ -367,6 +368,14 @@ def _attribute_id(c, name):
     return c.scene.attribute_id(name) if c.scene is not None and name else -1
 
 
+def _tangent_attribute_id(c, uv_map):
+    """The attribute id of a UV map's per-corner tangents (the mesh export computes them, as
+    Cycles does, with MikkTSpace), and marks the map as needed."""
+    c.uses_uv = True
+    c.tangent_maps.add(uv_map)
+    return c.scene.attribute_id(TANGENT_PREFIX + uv_map) if c.scene is not None else -1
+
+
 def _uvmap(c, node, ctx):
     res, regs = _outs(c, node, [("UV", VEC)])
     c.uses_uv = True
@@ -434,8 +443,9 @@ def _camera_data(c, node, ctx):
 
 def _tangent(c, node, ctx):
     res, regs = _outs(c, node, [("Tangent", VEC)])
-    c.uses_uv = c.uses_uv or node.direction_type == "UV_MAP"
-    c.op("tangent", [], regs, [1 if node.direction_type == "UV_MAP" else 0, "XYZ".index(node.axis[0])])
+    uv = node.direction_type == "UV_MAP"
+    tangents = _tangent_attribute_id(c, node.uv_map) if uv else -1
+    c.op("tangent", [], regs, [1 if uv else 0, "XYZ".index(node.axis[0]), tangents])
     return res
 
 
@@ -468,11 +478,9 @@ def _bump(c, node, ctx):
 def _normal_map(c, node, ctx):
     res, regs = _outs(c, node, [("Normal", VEC)])
     space = _index(NORMAL_MAP_SPACES, node.space)
-    if space == 0:
-        c.uses_uv = True
-        if node.uv_map:
-            c.warn_node(node, "names UV map '%s'; the tangents of the render UV map are used" % node.uv_map)
-    c.op("normal_map", [c.input(node, "Strength", ctx, FLOAT), c.input(node, "Color", ctx, COLOR)], regs, [space])
+    tangents = _tangent_attribute_id(c, node.uv_map) if space == 0 else -1
+    c.op("normal_map", [c.input(node, "Strength", ctx, FLOAT), c.input(node, "Color", ctx, COLOR)], regs,
+         [space, tangents])
     return res
 
 
@@ -930,10 +938,11 @@ SHADER_NODES = {
 
 
 def compile_material(material, output_node, warn, textures, scene):
-    """The program dict for a material's Surface (and Displacement as bump), and whether it reads UVs."""
+    """The program dict for a material's Surface (and Displacement as bump), whether it reads UVs,
+    and the UV maps whose tangents it reads."""
     c = ShaderCompiler(material.name, warn, textures, scene)
     c.compile_surface(output_node)
-    return c.program(), c.uses_uv
+    return c.program(), c.uses_uv, sorted(c.tangent_maps)
 
 
 # -- the World --------------------------------------------------------------------------------------
