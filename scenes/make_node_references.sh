@@ -3,7 +3,7 @@
 #
 #   scenes/make_node_references.sh [WORKDIR]
 #
-# 1. builds node_parity_emission.blend, node_parity_lit.blend and node_parity_tangents.blend with
+# 1. builds node_parity_emission.blend, node_parity_lit.blend and node_parity_geometry.blend with
 #    scenes/node_parity.py
 #    into WORKDIR (default /tmp/smis_node_reference_work),
 # 2. renders each scene twice with Cycles (CPU, unbiased settings, BOX filter 1 px) with seeds
@@ -11,7 +11,7 @@
 # 3. averages the two renders into blender_tests/references/node_parity_SCENE.exr and records
 #    the measured noise in node_parity_SCENE.exr.json (scenes/combine_references.py, 8x8 blocks).
 # Samples per render: see SPP below (the reference has 2x that many): the emission tiles need
-# few (camera rays only: 2 x 128 = 256 spp), as do the tangent spheres, the lit scene 2 x 2048 = 4096 spp.
+# few (camera rays only: 2 x 128 = 256 spp), the geometry objects 2 x 1024 (per-face values: sharp edges in every block), the lit scene 2 x 2048 = 4096 spp.
 # About 3 minutes on 2 cores.
 set -e
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -22,7 +22,7 @@ mkdir -p "$WORK" "$REFS"
 
 "$BLENDER" -b --factory-startup --python "$ROOT/scenes/node_parity.py" -- "$WORK"
 
-for entry in node_parity_emission:128 node_parity_lit:2048 node_parity_tangents:128; do
+for entry in node_parity_emission:128 node_parity_lit:2048 node_parity_geometry:1024; do
     scene=${entry%%:*}
     spp=${entry##*:}
     for seed in 1 2; do

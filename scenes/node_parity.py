@@ -904,13 +904,16 @@ def build_lit(outdir):
     save(os.path.join(outdir, "node_parity_lit.blend"))
 
 
-# -- tangent frames --------------------------------------------------------------------------------
+# -- geometry: tangent frames and the attributes derived from the mesh ------------------------------
 # Low-poly smooth spheres whose emission shows a world-space direction (0.5 + 0.5 v): a tangent-space
 # Normal Map, the Tangent node along the UV map and radially, and Geometry > Tangent. Per-triangle
 # tangents would show the facets; Cycles interpolates MikkTSpace tangents. One sphere is mirrored and
-# squashed (the frame's handedness and the normal transform).
-TANGENT_OBJECTS = ["tangent_normal_map", "tangent_uv", "tangent_radial_x", "geometry_tangent",
-                   "tangent_normal_map_mirrored"]
+# squashed (the frame's handedness and the normal transform). Then Pointiness on Suzanne, and on a
+# sphere whose every edge is split (Cycles welds the copies back for Pointiness; every face is its
+# own island for Random Per Island, shown in red).
+GEOMETRY_OBJECTS = ["tangent_normal_map", "tangent_uv", "tangent_radial_x", "geometry_tangent",
+                    "tangent_normal_map_mirrored", "pointiness", "pointiness_and_islands_split"]
+GEOMETRY_PX = 48  # one column of the image per object
 
 
 def _direction_material(name, build):
@@ -924,31 +927,93 @@ def _normal_map(t):
     return out(t.node("ShaderNodeNormalMap", {"Color": (0.8, 0.35, 0.75), "Strength": 1.0}, space='TANGENT'))
 
 
-def build_tangents(outdir):
-    sc = new_scene(5 * 48, 48, samples=64, max_bounces=0)
+def _value_material(name, build):
+    mat, t, em = emission_material(name)
+    t.set(em, "Color", build(t, t.node("ShaderNodeNewGeometry")))
+    return mat
+
+
+def _sphere_with_faces_apart(name, radius, segments, rings):
+    """A latitude-longitude sphere whose every face has its own copies of its corners, built with
+    vertices, edges and loops in an explicit order: Random Per Island hashes the vertex index the
+    union-by-rank over the edges ends at, so the edge order matters, and Blender's primitives and its
+    own edge building order faces and edges differently from run to run."""
+    def point(ring, seg):
+        theta, phi = math.pi * ring / rings, 2.0 * math.pi * seg / segments
+        return (radius * math.sin(theta) * math.cos(phi), radius * math.sin(theta) * math.sin(phi),
+                radius * math.cos(theta))
+    faces = []
+    for ring in range(rings):
+        for seg in range(segments):
+            quad = [(ring, seg), (ring + 1, seg), (ring + 1, seg + 1), (ring, seg + 1)]
+            if ring == 0:
+                quad.pop(0)          # the pole is one point
+            elif ring == rings - 1:
+                quad.pop(1)
+            faces.append([point(r, k) for r, k in quad])
+    me = bpy.data.meshes.new(name)
+    corners = [c for f in faces for c in f]
+    sizes = [len(f) for f in faces]
+    starts = [sum(sizes[:i]) for i in range(len(sizes))]
+    me.vertices.add(len(corners))
+    me.vertices.foreach_set("co", [x for c in corners for x in c])
+    me.edges.add(len(corners))
+    me.loops.add(len(corners))
+    edge_vertices = [v for start, size in zip(starts, sizes) for i in range(size)
+                     for v in (start + i, start + (i + 1) % size)]
+    me.edges.foreach_set("vertices", edge_vertices)
+    me.loops.foreach_set("vertex_index", list(range(len(corners))))
+    me.loops.foreach_set("edge_index", list(range(len(corners))))
+    me.polygons.add(len(faces))
+    me.polygons.foreach_set("loop_start", starts)
+    me.polygons.foreach_set("loop_total", sizes)
+    me.update()
+    return me
+
+
+def build_geometry(outdir):
+    n = len(GEOMETRY_OBJECTS)
+    sc = new_scene(n * GEOMETRY_PX, GEOMETRY_PX, samples=64, max_bounces=0)
     set_world(sc, (0.0, 0.0, 0.0), 0.0)
-    builds = {
+    directions = {
         "tangent_normal_map": _normal_map,
         "tangent_uv": lambda t: out(t.node("ShaderNodeTangent", direction_type='UV_MAP')),
         "tangent_radial_x": lambda t: out(t.node("ShaderNodeTangent", direction_type='RADIAL', axis='X')),
         "geometry_tangent": lambda t: out(t.node("ShaderNodeNewGeometry"), "Tangent"),
         "tangent_normal_map_mirrored": _normal_map,
     }
-    for k, name in enumerate(TANGENT_OBJECTS):
-        ob = mesh_object(sc, name, _direction_material(name, builds[name]), (-4.0 + 2.0 * k, 0.0, 0.0),
-                         bpy.ops.mesh.primitive_uv_sphere_add, radius=0.9, segments=10, ring_count=6)
+    values = {
+        "pointiness": lambda t, g: out(g, "Pointiness"),
+        "pointiness_and_islands_split": lambda t, g: out(t.node("ShaderNodeCombineXYZ", {
+            "X": out(g, "Random Per Island"), "Y": out(g, "Pointiness"), "Z": 0.0})),
+    }
+    for k, name in enumerate(GEOMETRY_OBJECTS):
+        location = (-n + 1.0 + 2.0 * k, 0.0, 0.0)
+        if name in directions:
+            ob = mesh_object(sc, name, _direction_material(name, directions[name]), location,
+                             bpy.ops.mesh.primitive_uv_sphere_add, radius=0.9, segments=10, ring_count=6)
+        elif name == "pointiness":
+            ob = mesh_object(sc, name, _value_material(name, values[name]), location,
+                             bpy.ops.mesh.primitive_monkey_add, size=1.3)
+        else:
+            ob = bpy.data.objects.new(name, _sphere_with_faces_apart(name, 0.9, 10, 6))
+            ob.data.materials.append(_value_material(name, values[name]))
+            ob.location = location
+            sc.collection.objects.link(ob)
+            bpy.context.view_layer.objects.active = ob
+            ob.select_set(True)
         bpy.ops.object.shade_smooth()
         ob.rotation_euler = (math.radians(20.0), math.radians(-15.0), math.radians(35.0))
         if name.endswith("mirrored"):
             ob.scale = (-1.0, 1.0, 0.8)
     cam_data = bpy.data.cameras.new("Camera")
     cam_data.type = 'ORTHO'
-    cam_data.ortho_scale = 10.0
+    cam_data.ortho_scale = 2.0 * n
     cam = bpy.data.objects.new("Camera", cam_data)
     cam.location = (0.0, 0.0, 10.0)
     sc.collection.objects.link(cam)
     sc.camera = cam
-    save(os.path.join(outdir, "node_parity_tangents.blend"))
+    save(os.path.join(outdir, "node_parity_geometry.blend"))
 
 
 def save(path):
@@ -963,7 +1028,7 @@ def main():
     os.makedirs(outdir, exist_ok=True)
     build_emission(outdir)
     build_lit(outdir)
-    build_tangents(outdir)
+    build_geometry(outdir)
 
 
 main()

@@ -13,6 +13,7 @@
 
 #include "film/image_io.h"
 #include "render/session.h"
+#include "scene/mesh_attributes.h"
 #include "scene/scene.h"
 
 namespace py = pybind11;
@@ -661,6 +662,31 @@ PYBIND11_MODULE(_smis, m) {
              })
         .def("__exit__", [](SerialTbb& s, py::args) { s.control.reset(); });
 
+    using IntArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
+    using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+    m.def(
+        "mesh_pointiness",
+        [](FloatArray positions, FloatArray normals, IntArray edges) {
+            if (positions.size() % 3 || normals.size() != positions.size() || edges.size() % 2)
+                throw py::value_error("mesh_pointiness: positions and normals (n, 3), edges (m, 2)");
+            std::vector<float> v = value_errors([&] {
+                return mesh_pointiness(positions.data(), normals.data(), size_t(positions.size() / 3), edges.data(),
+                                       size_t(edges.size() / 2));
+            });
+            return py::array_t<float>(py::ssize_t(v.size()), v.data());
+        },
+        "Cycles' Pointiness per vertex from Blender's vertex positions, vertex normals and edges");
+    m.def(
+        "mesh_random_per_island",
+        [](size_t num_vertices, IntArray edges, IntArray triangle_vertex0) {
+            if (edges.size() % 2) throw py::value_error("mesh_random_per_island: edges (m, 2)");
+            std::vector<float> v = value_errors([&] {
+                return mesh_random_per_island(num_vertices, edges.data(), size_t(edges.size() / 2),
+                                              triangle_vertex0.data(), size_t(triangle_vertex0.size()));
+            });
+            return py::array_t<float>(py::ssize_t(v.size()), v.data());
+        },
+        "Cycles' Random Per Island per triangle from the edges and each triangle's first vertex");
     m.def("write_exr", [](const std::string& path, py::array_t<float, py::array::c_style | py::array::forcecast> img) {
         int w, h;
         const float* data = image_data(img, &w, &h);

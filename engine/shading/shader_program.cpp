@@ -498,8 +498,14 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             store3(r, op.out[4], c.I);
             store3(r, op.out[5], Vec3(1.0f - c.bu - c.bv, c.bu, 0.0f));
             store1(r, op.out[6], c.backfacing ? 1.0f : 0.0f);
-            store1(r, op.out[7], 0.5f);  // Pointiness: needs a per-vertex attribute Cycles computes
-            store1(r, op.out[8], 0.0f);  // Random Per Island
+            // Pointiness and Random Per Island: attributes the mesh export derived (i0, i1; -1 when
+            // the output is unlinked), 0 where a mesh lacks them as in Cycles.
+            for (int k = 0; k < 2; ++k) {
+                float a[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+                if (op.out[7 + k] == kNoReg) continue;
+                if (op.i[k] >= 0 && c.scene) c.scene->attribute(c, op.i[k], a);
+                store1(r, op.out[7 + k], a[0]);
+            }
             break;
         }
         case Op::ObjectInfo: {

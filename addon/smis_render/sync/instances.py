@@ -120,15 +120,15 @@ def mesh_of(obj, materials, cache):
     it holds them."""
     mat_ids = _material_ids(obj, obj.data, materials)
     uv_map = materials.uv_map_for(mat_ids)
-    tangent_maps = materials.tangent_maps_for(mat_ids)
-    key = cache.key(obj, (uv_map, tangent_maps)) if cache is not None else None
+    derived = materials.derived_attributes_for(mat_ids)
+    key = cache.key(obj, (uv_map, derived)) if cache is not None else None
     if key is not None and cache.get(key) is not None:
         return cache.get(key), mat_ids
     mesh = obj.to_mesh()
     if mesh is None:
         return None, mat_ids
     try:
-        buf = mesh_buffers(mesh, len(mat_ids), uv_map, tangent_maps, materials.warning, obj.name) \
+        buf = mesh_buffers(mesh, len(mat_ids), uv_map, derived, materials.warning, obj.name) \
             if len(mesh.polygons) else None
     finally:
         obj.to_mesh_clear()

@@ -49,7 +49,7 @@ def translate(material, warn, textures=None, scene=None):
     output = nodes.output_node(material.node_tree)
     volume = None
     pass_through = False
-    program, uses_uv, tangent_maps = None, False, []
+    program, uses_uv, derived_attributes = None, False, []
     if output is None:
         warn("Material '%s' has no Material Output node for Cycles/All; it renders black"
              % material.name)
@@ -57,7 +57,7 @@ def translate(material, warn, textures=None, scene=None):
         surface = nodes.linked_output(output.inputs["Surface"])
         volume = translate_volume(output, "Material '%s'" % material.name, warn)
         if surface is not None or nodes.linked_output(output.inputs["Displacement"]) is not None:
-            program, uses_uv, tangent_maps = compile_material(material, output, warn, textures, scene)
+            program, uses_uv, derived_attributes = compile_material(material, output, warn, textures, scene)
             if material.cycles.displacement_method in ('DISPLACEMENT', 'BOTH'):
                 warn("Material '%s' asks for true displacement; SMIS renders it as bump only"
                      % material.name)
@@ -67,7 +67,7 @@ def translate(material, warn, textures=None, scene=None):
         if surface is None:
             program = None
     desc = dict({"name": name, "closures": [], "emission": BLACK, "uv_map": "" if uses_uv else None,
-                 "tangent_maps": tangent_maps, "volume": volume, "pass_through": pass_through},
+                 "derived_attributes": derived_attributes, "volume": volume, "pass_through": pass_through},
                 **material_spectral(material))
     if program is not None:
         desc["program"] = program
@@ -82,7 +82,7 @@ class MaterialCache:
         self._reporter = reporter
         self._ids = {}
         self._uv_maps = {}  # engine id -> UV map its textures read ('' = active render)
-        self._tangent_maps = {}  # engine id -> UV maps whose tangents its normal maps read
+        self._derived_attributes = {}  # engine id -> attributes the mesh export derives for it
         self._textures = tex.TextureCache(scene, reporter.warning)
 
     def id_for(self, material):
@@ -102,8 +102,8 @@ class MaterialCache:
             mat_id = self._scene.add_material(desc)
             if desc.get("uv_map") is not None:
                 self._uv_maps[mat_id] = desc["uv_map"]
-            if desc.get("tangent_maps"):
-                self._tangent_maps[mat_id] = desc["tangent_maps"]
+            if desc.get("derived_attributes"):
+                self._derived_attributes[mat_id] = desc["derived_attributes"]
             return mat_id
         except ValueError as exc:
             self._reporter.warning("Material '%s' was refused by the engine (%s); using a "
@@ -141,9 +141,10 @@ class MaterialCache:
                 return self._uv_maps[mat_id]
         return None
 
-    def tangent_maps_for(self, mat_ids):
-        """The UV maps ('' = active render) whose tangents a mesh with these materials must export."""
-        return tuple(sorted({m for mat_id in mat_ids for m in self._tangent_maps.get(mat_id, ())}))
+    def derived_attributes_for(self, mat_ids):
+        """The attributes (mesh.TANGENT_PREFIX + UV map, POINTINESS, ...) a mesh with these materials
+        must derive."""
+        return tuple(sorted({m for mat_id in mat_ids for m in self._derived_attributes.get(mat_id, ())}))
 
     def __len__(self):
         return len(self._ids)

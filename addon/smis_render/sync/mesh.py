@@ -64,18 +64,19 @@ def _corner_uvs(mesh, tris, uv_map):
 
 
 ACTIVE_COLOR = "\x00active color"
-# The attribute holding a UV map's tangents (TANGENT_PREFIX + map name, '' = the active render map):
-# per corner the MikkTSpace tangent (object space) and the bitangent sign, as Cycles computes them.
+# Attributes derived from the mesh on request, as Cycles derives them when a shader reads them:
+# TANGENT_PREFIX + UV map name ('' = the active render map): per corner the MikkTSpace tangent (object
+# space) and the bitangent sign; POINTINESS per vertex; RANDOM_PER_ISLAND per triangle.
 TANGENT_PREFIX = "\x00tangent:"
+POINTINESS = "\x00pointiness"
+RANDOM_PER_ISLAND = "\x00random per island"
 
 
-def _corner_tangents(mesh, tris, uv_maps, warn, object_name):
+def _corner_tangents(mesh, tris, loops, uv_maps, warn, object_name):
     """{TANGENT_PREFIX + name: (M, 3, 4)} for each UV map in `uv_maps` the mesh has. Blender's
     calc_tangents is MikkTSpace, Cycles' tangent space; it refuses n-gons (Cycles triangulates
     them first): such meshes get none and normal maps fall back to per-triangle tangents."""
     out = {}
-    loops = np.empty(len(tris) * 3, dtype=np.int32)
-    tris.foreach_get("loops", loops)
     for name in uv_maps:
         layer = mesh.uv_layers.get(name) if name else next((l for l in mesh.uv_layers if l.active_render), None)
         if layer is None:
@@ -95,6 +96,34 @@ def _corner_tangents(mesh, tris, uv_maps, warn, object_name):
         mesh.loops.foreach_get("bitangent_sign", sign)
         corner = np.concatenate([tangent.reshape(n, 3), sign[:, None]], axis=1)[loops]
         out[TANGENT_PREFIX + name] = np.ascontiguousarray(corner.reshape(len(tris), 3, 4))
+    return out
+
+
+def _edges(mesh):
+    edges = np.empty(len(mesh.edges) * 2, dtype=np.int32)
+    mesh.edges.foreach_get("vertices", edges)
+    return edges
+
+
+def _derived_attributes(mesh, tris, names, warn, object_name):
+    """{name: (M, 3, k)} for the derived attributes in `names` (see TANGENT_PREFIX)."""
+    loops = np.empty(len(tris) * 3, dtype=np.int32)
+    tris.foreach_get("loops", loops)
+    verts = np.empty(len(tris) * 3, dtype=np.int32)
+    tris.foreach_get("vertices", verts)
+    out = _corner_tangents(mesh, tris, loops, [n[len(TANGENT_PREFIX):] for n in names if n.startswith(TANGENT_PREFIX)],
+                           warn, object_name)
+    smis = native.load()
+    if POINTINESS in names:
+        n = len(mesh.vertices)
+        co, normal = np.empty(n * 3, dtype=np.float32), np.empty(n * 3, dtype=np.float32)
+        mesh.vertices.foreach_get("co", co)
+        mesh.vertices.foreach_get("normal", normal)
+        per_vertex = smis.mesh_pointiness(co, normal, _edges(mesh))
+        out[POINTINESS] = np.ascontiguousarray(per_vertex[verts].reshape(len(tris), 3, 1))
+    if RANDOM_PER_ISLAND in names:
+        per_triangle = smis.mesh_random_per_island(len(mesh.vertices), _edges(mesh), verts[0::3].copy())
+        out[RANDOM_PER_ISLAND] = np.ascontiguousarray(np.repeat(per_triangle, 3).reshape(len(tris), 3, 1))
     return out
 
 
@@ -133,14 +162,15 @@ def _corner_attributes(mesh, tris):
     return out
 
 
-def mesh_buffers(mesh, slot_count, uv_map=None, tangent_maps=(), warn=None, object_name=""):
+def mesh_buffers(mesh, slot_count, uv_map=None, derived=(), warn=None, object_name=""):
     """Triangulated buffers of a (temporary, evaluated) mesh.
 
     `slot_count` is the number of material slots the triangles' material
     indices refer to; out-of-range indices are clamped as Blender does.
     `uv_map`: the UV map textured materials read ('' = active render map), None
-    when no material needs UVs (then none are exported). `tangent_maps`: the UV maps whose
-    tangents normal maps read; `warn` reports meshes whose tangents cannot be computed.
+    when no material needs UVs (then none are exported). `derived`: the attributes derived from
+    the mesh that materials read (TANGENT_PREFIX + UV map, POINTINESS, RANDOM_PER_ISLAND); `warn`
+    reports meshes whose tangents cannot be computed.
     """
     mesh.calc_loop_triangles()
     tris = mesh.loop_triangles
@@ -168,8 +198,8 @@ def mesh_buffers(mesh, slot_count, uv_map=None, tangent_maps=(), warn=None, obje
 
     corner_uvs = _corner_uvs(mesh, tris, uv_map) if uv_map is not None and n_tris else None
     attributes = _corner_attributes(mesh, tris) if uv_map is not None and n_tris else None
-    if attributes is not None and tangent_maps:
-        attributes.update(_corner_tangents(mesh, tris, tangent_maps, warn, object_name))
+    if derived and n_tris:
+        attributes = dict(attributes or {}, **_derived_attributes(mesh, tris, derived, warn, object_name))
     texspace = None
     if hasattr(mesh, "texspace_location"):
         texspace = (tuple(mesh.texspace_location), tuple(mesh.texspace_size))

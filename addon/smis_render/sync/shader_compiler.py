@@ -16,7 +16,7 @@ and node.
 import math
 
 from . import nodes
-from .mesh import ACTIVE_COLOR, TANGENT_PREFIX
+from .mesh import ACTIVE_COLOR, POINTINESS, RANDOM_PER_ISLAND, TANGENT_PREFIX
 
 # Enum identifiers in the engine's order (engine/shading/node_math.h, procedural_*.h).
 MATH_OPS = ["ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "MULTIPLY_ADD", "POWER", "LOGARITHM", "SQRT",
@@ -102,7 +102,7 @@ class ShaderCompiler:
         self._warned = set()
         self._bump = None             # 0 / 1 while compiling a Bump node's shifted heights
         self.uses_uv = False
-        self.tangent_maps = set()     # UV maps ('' = active render) whose MikkTSpace tangents are read
+        self.derived_attributes = set()  # attributes the mesh export derives (tangents, Pointiness, ...)
         self.surface_normal = None    # Value of the Displacement output's bump normal
 
     # -- registers and ops --------------------------------------------------------------------
@@ -368,12 +368,12 @@ def _attribute_id(c, name):
     return c.scene.attribute_id(name) if c.scene is not None and name else -1
 
 
-def _tangent_attribute_id(c, uv_map):
-    """The attribute id of a UV map's per-corner tangents (the mesh export computes them, as
-    Cycles does, with MikkTSpace), and marks the map as needed."""
-    c.uses_uv = True
-    c.tangent_maps.add(uv_map)
-    return c.scene.attribute_id(TANGENT_PREFIX + uv_map) if c.scene is not None else -1
+def _derived_attribute_id(c, name):
+    """The id of an attribute the mesh export derives on request (a UV map's MikkTSpace tangents,
+    Pointiness, Random Per Island: mesh.py), and marks it as needed."""
+    c.uses_uv = c.uses_uv or name.startswith(TANGENT_PREFIX)
+    c.derived_attributes.add(name)
+    return c.scene.attribute_id(name) if c.scene is not None else -1
 
 
 def _uvmap(c, node, ctx):
@@ -399,10 +399,9 @@ def _geometry(c, node, ctx):
     names = [("Position", VEC), ("Normal", VEC), ("Tangent", VEC), ("True Normal", VEC), ("Incoming", VEC),
              ("Parametric", VEC), ("Backfacing", FLOAT), ("Pointiness", FLOAT), ("Random Per Island", FLOAT)]
     res, regs = _outs(c, node, names)
-    for name in ("Pointiness", "Random Per Island"):
-        if node.outputs[name].is_linked:
-            c.warn_node(node, "uses %s, which is not supported (a constant)" % name)
-    c.op("geometry", [], regs)
+    derived = [_derived_attribute_id(c, attr) if node.outputs[name].is_linked else -1
+               for name, attr in (("Pointiness", POINTINESS), ("Random Per Island", RANDOM_PER_ISLAND))]
+    c.op("geometry", [], regs, derived)
     return res
 
 
@@ -444,7 +443,7 @@ def _camera_data(c, node, ctx):
 def _tangent(c, node, ctx):
     res, regs = _outs(c, node, [("Tangent", VEC)])
     uv = node.direction_type == "UV_MAP"
-    tangents = _tangent_attribute_id(c, node.uv_map) if uv else -1
+    tangents = _derived_attribute_id(c, TANGENT_PREFIX + node.uv_map) if uv else -1
     c.op("tangent", [], regs, [1 if uv else 0, "XYZ".index(node.axis[0]), tangents])
     return res
 
@@ -478,7 +477,7 @@ def _bump(c, node, ctx):
 def _normal_map(c, node, ctx):
     res, regs = _outs(c, node, [("Normal", VEC)])
     space = _index(NORMAL_MAP_SPACES, node.space)
-    tangents = _tangent_attribute_id(c, node.uv_map) if space == 0 else -1
+    tangents = _derived_attribute_id(c, TANGENT_PREFIX + node.uv_map) if space == 0 else -1
     c.op("normal_map", [c.input(node, "Strength", ctx, FLOAT), c.input(node, "Color", ctx, COLOR)], regs,
          [space, tangents])
     return res
@@ -938,11 +937,11 @@ SHADER_NODES = {
 
 
 def compile_material(material, output_node, warn, textures, scene):
-    """The program dict for a material's Surface (and Displacement as bump), whether it reads UVs,
-    and the UV maps whose tangents it reads."""
+    """The program dict for a material's Surface (and Displacement as bump), whether it reads surface
+    attributes (UVs, colours), and the attributes the mesh export must derive for it."""
     c = ShaderCompiler(material.name, warn, textures, scene)
     c.compile_surface(output_node)
-    return c.program(), c.uses_uv, sorted(c.tangent_maps)
+    return c.program(), c.uses_uv, sorted(c.derived_attributes)
 
 
 # -- the World --------------------------------------------------------------------------------------
