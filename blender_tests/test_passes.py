@@ -82,6 +82,25 @@ def test_passes_do_not_change_the_image():
     np.testing.assert_array_equal(layer_pass(with_passes, "Combined", "RGBA"), plain.image)
 
 
+def test_depth_alone_is_the_depth_of_every_pass():
+    """Blender's default passes (Combined and Z): the engine records only the first hit's depth
+    (no shading for Normal or Albedo), which must be the same depth, background pixels included."""
+    scene = """
+scene.render.image_settings.file_format = 'OPEN_EXR_MULTILAYER'
+scene.render.resolution_x, scene.render.resolution_y = 48, 32
+scene.render.resolution_percentage = 100
+scene.smis.samples = 4
+vl = scene.view_layers[0]
+vl.use_pass_z = True
+"""
+    alone = channels(render(setup=scene))
+    every = channels(render(setup=scene + PASSES_ON))
+    assert not any(".Normal." in name for name in alone), sorted(alone)
+    depth = alone["ViewLayer.Depth.Z"]
+    assert (depth < 100.0).any() and (depth > 100.0).any(), "the cube and the background should both be seen"
+    np.testing.assert_array_equal(depth, every["ViewLayer.Depth.Z"])
+
+
 def test_principled_albedo_counts_the_specular_layer_by_its_reflectance():
     """Default Principled BSDF (base 0.8, Specular 0.5 = IOR 1.5): diffuse 0.8 plus the specular
     layer's F0 = 0.04, as a denoising albedo should read (not 0.8 + 1)."""

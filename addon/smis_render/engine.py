@@ -114,6 +114,7 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         aux = passes.enabled_passes(scene, depsgraph.view_layer)
         settings = properties.session_settings(scene)
         settings["aux_passes"] = bool(aux)  # off: the engine traces no extra rays for them
+        settings["aux_shading"] = any(p is not passes.DEPTH for p in aux)  # Z alone needs no shading
         if self.is_preview:
             # Blender's preview scene (material ball, light, world) is rendered small and often.
             settings.update(samples=min(settings["samples"], PREVIEW_SAMPLES), time_limit=0.0)

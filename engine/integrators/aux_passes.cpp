@@ -24,6 +24,13 @@ Color albedo(const Bsdf& bsdf) {
 
 }  // namespace
 
+AuxSample first_hit_depth(const Scene& scene, const Ray& camera_ray) {
+    AuxSample a;
+    SurfaceHit hit;
+    if (scene.intersect(camera_ray, &hit)) a.depth = scene.camera().view_depth(hit.p);
+    return a;
+}
+
 AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng) {
     AuxSample a;
     SurfaceHit hit;
@@ -51,10 +58,15 @@ AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng) {
 
 void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const Ray& camera_ray, float diagnostic) {
     if (!ctx.film.has_aux()) return;
-    const Camera& cam = ctx.scene.camera();
-    // A stream apart from the pixel sample's, so enabling passes leaves the image unchanged.
-    Rng rng = pixel_sample_rng(x + cam.window_x0(), y + cam.window_y0(), s, ctx.settings.seed ^ 0xa0c5a11eu);
-    AuxSample a = first_hit_aux(ctx.scene, camera_ray, rng);
+    AuxSample a;
+    if (ctx.settings.aux_shading) {
+        const Camera& cam = ctx.scene.camera();
+        // A stream apart from the pixel sample's, so enabling passes leaves the image unchanged.
+        Rng rng = pixel_sample_rng(x + cam.window_x0(), y + cam.window_y0(), s, ctx.settings.seed ^ 0xa0c5a11eu);
+        a = first_hit_aux(ctx.scene, camera_ray, rng);
+    } else {
+        a = first_hit_depth(ctx.scene, camera_ray);  // Blender's default Z pass alone: no shading
+    }
     a.diagnostic = diagnostic;
     ctx.film.add_aux(x, y, a);
 }

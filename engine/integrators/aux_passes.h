@@ -12,6 +12,8 @@ namespace smis {
 // kAuxMaxDeltaBounces, chosen with `rng`, a stream of its own so the image does not change).
 constexpr int kAuxMaxDeltaBounces = 8;
 AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng);
+// Only the depth (normal and albedo left at their background values): when no pass needs more.
+AuxSample first_hit_depth(const Scene& scene, const Ray& camera_ray);
 
 // Records sample `s` of window pixel (x, y) in the auxiliary passes when they are on.
 void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const Ray& camera_ray, float diagnostic = 0.0f);

@@ -37,6 +37,7 @@ struct RenderSettings {
     std::string integrator = "PATH";
     std::string filter = "BLACKMAN_HARRIS";
     bool aux_passes = false;      // Depth/Normal/Albedo/diagnostic passes (one extra camera ray per sample)
+    bool aux_shading = true;      // ...of which Normal or Albedo (else the first hit's depth is all they need)
     float filter_width = 1.5f;
     // Path-space filtering (integrators PSF_*).
     float psf_radius_px = 6.0f;        // gather radius in screen pixels, projected to world at the vertex

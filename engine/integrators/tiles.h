@@ -49,18 +49,22 @@ void for_each_pixel_in_tiles(RenderContext& ctx, Fn&& fn) {
 inline uint64_t stratified_pixel_key(uint32_t fx, uint32_t fy, uint32_t seed) {
     return mix64(mix64((uint64_t(fy) << 32) | fx) ^ (uint64_t(seed) * 0xd1b54a32d192ed03ull));
 }
+// The first vertex's values, deferred until the path draws them, last first (Rng::DeferredValues):
+// drawn as light choice, light point (2D), lobe choice, direction (2D).
+inline void first_vertex_values(uint64_t key, uint32_t s, float* out) {
+    float choices[2], point[2], direction[2];
+    stratified::sample_2d(s, key, 2, choices);
+    stratified::sample_2d(s, key, 3, point);
+    stratified::sample_2d(s, key, 4, direction);
+    out[5] = choices[0], out[4] = point[0], out[3] = point[1];
+    out[2] = choices[1], out[1] = direction[0], out[0] = direction[1];
+}
 inline void set_stratified_prefix(Rng* rng, uint32_t fx, uint32_t fy, uint32_t s, uint32_t seed, bool lens) {
     const uint64_t key = stratified_pixel_key(fx, fy, seed);
-    float v[Rng::kMaxPrefix], choices[2];
-    int n = 0;
-    stratified::sample_2d(s, key, 0, v + n), n += 2;
-    if (lens) stratified::sample_2d(s, key, 1, v + n), n += 2;
-    stratified::sample_2d(s, key, 2, choices);
-    v[n++] = choices[0];
-    stratified::sample_2d(s, key, 3, v + n), n += 2;
-    v[n++] = choices[1];
-    stratified::sample_2d(s, key, 4, v + n), n += 2;
-    rng->set_prefix(v, n);
+    float v[4];
+    stratified::sample_2d(s, key, 0, v);
+    if (lens) stratified::sample_2d(s, key, 1, v + 2);
+    rng->set_prefix(v, lens ? 4 : 2, first_vertex_values, 6, key, s);
 }
 
 // Extra light samples at the first vertex (path-space filtering takes several): light sample i of
