@@ -56,7 +56,8 @@ AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng) {
     return a;
 }
 
-void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const Ray& camera_ray, float diagnostic) {
+void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const Ray& camera_ray, float diagnostic,
+                    float camera_depth) {
     if (!ctx.film.has_aux()) return;
     AuxSample a;
     if (ctx.settings.aux_shading) {
@@ -64,8 +65,10 @@ void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const Ray& cam
         // A stream apart from the pixel sample's, so enabling passes leaves the image unchanged.
         Rng rng = pixel_sample_rng(x + cam.window_x0(), y + cam.window_y0(), s, ctx.settings.seed ^ 0xa0c5a11eu);
         a = first_hit_aux(ctx.scene, camera_ray, rng);
+    } else if (!std::isnan(camera_depth)) {
+        a.depth = camera_depth;  // Blender's default Z pass alone, from the path's own camera ray
     } else {
-        a = first_hit_depth(ctx.scene, camera_ray);  // Blender's default Z pass alone: no shading
+        a = first_hit_depth(ctx.scene, camera_ray);  // ...or its own ray, without shading
     }
     a.diagnostic = diagnostic;
     ctx.film.add_aux(x, y, a);

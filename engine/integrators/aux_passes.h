@@ -16,6 +16,9 @@ AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng);
 AuxSample first_hit_depth(const Scene& scene, const Ray& camera_ray);
 
 // Records sample `s` of window pixel (x, y) in the auxiliary passes when they are on.
-void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const Ray& camera_ray, float diagnostic = 0.0f);
+// `camera_depth`: the camera ray's depth where the integrator recorded it (LocalCounters), so that
+// the Z pass alone traces nothing; NaN to trace the ray here.
+void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const Ray& camera_ray, float diagnostic = 0.0f,
+                    float camera_depth = std::numeric_limits<float>::quiet_NaN());
 
 }  // namespace smis

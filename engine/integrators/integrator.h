@@ -5,6 +5,7 @@
 #pragma once
 #include <atomic>
 #include <chrono>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -111,6 +112,9 @@ struct LocalCounters {
     // The current sample's value for the integrator's diagnostic pass, set by Li() where it has one
     // (PixelIntegrator resets it per sample and hands it to the auxiliary passes); not a counter.
     float sample_diagnostic = 0.0f;
+    // The current sample's camera-ray depth (Cycles' Z), recorded by the path tracer as it traces
+    // the camera ray so that the Z pass needs no ray of its own; NaN where nothing recorded it.
+    float camera_depth = std::numeric_limits<float>::quiet_NaN();
     void flush(RenderCounters& c) {
         c.paths += paths, c.nan_caught += nan_caught, c.samples_rejected += samples_rejected;
         *this = {};

@@ -111,6 +111,8 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
             if (is_black(beta)) break;
         } else {
             found = scene.intersect(ray, &hit);
+            if (state.depth == 0 && settings.aux_passes && !settings.aux_shading)  // the Z pass alone
+                counters.camera_depth = found ? scene.camera().view_depth(hit.p) : kBackgroundDepth;
             L += beta * emission_along(scene, settings, ray, found, hit, state, nullptr, &sray);
         }
         // The ray leaving the last allowed bounce only collects emission (Cycles' max_bounces).
