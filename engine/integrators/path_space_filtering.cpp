@@ -596,11 +596,14 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         //    first n_members techniques (the group's pixels, which connect to z next; 1 visible,
         //    0 occluded, -1 not tested), so the connection does not trace them again.
         //  * x1 on the sampler's side of z's surface. The suffix's radiance towards another x1 is
-        //    re-evaluated from the directions sampled at z on the sampler's side; seen from the other
-        //    side of a thin two-sided surface, z's BSDF is 0 for all of them (reflection lobes) though
-        //    the light there is not. The techniques of the other side are left out of the
-        //    denominator and their pixels do not take the sample, so the weights stay normalised
-        //    for both sides (each side's samples serve that side).
+        //    re-evaluated from the directions sampled at z. Its light sample serves either side (light
+        //    sampling does not depend on wo, and its MIS weight is 1 where the sampler's BSDF has no
+        //    density), but its BSDF sample covers only the sampler's side of a thin two-sided surface:
+        //    seen from the other side, z's BSDF is 0 there, and the light reaching that side through
+        //    z's BSDF is lost. The techniques of the other side are left out of the denominator and
+        //    their pixels do not take the sample, so the weights stay normalised for both sides (each
+        //    side's samples serve that side). Keeping the light-sample part for both sides (with a
+        //    second denominator over both) would share more; not done.
         auto same_side = [](const Vec3& a, const Vec3& b, const Vec3& z, const Vec3& z_ng) {
             return (dot(a - z, z_ng) > 0.0f) == (dot(b - z, z_ng) > 0.0f);
         };
