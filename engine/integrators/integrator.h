@@ -71,6 +71,10 @@ struct RenderSettings {
     // Wavelength offsets of a pixel's samples from core/pixel_sequence.h (stratified over the
     // samples) instead of independent random numbers; off only to measure what it brings.
     bool spectral_pixel_sequence = true;
+    // > 0: PATH renders the spectral radiance at this one wavelength (nm, within [360, 830]) into every
+    // channel, with no wavelength sampling and no RGB response: the tests' reference, integrated
+    // against the observer by the test itself.
+    float spectral_wavelength = 0.0f;
     // Single scattering in media (West et al. 2020, §6): PATH (distance sampling + NEE) or photon
     // planes PLANES_UNWEIGHTED / PLANES_CMIS / PLANES_SMIS_COS / PLANES_SMIS_EXACT.
     std::string volume_estimator = "PATH";

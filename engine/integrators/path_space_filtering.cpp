@@ -63,6 +63,7 @@ struct PathRecord : SuffixVertex {
     Color fixed{0.0f};   // per-pixel part: prefix emission, NEE at x1, emission found by x1's sample
     bool has_vertex = false;
     bool has_suffix = false;
+    uint8_t dirac_depth = 0;  // the prefix's Dirac bounces before x1 (they set the suffix's bounce budget)
     // Prefix endpoint x1.
     Color beta{0.0f};    // prefix throughput f_e / p up to x1
     Vec3 p, wo, ng, ns;
@@ -131,9 +132,11 @@ struct PrivateSuffix {
 // The suffix started by BSDF sample `bs` at x1 (shading point sp, prefix throughput beta). x1 takes
 // `light_samples` light samples and `own_samples` BSDF samples per iteration, combined by
 // multi-sample MIS, so this sample carries 1/own_samples of the BSDF technique's per-pixel part.
+// With `dirac_z1_per_pixel` (the unbiased variant), a Dirac lobe sampled at z1 goes to the per-pixel
+// part instead of L_out (see the comment where it is taken).
 SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, int depth,
                           const BsdfSample& bs, const Color& beta, float eta_scale, int light_samples,
-                          int own_samples, Rng& rng, LocalCounters& counters) {
+                          int own_samples, bool dirac_z1_per_pixel, Rng& rng, LocalCounters& counters) {
     SuffixSample out;
     if (!bs.valid()) {
         ++counters.samples_rejected;
@@ -173,10 +176,19 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
         Color L_in = trace_path(scene, settings, Ray{spawn_origin(sp1, bs1.wi), bs1.wi, 0.0f, kInf}, st2, rng,
                                 counters);
         out.next_dir = bs1.wi;
-        // Dirac lobes at z1 cannot be re-evaluated for another direction (eval() is 0 for them):
-        // the unbiased variant loses them, which is stated where it is selected.
         out.next_weighted = bs1.delta ? Color(0.0f) : L_in / bs1.pdf;
-        out.L_out += bs1.value / bs1.pdf * L_in;
+        const Color scattered = bs1.value / bs1.pdf * L_in;
+        if (bs1.delta && dirac_z1_per_pixel) {
+            // A Dirac lobe at z1 sends another x1's connection to another direction than the one
+            // traced, so in path space no other technique can produce this path (x1, z1, z2): its
+            // balance-heuristic denominator (eq. 17) holds the pixel's own technique only, counted
+            // own_samples times, and the path is the pixel's at full weight. (Re-evaluating z1's BSDF
+            // for a neighbour's direction, as the unbiased gather does, gives 0 for Dirac lobes, so
+            // the shared L_out must not carry it: it would be lost, not shared.)
+            out.fixed += bsdf_weight * scattered;
+        } else {
+            out.L_out += scattered;
+        }
     } else {
         ++counters.samples_rejected;
     }
@@ -195,7 +207,8 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
 // `extra_paths` private suffixes.
 PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
                         LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
-                        TechniqueDensity* model, const PixelStrata* strata, int extra_paths, PrivateSuffix* extra) {
+                        TechniqueDensity* model, const PixelStrata* strata, int extra_paths, PrivateSuffix* extra,
+                        bool dirac_z1_per_pixel) {
     PathRecord rec;
     *model = TechniqueDensity{};
     for (int m = 0; m < extra_paths; ++m) extra[m] = PrivateSuffix{};
@@ -226,6 +239,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
 
         // x1: the first non-specular vertex ends the prefix.
         rec.has_vertex = true;
+        rec.dirac_depth = uint8_t(std::min(st.depth, 255));
         rec.beta = beta;
         rec.p = hit.p;
         rec.wo = sp.wo;
@@ -255,7 +269,8 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
             add_light_sample();
         }
         SuffixSample own =
-            trace_suffix(scene, settings, sp, st.depth, bs, beta, eta_scale, light_samples, own_samples, rng, counters);
+            trace_suffix(scene, settings, sp, st.depth, bs, beta, eta_scale, light_samples, own_samples,
+                         dirac_z1_per_pixel, rng, counters);
         rec.fixed += own.fixed;
         if (own.has_suffix) {
             rec.has_suffix = true;
@@ -267,7 +282,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         for (int m = 0; m < extra_paths; ++m) {
             if (strata) set_extra_bsdf_sample_prefix(&rng, strata->key, strata->extra_bsdf + uint32_t(m));
             SuffixSample e = trace_suffix(scene, settings, sp, st.depth, sample_bsdf(sp, rng), beta, eta_scale,
-                                          light_samples, own_samples, rng, counters);
+                                          light_samples, own_samples, dirac_z1_per_pixel, rng, counters);
             rec.fixed += e.fixed;
             if (!e.has_suffix) continue;
             Connection c = connect(hit.p, e.z, e.z_ng);
@@ -291,6 +306,19 @@ int psf_block_side(int requested) { return requested >= 4 ? 4 : requested >= 2 ?
 // more pixels (3.8 against 2.9 per set on psf_room) for ~15% less gather time.
 constexpr float kGroupReach = 1.0f;
 
+// One Dirac depth per technique set: a set holds prefixes of one Dirac depth only (the number of Dirac
+// bounces before x1). A suffix is traced with the bounce budget its own prefix leaves
+// (max_bounces - depth), so the density p(zbar | ybar_j) of eq. (17) is the density of a suffix whose
+// length is bounded by ybar_j's depth: a deeper prefix cannot produce the longer suffixes a shallower
+// pixel integrates, and a shallower one produces suffixes too long for a deeper pixel. Counting such
+// prefixes in the denominator (only z1's density is evaluated) breaks eq. (15)'s condition that the
+// weights be normalised over the technique space for every suffix: in a room with a mirror wall and a
+// glass ball at max_bounces = 1, mixed sets made 6% of the pixels too dark or too bright. Eq. (15) lets the technique space depend on
+// the prefix, T(ybar): grouping by depth keeps the estimator unbiased, costs nothing per sample and
+// loses little reuse (a mirror's or a lens's x1 are gathered with each other; their neighbours of
+// other depths mostly see other parts of the scene anyway). Making the budget independent of the
+// prefix instead would change what is integrated: PATH bounds the whole path's length.
+
 // How far the own suffix's weight w in its pixel's estimate, among n gathered techniques, is from
 // an even share: 0 at w = 1/n (the filter shares the pixel's suffix as well as it can), 1 at w = 1
 // (it shares nothing). The extra paths are proportional to it.
@@ -308,6 +336,7 @@ struct GatherScratch {
     std::vector<BsdfTechnique> techniques;  // the unbiased variant's
     DensitySum density_sum;
     std::vector<float> per_sample;
+    std::vector<int8_t> visible;  // the unbiased variant's visibility tests, sample x member
 };
 [[gnu::noinline]] GatherScratch* gather_scratch() {
     static thread_local GatherScratch scratch;
@@ -397,7 +426,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         const int extra = b.extra_paths[k];
         records[k] = trace_record(scene, settings, ray, rng, local, scene.camera(),
                                   attribs.empty() ? nullptr : &attribs[k], &models[k], extra_strata ? &strata : nullptr,
-                                  extra, b.extras.data() + b.extra_offset[k]);
+                                  extra, b.extras.data() + b.extra_offset[k], weighting_ == PsfWeighting::SmisUnbiased);
         b.extra_bsdf_taken[k] += uint32_t(extra);
         ++local.paths;
     });
@@ -454,7 +483,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     // estimate its technique counts 1 + extra times: the shared denominator (every technique counted
     // once) plus extra * p(z | its own technique).
     t0 = StageClock::now();
-    std::atomic<uint64_t> gathered{0}, accepted{0}, groups{0}, grouped_pixels{0};
+    std::atomic<uint64_t> gathered{0}, accepted{0}, groups{0}, grouped_pixels{0}, visibility_rays_total{0};
     const int max_n = std::max(1, settings.psf_max_neighbors);
     const int block = psf_block_side(settings.psf_block_size);
     const bool exact = weighting_ == PsfWeighting::SmisUnbiased;
@@ -512,13 +541,18 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                             LocalCounters& local) {
         GatherScratch& scratch = *gather_scratch();
         const PathRecord& anchor = records[members[0]];
+        uint64_t visibility_rays = 0;  // the unbiased variant's shadow rays
         std::vector<uint32_t>& nb = scratch.nb;
         std::vector<uint32_t>& in_ball = scratch.in_ball;
         nb.assign(members, members + n_members);
         in_ball.clear();
         grid.query_ball(anchor.p, anchor.radius, in_ball);
+        // Only prefixes of the anchor's Dirac depth (the members have it too): see "One Dirac depth per technique set".
         in_ball.erase(std::remove_if(in_ball.begin(), in_ball.end(),
-                                     [&](uint32_t j) { return std::find(members, members + n_members, j) != members + n_members; }),
+                                     [&](uint32_t j) {
+                                         return records[j].dirac_depth != anchor.dirac_depth ||
+                                                std::find(members, members + n_members, j) != members + n_members;
+                                     }),
                       in_ball.end());
         const size_t others = std::min(in_ball.size(), size_t(std::max(0, max_n - n_members)));
         if (others < in_ball.size()) {  // a partial Fisher-Yates shuffle
@@ -552,17 +586,41 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             return models[j].kind == TechniqueDensity::General ? technique(j).area_density(z, z_ng)
                                                                : models[j].area_density(z, z_ng);
         };
-        // sum_k p(z | ybar_k) over the set, for a sample of technique nb[sampled_by]. The unbiased
-        // variant tests the visibility of z from every technique but the one that sampled it.
-        auto shared_denominator = [&](const Vec3& z, const Vec3& z_ng, size_t sampled_by) {
+        // sum_k p(z | ybar_k) over the set, for a sample of technique nb[sampled_by].
+        //
+        // The unbiased variant counts a technique only where it can produce the sample for the same
+        // integrand, which eq. (15) needs of the weights (normalised over the techniques for every
+        // suffix):
+        //  * z visible from it: the visibility of z is tested from every technique but the one that
+        //    sampled it (which reached z by a ray). `visible`, when given, receives the tests of the
+        //    first n_members techniques (the group's pixels, which connect to z next; 1 visible,
+        //    0 occluded, -1 not tested), so the connection does not trace them again.
+        //  * x1 on the sampler's side of z's surface. The suffix's radiance towards another x1 is
+        //    re-evaluated from the directions sampled at z. Its light sample serves either side (light
+        //    sampling does not depend on wo, and its MIS weight is 1 where the sampler's BSDF has no
+        //    density), but its BSDF sample covers only the sampler's side of a thin two-sided surface:
+        //    seen from the other side, z's BSDF is 0 there, and the light reaching that side through
+        //    z's BSDF is lost. The techniques of the other side are left out of the denominator and
+        //    their pixels do not take the sample, so the weights stay normalised for both sides (each
+        //    side's samples serve that side). Keeping the light-sample part for both sides (with a
+        //    second denominator over both) would share more; not done.
+        auto same_side = [](const Vec3& a, const Vec3& b, const Vec3& z, const Vec3& z_ng) {
+            return (dot(a - z, z_ng) > 0.0f) == (dot(b - z, z_ng) > 0.0f);
+        };
+        auto shared_denominator = [&](const Vec3& z, const Vec3& z_ng, size_t sampled_by, int8_t* visible) {
             if (!exact) return density_sum(z, z_ng);
+            const Vec3& sampler = records[nb[sampled_by]].p;
             float denom = 0.0f;
             for (size_t jj = 0; jj < nb.size(); ++jj) {
                 const PathRecord& t = records[nb[jj]];
+                if (jj != sampled_by && !same_side(t.p, sampler, z, z_ng)) continue;
                 float pj = techniques[jj].area_density(z, z_ng);
                 if (pj > 0.0f && jj != sampled_by) {
                     const ShadowRay s = shadow_ray_between(t.p, t.ng, z);
-                    if (scene.occluded(s.o, s.d, s.tmax)) pj = 0.0f;
+                    const bool occluded = scene.occluded(s.o, s.d, s.tmax);
+                    ++visibility_rays;
+                    if (occluded) pj = 0.0f;
+                    if (visible && jj < size_t(n_members)) visible[jj] = occluded ? 0 : 1;
                 }
                 denom += pj;
             }
@@ -572,10 +630,15 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         // the sample's own density.
         std::vector<float>& per_sample = scratch.per_sample;
         per_sample.assign(nb.size(), 0.0f);
+        // The unbiased variant's visibility of sample ii from member jj: visible[ii * n_members + jj].
+        std::vector<int8_t>& visible = scratch.visible;
+        if (exact) visible.assign(nb.size() * size_t(n_members), int8_t(-1));
         for (size_t ii = 0; ii < nb.size(); ++ii) {
             const PathRecord& smp = records[nb[ii]];
             if (!smp.has_suffix) continue;
-            per_sample[ii] = keller ? density(ii, smp.z, smp.z_ng) : shared_denominator(smp.z, smp.z_ng, ii);
+            per_sample[ii] = keller ? density(ii, smp.z, smp.z_ng)
+                                    : shared_denominator(smp.z, smp.z_ng, ii,
+                                                         exact ? visible.data() + ii * size_t(n_members) : nullptr);
         }
         groups += 1;
         grouped_pixels += uint64_t(n_members);
@@ -608,9 +671,19 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 if (is_black(f)) continue;
                 Color L_z = smp.L_out;
                 if (exact) {
-                    // Visibility and z1's scattering for the new direction (§4.2).
-                    const ShadowRay s = shadow_ray_between(q.p, q.ng, smp.z);
-                    if (scene.occluded(s.o, s.d, s.tmax)) continue;
+                    // Visibility and z1's scattering for the new direction (§4.2). The own sample was
+                    // reached by a ray; the others' visibility was traced for the denominator, unless
+                    // this technique had no density there (then it is traced here).
+                    if (ii != size_t(jj)) {
+                        if (!same_side(q.p, smp.p, smp.z, smp.z_ng)) continue;  // see shared_denominator
+                        int8_t& v = visible[ii * size_t(n_members) + size_t(jj)];
+                        if (v < 0) {
+                            const ShadowRay s = shadow_ray_between(q.p, q.ng, smp.z);
+                            v = scene.occluded(s.o, s.d, s.tmax) ? 0 : 1;
+                            ++visibility_rays;
+                        }
+                        if (v == 0) continue;
+                    }
                     Vec3 z_wo = -c.dir;
                     bool back = dot(z_wo, smp.z_ng) < 0.0f;
                     Vec3 zng = back ? -smp.z_ng : smp.z_ng;
@@ -648,7 +721,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     continue;
                 }
                 if (is_black(ps.contribution)) continue;
-                float denom = shared_denominator(ps.z, ps.z_ng, size_t(jj)) + float(extra) * density(size_t(jj), ps.z, ps.z_ng);
+                float denom = shared_denominator(ps.z, ps.z_ng, size_t(jj), nullptr) +
+                              float(extra) * density(size_t(jj), ps.z, ps.z_ng);
                 if (denom > 0.0f) sum += ps.contribution / denom;
             }
             float reused = float(nb.size() - 1);  // other paths' suffixes combined here: the diagnostic pass
@@ -659,6 +733,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             }
             finish(mx[jj], my[jj], k, q.fixed + q.beta * sum, reused, own_weight, local);
         }
+        visibility_rays_total += visibility_rays;
     };
 
     const uint64_t grid_hash = mix64((uint64_t(s) << 32) ^ uint64_t(settings.seed) ^ 0x6a09e667f3bcc909ull);
@@ -686,7 +761,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     finish(px, py, k, q.fixed, 0.0f, -1.0f, local);
                 } else if (weighting_ == PsfWeighting::Path) {
                     finish(px, py, k, q.fixed + path_estimate(k), 0.0f, 1.0f, local);  // nothing is shared
-                } else if (!anchor || (n_members < max_n && length_sq(q.p - anchor->p) <= sqr(kGroupReach * anchor->radius))) {
+                } else if (!anchor || (n_members < max_n && q.dirac_depth == anchor->dirac_depth &&
+                                       length_sq(q.p - anchor->p) <= sqr(kGroupReach * anchor->radius))) {
                     if (!anchor) anchor = &q;
                     members[n_members] = uint32_t(k), mx[n_members] = px, my[n_members] = py;
                     ++n_members;
@@ -703,6 +779,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     gathered_ += gathered.load();
     groups_ += groups.load();
     grouped_pixels_ += grouped_pixels.load();
+    visibility_rays_ += visibility_rays_total.load();
     accepted_ += accepted.load();
     extra_paths_ += extra_total;
     pixels_ += pixels;
@@ -725,6 +802,7 @@ std::map<std::string, double> PathSpaceFilteringIntegrator::stats() const {
         // Every stored vertex queries the grid once.
         {"techniques_per_query", stored_vertices_ ? double(gathered_) / stored_vertices_ : 0.0},
         {"pixels_per_technique_set", groups_ ? double(grouped_pixels_) / double(groups_) : 0.0},
+        {"visibility_rays_per_query", stored_vertices_ ? double(visibility_rays_) / stored_vertices_ : 0.0},
         {"keller_accepted_per_query", stored_vertices_ ? double(accepted_) / stored_vertices_ : 0.0},
         {"bytes_per_stored_vertex", bytes_per_vertex_},
         {"extra_paths_per_pixel", pixels_ ? double(extra_paths_) / double(pixels_) : 0.0},

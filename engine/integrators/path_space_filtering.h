@@ -34,6 +34,7 @@ private:
     double stage1_seconds_ = 0, grid_seconds_ = 0, gather_seconds_ = 0;
     uint64_t iterations_ = 0, stored_vertices_ = 0, gathered_ = 0, accepted_ = 0, extra_paths_ = 0, pixels_ = 0;
     uint64_t groups_ = 0, grouped_pixels_ = 0;  // technique sets of stage 2 and the pixels sharing them
+    uint64_t visibility_rays_ = 0;              // shadow rays of the unbiased variant's gather
     double bytes_per_vertex_ = 0;
 };
 

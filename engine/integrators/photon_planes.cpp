@@ -37,6 +37,34 @@ struct PlaneLights {
     DiscreteDistribution selection;  // proportional to power
 };
 
+// How far a plane must sweep from its light: to every point where light can scatter. The farthest
+// point of the scattering volumes' box from the light's rectangle is a pair of corners (both are
+// convex). A World volume that scatters reaches everywhere: the sweep is bounded only by its free
+// flight (the integrator divides by its survival), unless that has no rate; then the sweep covers the
+// geometry and the camera, the most a finite plane can. (It was the geometry's bounding sphere around
+// the light's centre: single scattering near a camera outside it, or in a World volume beyond it, was
+// missed, and light points off the centre fell short of the sphere's far side.)
+float sweep_reach(const Scene& scene, const LightRectangle& r, float flight_rate) {
+    const Scene::ScatteringRegion& region = scene.scattering_region();
+    if (region.everywhere && flight_rate > 0.0f) return kInf;
+    Vec3 lo = region.lo, hi = region.hi;
+    if (region.everywhere) {
+        const Vec3 reach(scene.radius());
+        lo = vmin(scene.center() - reach, scene.camera().origin());
+        hi = vmax(scene.center() + reach, scene.camera().origin());
+    }
+    if (!(lo.x <= hi.x)) return 0.0f;  // nothing scatters
+    float farthest = 0.0f;
+    for (int l = 0; l < 4; ++l) {
+        const Vec3 y = r.corner + (l & 1 ? r.u : Vec3(0.0f)) + (l & 2 ? r.v : Vec3(0.0f));
+        for (int c = 0; c < 8; ++c) {
+            const Vec3 x(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
+            farthest = std::max(farthest, length(x - y));
+        }
+    }
+    return farthest;
+}
+
 PlaneLights collect_plane_lights(const Scene& scene) {
     PlaneLights out;
     std::vector<float> power;
@@ -56,7 +84,7 @@ PlaneLights collect_plane_lights(const Scene& scene) {
         Vec3 center = r.corner + (r.u + r.v) * 0.5f;
         int32_t m = scene.has_media() ? scene.medium_at(center) : kNoMedium;
         pl.flight_rate = m >= 0 ? min_component(scene.medium(m).sigma_t()) : 0.0f;
-        pl.max_length = length(center - scene.center()) + scene.radius();
+        pl.max_length = sweep_reach(scene, r, pl.flight_rate);
         out.lights.push_back(pl);
         power.push_back(luminance(pl.radiance) * pl.area);
     }

@@ -62,6 +62,14 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, cons
         throw std::invalid_argument("RIS/ReSTIR direct lighting does not support participating media or spectral "
                                     "rendering yet: use NEE (or set Spectral to RGB)");
     if (settings.volume_estimator != "PATH") return make_volume_integrator(settings);
+    if (settings.spectral_wavelength != 0.0f) {
+        if (!(settings.spectral_wavelength >= spectral::kLambdaMin && settings.spectral_wavelength <= spectral::kLambdaMax))
+            throw std::invalid_argument("spectral_wavelength must lie within [360, 830] nm (or be 0: off)");
+        if (settings.integrator != "PATH") throw std::invalid_argument("spectral_wavelength applies to PATH only");
+        require_feature(kWithSpectral, "spectral rendering", "spectral");
+        return std::make_unique<SpectralPathIntegrator>(scene, spectral::SpectralMode::Uniform, 1,
+                                                        settings.spectral_wavelength);
+    }
     if (settings.integrator == "PATH" && spectral != "RGB") {
         spectral::SpectralMode mode;
         spectral::parse_spectral_mode(spectral, &mode);

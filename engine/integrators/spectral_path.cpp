@@ -55,6 +55,20 @@ struct SpectralPath {
         }
         update_mix();
     }
+    // One wavelength, neither sampled nor weighted by a response: the radiance itself, in every channel.
+    void start_at(float lambda) {
+        n = 1;
+        c = 0;
+        ws.n = 1;
+        ws.conditioning = 0;
+        ws.lambda[0] = lambda;
+        ws.q[0] = 1.0f;
+        ws.a[0] = 1.0f;
+        beta[0] = 1.0f;
+        r[0] = 1.0f;
+        response[0] = Color(1.0f);
+        update_mix();
+    }
     void update_mix() {
         double sum = 0.0;
         for (int i = 0; i < n; ++i) sum += double(ws.a[i]) * r[i];
@@ -164,8 +178,9 @@ bool delta_event(const ShadingPoint& sp, const SpectralMaterial& sm, const BsdfS
 
 }  // namespace
 
-SpectralPathIntegrator::SpectralPathIntegrator(const Scene& scene, SpectralMode mode, int wavelengths)
-    : spectral_(scene), sampler_(mode, wavelengths, spectral_.importance()) {}
+SpectralPathIntegrator::SpectralPathIntegrator(const Scene& scene, SpectralMode mode, int wavelengths,
+                                               float fixed_wavelength)
+    : spectral_(scene), sampler_(mode, wavelengths, spectral_.importance()), fixed_wavelength_(fixed_wavelength) {}
 
 std::map<std::string, double> SpectralPathIntegrator::stats() const {
     return {{"wavelengths_per_path", double(sampler_.count())}};
@@ -207,7 +222,8 @@ Color SpectralPathIntegrator::pixel_sample(const RenderContext& ctx, uint32_t px
 Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& settings, Ray ray, float u, float v,
                                     Rng& wavelength_rng, Rng& rng, LocalCounters& counters) const {
     SpectralPath p;
-    p.start(sampler_, u, v, wavelength_rng);
+    if (fixed_wavelength_ > 0.0f) p.start_at(fixed_wavelength_);
+    else p.start(sampler_, u, v, wavelength_rng);
     float f[kMaxWavelengths];
     Color L(0.0f);
     PathState state;

@@ -12,7 +12,10 @@ namespace smis {
 // dispersive Dirac events, which the per-wavelength relative densities r_j track.
 class SpectralPathIntegrator : public PixelIntegrator {
 public:
-    SpectralPathIntegrator(const Scene& scene, spectral::SpectralMode mode, int wavelengths);
+    // fixed_wavelength > 0: every path at that wavelength alone, its radiance in every channel
+    // (RenderSettings::spectral_wavelength; `mode` and `wavelengths` are then unused).
+    SpectralPathIntegrator(const Scene& scene, spectral::SpectralMode mode, int wavelengths,
+                           float fixed_wavelength = 0.0f);
     std::map<std::string, double> stats() const override;
 
 protected:
@@ -31,6 +34,7 @@ private:
 
     spectral::SpectralScene spectral_;
     spectral::WavelengthSampler sampler_;
+    float fixed_wavelength_;
 };
 
 }  // namespace smis

@@ -643,6 +643,16 @@ void Scene::commit() {
         if (count == 0) local.clear();
     }
     Vec3 lo(kInf), hi(-kInf);
+    // Materials whose volume scatters: their triangles bound the scattering region.
+    std::vector<char> scattering_volume(materials_.size(), 0);
+    bool any_scattering_volume = false;
+    for (size_t m = 0; m < materials_.size(); ++m) {
+        const int32_t medium = materials_[m].medium;
+        scattering_volume[m] = medium >= 0 && media_[medium].scatters();
+        any_scattering_volume = any_scattering_volume || scattering_volume[m];
+    }
+    scattering_ = ScatteringRegion{};
+    scattering_.everywhere = world_medium_ >= 0 && media_[world_medium_].scatters();
     for (Instance& inst : instances_) {
         Mesh& mesh = meshes_[inst.mesh];
         stats_.triangles += mesh.indices.size() / 3;
@@ -682,6 +692,10 @@ void Scene::commit() {
             if (!inst.identity) p = inst.to_world.point(p);
             lo = vmin(lo, p);
             hi = vmax(hi, p);
+            if (any_scattering_volume && scattering_volume[mesh.materials[i / 3]]) {
+                scattering_.lo = vmin(scattering_.lo, p);
+                scattering_.hi = vmax(scattering_.hi, p);
+            }
         }
         if (!emissive_local_[inst.mesh].empty()) add_triangle_lights(inst);
     }

@@ -187,6 +187,14 @@ public:
     // cover the scene.
     Vec3 center() const { return center_; }
     float radius() const { return radius_; }
+    // Where light can scatter: the bounding box of the volume objects whose medium scatters (empty
+    // when none, lo > hi), and whether the world's volume scatters (then everywhere).
+    struct ScatteringRegion {
+        Vec3 lo{kInf}, hi{-kInf};
+        bool everywhere = false;
+        bool empty() const { return !everywhere && !(lo.x <= hi.x); }
+    };
+    const ScatteringRegion& scattering_region() const { return scattering_; }
     RTCDevice device() const { return device_; }
 
 private:
@@ -272,6 +280,7 @@ private:
     bool has_media_ = false;
     float radius_ = 1.0f;
     Vec3 center_{0.0f};
+    ScatteringRegion scattering_;
     SceneStats stats_;
     std::vector<std::string> skipped_;
     std::vector<std::string> attribute_names_;

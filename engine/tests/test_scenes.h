@@ -13,8 +13,9 @@
 
 namespace smis::testing {
 
-// UV sphere of radius r centred at the origin, outward winding; smooth corner normals when asked.
-inline uint32_t add_sphere(Scene& s, float r, int rings, int segments, uint32_t material, bool smooth = true) {
+// UV sphere of radius r centred at `centre`, outward winding; smooth corner normals when asked.
+inline uint32_t add_sphere(Scene& s, float r, int rings, int segments, uint32_t material, bool smooth = true,
+                           const Vec3& centre = Vec3(0.0f)) {
     std::vector<float> v;
     std::vector<int32_t> t;
     std::vector<float> n;
@@ -104,23 +105,28 @@ inline stats::MeanEstimator channel_mean(const std::vector<float>& rgba, int c) 
     return m;
 }
 
-// Per-pixel statistics of the green channel over independent renders (different seeds). Estimators
-// that reuse samples across pixels (or across the iterations of one render) correlate the pixels of
-// one render, but not renders: per-pixel statistics must come from across renders.
+// Per-pixel statistics over independent renders (different seeds), of the green channel or of all
+// three. Estimators that reuse samples across pixels (or across the iterations of one render)
+// correlate the pixels of one render, but not renders: per-pixel statistics must come from across
+// renders.
 struct PixelStats {
-    std::vector<double> mean, var;  // per pixel: mean over renders and the variance of that mean
-    stats::MeanEstimator image;     // the image mean, one value per render
+    std::vector<double> mean, var;  // per pixel (and channel): mean over renders and the variance of that mean
+    stats::MeanEstimator image;     // the image mean of the green channel, one value per render
+    stats::MeanEstimator channel_image[3];  // the image mean of each channel, one value per render
 };
 inline PixelStats across_renders(const std::shared_ptr<Scene>& scene, RenderSettings st, int renders, uint32_t spp,
-                                 uint32_t seed0) {
+                                 uint32_t seed0, bool all_channels = false) {
     const size_t n = size_t(scene->camera().window_width()) * scene->camera().window_height();
-    std::vector<stats::MeanEstimator> est(n);
+    const int c0 = all_channels ? 0 : 1, c1 = all_channels ? 3 : 2;
+    std::vector<stats::MeanEstimator> est(n * size_t(c1 - c0));
     PixelStats ps;
     st.samples = spp;
     for (int r = 0; r < renders; ++r) {
         st.seed = seed0 + r;
         auto img = render(scene, st);
-        for (size_t i = 0; i < n; ++i) est[i].add(img[4 * i + 1]);
+        for (size_t i = 0; i < n; ++i)
+            for (int c = c0; c < c1; ++c) est[i * size_t(c1 - c0) + size_t(c - c0)].add(img[4 * i + c]);
+        for (int c = 0; c < 3; ++c) ps.channel_image[c].add(channel_mean(img, c).mean());
         ps.image.add(channel_mean(img, 1).mean());
     }
     for (auto& e : est) {
@@ -129,7 +135,7 @@ inline PixelStats across_renders(const std::shared_ptr<Scene>& scene, RenderSett
     }
     return ps;
 }
-// Fraction of pixels whose mean agrees with the reference's at the Šidák-corrected 5% level.
+// Fraction of pixels (and channels) whose mean agrees with the reference's at the Šidák-corrected 5% level.
 inline double accepted_fraction(const PixelStats& a, const PixelStats& ref) {
     const int n = static_cast<int>(a.mean.size());
     const double alpha = stats::sidak_significance(0.05, n);
@@ -137,6 +143,16 @@ inline double accepted_fraction(const PixelStats& a, const PixelStats& ref) {
     for (int i = 0; i < n; ++i)
         ok += stats::z_test(a.mean[i], ref.mean[i], std::sqrt(a.var[i] + ref.var[i]), 1e-6).p_value >= alpha;
     return double(ok) / n;
+}
+// The image-mean z-test of each channel; `worst` receives the largest |z| (signed).
+inline double smallest_channel_p_value(const PixelStats& a, const PixelStats& ref, double* worst = nullptr) {
+    double p = 1.0, z = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        stats::ZTest t = stats::z_test_difference(a.channel_image[c], ref.channel_image[c]);
+        if (t.p_value < p) p = t.p_value, z = t.z;
+    }
+    if (worst) *worst = z;
+    return p;
 }
 
 }  // namespace smis::testing
