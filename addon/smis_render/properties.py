@@ -330,6 +330,8 @@ def session_settings(scene):
     return {
         "samples": s.samples,
         "max_bounces": s.max_bounces,
+        # Blender's Film > Transparent (a scene.render setting: Cycles' own Film panel shows it)
+        "film_transparent": bool(scene.render.film_transparent),
         "seed": seed,
         "stratified": s.sampling_pattern == 'STRATIFIED',
         "mis_heuristic": s.mis_heuristic,

@@ -37,6 +37,9 @@ struct RenderSettings {
     std::string integrator = "PATH";
     std::string filter = "BLACKMAN_HARRIS";
     bool aux_passes = false;      // Depth/Normal/Albedo/diagnostic passes (one extra camera ray per sample)
+    // Blender's Film > Transparent: the World seen by camera rays (directly or through transparent
+    // surfaces only) becomes alpha instead of colour; it still lights the scene (PathState).
+    bool film_transparent = false;
     float filter_width = 1.5f;
     // Path-space filtering (integrators PSF_*).
     float psf_radius_px = 6.0f;        // gather radius in screen pixels, projected to world at the vertex
@@ -110,6 +113,9 @@ struct LocalCounters {
     // The current sample's value for the integrator's diagnostic pass, set by Li() where it has one
     // (PixelIntegrator resets it per sample and hands it to the auxiliary passes); not a counter.
     float sample_diagnostic = 0.0f;
+    // The current sample's transparency for Film Transparent (PathState::transparent_background),
+    // reset per sample like sample_diagnostic; not a counter.
+    float sample_transparency = 0.0f;
     void flush(RenderCounters& c) {
         c.paths += paths, c.nan_caught += nan_caught, c.samples_rejected += samples_rejected;
         *this = {};

@@ -107,11 +107,13 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
                 L += beta * single_scattering(scene, ray, media, rng, counters,
                                               state.depth == 0 && state.planes_on_camera_ray);
             beta *= media.transmittance_to_end();
+            add_background_transparency(state, found, beta, counters);
             state.medium = media.end_medium;
             if (is_black(beta)) break;
         } else {
             found = scene.intersect(ray, &hit);
             L += beta * emission_along(scene, settings, ray, found, hit, state, nullptr, &sray);
+            add_background_transparency(state, found, beta, counters);
         }
         // The ray leaving the last allowed bounce only collects emission (Cycles' max_bounces).
         if (!found || state.depth > settings.max_bounces) break;
@@ -143,6 +145,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         beta *= bs.value / bs.pdf;
         if (bs.transmission) eta_scale *= sqr(bs.eta);
         if (programs) next_shader_ray(sp.bsdf, bs, &sray);
+        update_transparent_background(state, sp.bsdf, bs);
         if constexpr (kMedia) state.medium = medium_towards(scene, sp, bs.wi, state.medium);
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;

@@ -96,7 +96,31 @@ struct PathState {
     // scaling included), for Russian roulette only: a path traced in pieces (path-space filtering's
     // suffix) then stops with the same probabilities as the whole path would.
     float rr_scale = 1.0f;
+    // Film Transparent (Cycles' PATH_RAY_TRANSPARENT_BACKGROUND): a camera path that has so far only
+    // passed through transparent surfaces (cut-outs, Transparent lobes). The World it reaches is a
+    // hole in the film, not colour: emission_along leaves it out and the path's mean throughput
+    // there counts as transparency (add_background_transparency). Any other bounce clears it.
+    bool transparent_background = false;
 };
+// The state of a camera path starting at `origin`.
+inline PathState camera_path_state(const RenderSettings& settings, const Vec3& origin) {
+    PathState st;
+    st.prev_p = origin;
+    st.transparent_background = settings.film_transparent;
+    return st;
+}
+// Film Transparent: a ray that escaped with the path still in its transparent-background state
+// adds its mean throughput (Cycles' integrate_background: average(throughput)) to the sample's
+// transparency; alpha = 1 - its mean over the samples (Film::resolve).
+inline void add_background_transparency(const PathState& st, bool found, const Color& beta, LocalCounters& c) {
+    if (st.transparent_background && !found) c.sample_transparency += average(beta);
+}
+// After a bounce: only a Transparent lobe keeps the background transparent (Cycles clears the flag
+// on every reflection and on every transmission but LABEL_TRANSMIT_TRANSPARENT).
+inline void update_transparent_background(PathState& st, const Bsdf& bsdf, const BsdfSample& bs) {
+    st.transparent_background = st.transparent_background && bs.lobe >= 0 &&
+                                bsdf.lobe(bs.lobe).kind == LobeKind::Transparent;
+}
 struct RayMedia;
 // Transmittance along a ray's media up to t / to its end (defined with RayMedia in volume.cpp).
 Color media_transmittance(const RayMedia& media, const Scene& scene, float t);
@@ -149,7 +173,9 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
         k.depth = state.depth;
         k.length = 0.0f;  // Cycles' background shader data
         for (uint32_t i : scene.infinite_lights())
-            if ((state.depth > 0 || scene.light(i).visible_to_camera) && scene.light(i).intersect_as(to_hit, k, &h))
+            if ((state.depth > 0 || scene.light(i).visible_to_camera) &&
+                !(state.transparent_background && scene.light(i).is_background()) &&
+                scene.light(i).intersect_as(to_hit, k, &h))
                 add(i, far(h.L * weight(scene.light_pmf(i), h.pdf)));
     } else if (hit.light >= 0) {
         auto& tri = static_cast<const TriangleLight&>(scene.light(hit.light));

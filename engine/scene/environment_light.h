@@ -45,6 +45,7 @@ public:
     bool intersect(const Ray& ray, LightHit* hit) const override;
     bool intersect_as(const Ray& ray, const ShaderRay& kind, LightHit* hit) const override;
     bool at_infinity() const override { return true; }
+    bool is_background() const override { return true; }
     float power(float scene_radius) const override;
 
     // The World's radiance arriving along -dir (the program at that direction) for a ray of `kind`.

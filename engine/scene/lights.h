@@ -51,6 +51,8 @@ public:
     // program, see EnvironmentLight); lights that do not depend on it ignore the kind.
     virtual bool intersect_as(const Ray& ray, const ShaderRay& kind, LightHit* hit) const { return intersect(ray, hit); }
     virtual bool at_infinity() const { return false; }
+    // The World (uniform or a node tree): what Film Transparent takes out of the camera's view.
+    virtual bool is_background() const { return false; }
     virtual bool is_delta() const { return false; }
     // True when sample(ref, u) picks the same light point for every ref (uniform area sampling, a
     // point without radius): single scattering then aims equiangular sampling at that very point.
@@ -133,6 +135,7 @@ public:
     float pdf(const Vec3& ref, const Vec3& wi) const override;
     bool intersect(const Ray& ray, LightHit* hit) const override;
     bool at_infinity() const override { return true; }
+    bool is_background() const override { return true; }
     float power(float scene_radius) const override;
     const Color& radiance() const { return radiance_; }
 
