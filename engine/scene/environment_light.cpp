@@ -38,7 +38,7 @@ ShaderRay EnvironmentLight::light_sample_kind() {
 }
 
 EnvironmentLight::EnvironmentLight(std::shared_ptr<const ShaderProgram> program, const Scene* scene, int width,
-                                   int height)
+                                   int height, bool sample_sun)
     : program_(std::move(program)), scene_(scene) {
     if (width <= 0 || height <= 0) width = 1024, height = 512;
     width_ = std::clamp(width, 1, 8192);
@@ -89,6 +89,14 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const ShaderProgram> program,
                                     Color(0.0f))
                              : Color(0.0f);
     if (!is_finite(average_)) average_ = Color(0.0f);
+
+    if (const NishitaSky* sun = sample_sun ? program_->sampled_sun() : nullptr) {
+        sun_dir_ = normalize(sun->sun_direction());
+        sun_frame_ = Frame(sun_dir_);
+        sun_one_minus_cos_ = 2.0f * sqr(std::sin(0.5f * sun->sun_half_angle()));  // 1 - cos, without cancellation
+        constexpr float kSunWeight = 4.0f, kMapWeight = 1.0f;  // Cycles' background sun_weight and map_weight
+        sun_probability_ = empty_ ? 1.0f : kSunWeight / (kSunWeight + kMapWeight);
+    }
 }
 
 ShaderContext EnvironmentLight::context(const Vec3& dir, const ShaderRay& kind) const {
@@ -116,6 +124,17 @@ float EnvironmentLight::cell_pdf(int x, int y) const {
 LightSample EnvironmentLight::sample(const Vec3& ref, Point2 u) const {
     LightSample s;
     s.dist = kInf;
+    if (sun_probability_ > 0.0f) {
+        // Choose the strategy with u.x and reuse what is left of it for the strategy's own sample.
+        if (u.x < sun_probability_) {
+            u.x = std::min(u.x / sun_probability_, 1.0f - 1e-7f);
+            s.wi = sun_frame_.to_world(sample_uniform_cone(u, sun_one_minus_cos_));
+            s.pdf = pdf(s.wi);
+            if (s.pdf > 0.0f) s.L = radiance(s.wi, light_sample_kind());
+            return s;
+        }
+        u.x = std::min((u.x - sun_probability_) / (1.0f - sun_probability_), 1.0f - 1e-7f);
+    }
     if (empty_) return s;
     // Row: the first whose cdf passes u.y (rows of zero probability are never chosen).
     const double uy = u.y;
@@ -142,6 +161,17 @@ LightSample EnvironmentLight::sample(const Vec3& ref, Point2 u) const {
 }
 
 float EnvironmentLight::pdf(const Vec3& wi) const {
+    if (sun_probability_ <= 0.0f) return map_pdf(wi);
+    return sun_probability_ * sun_pdf(wi) + (1.0f - sun_probability_) * map_pdf(wi);
+}
+
+float EnvironmentLight::sun_pdf(const Vec3& wi) const {
+    // 1 - cos of the angle to the axis as |wi - axis|^2 / 2: exact for the disc's tiny angles.
+    Vec3 d = normalize(wi) - sun_dir_;
+    return 0.5f * dot(d, d) <= sun_one_minus_cos_ ? uniform_cone_pdf(sun_one_minus_cos_) : 0.0f;
+}
+
+float EnvironmentLight::map_pdf(const Vec3& wi) const {
     if (empty_) return 0.0f;
     float sin_theta = std::sqrt(std::max(0.0f, 1.0f - sqr(clampf(wi.z, -1.0f, 1.0f))));
     if (!(sin_theta > 0.0f)) return 0.0f;

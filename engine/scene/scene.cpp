@@ -430,7 +430,7 @@ void Scene::finish_lights() {
         // on every world edit).
         int w = world_desc_.map_width, h = world_desc_.map_height;
         if (fast_build_ && (w <= 0 || w > 1024 || h <= 0 || h > 512)) w = 1024, h = 512;
-        auto env = std::make_unique<EnvironmentLight>(world_desc_.program, this, w, h);
+        auto env = std::make_unique<EnvironmentLight>(world_desc_.program, this, w, h, world_desc_.sample_sun);
         env->visible_to_camera = world_desc_.visible_to_camera;
         emitter_sources_.push_back({"RGB", 6500.0f, env->average()});
         lights_.push_back(std::move(env));

@@ -48,6 +48,7 @@ struct WorldDesc {
     std::shared_ptr<const ShaderProgram> program;  // null: the constant radiance
     int map_width = 0, map_height = 0;
     bool visible_to_camera = true;
+    bool sample_sun = true;  // false: a Nishita sun is left to the map (comparisons only)
 };
 
 // A per-corner mesh attribute (UV maps by name, colour attributes) as the add-on exports it:

@@ -1081,7 +1081,11 @@ def _tex_sky(c, node, ctx):
         c.data.extend(float(v) for v in (node.sun_elevation, node.sun_rotation, 1.0 if node.sun_disc else 0.0,
                                           node.sun_size, node.sun_intensity, node.altitude, node.air_density,
                                           node.dust_density, node.ozone_density))
-        model = [2, 0, 1 if _reads_plain_direction(node) else 0]
+        plain = _reads_plain_direction(node)
+        model = [2, 0, 1 if plain else 0]
+        suns = getattr(c, "nishita_suns", None)
+        if suns is not None and node.sun_disc:
+            suns.append(plain)
     elif node.sky_type == "HOSEK_WILKIE":
         c.data.extend(float(v) for v in _sky_hosek(tuple(node.sun_direction), float(node.turbidity),
                                                    float(node.ground_albedo)))
@@ -1106,6 +1110,7 @@ class _WorldCompiler(ShaderCompiler):
     def __init__(self, world_name, warn, textures):
         super().__init__(world_name, warn, textures, None)
         self.environment_sizes = []  # (width, height) of the Environment Texture images
+        self.nishita_suns = []  # per Nishita Sky Texture with a sun disc: whether it reads the plain direction
 
     def warn_node(self, node, text):
         key = (node.as_pointer(), text)
@@ -1131,8 +1136,9 @@ class _WorldCompiler(ShaderCompiler):
 
 
 def compile_world(world, output_node, warn, textures):
-    """The program dict for a World's Surface (textures: a TextureCache), and the sizes of its
-    Environment Texture images (for Cycles' automatic importance map resolution)."""
+    """The program dict for a World's Surface (textures: a TextureCache), the sizes of its
+    Environment Texture images and, per Nishita sun disc, whether it reads the plain direction (for
+    Cycles' automatic importance map resolution)."""
     c = _WorldCompiler(world.name, warn, textures)
     c.shader(output_node.inputs["Surface"], c.constant(1.0, FLOAT), _Context())
-    return c.program(), c.environment_sizes
+    return c.program(), c.environment_sizes, c.nishita_suns

@@ -9,8 +9,10 @@ from .textures import TextureCache
 from .volumes import translate_volume
 
 # Cycles' automatic importance map (scene/light.cpp, 3.4): without a single Nishita sun at least
-# 4096 x 2048 cells, or the largest Environment Texture image when it is bigger.
+# 4096 x 2048 cells, or the largest Environment Texture image when it is bigger; with one (sampled on
+# its own, engine/scene/environment_light.h) at least 512 x 256.
 _AUTO_MAP = (4096, 2048)
+_AUTO_MAP_WITH_SUN = (512, 256)
 
 
 class _WorldImages:
@@ -52,12 +54,12 @@ def export_world(world, warn):
     if nodes.linked_output(output.inputs["Surface"]) is None:
         return desc
     images = _WorldImages()
-    program, sizes = compile_world(world, output, warn, TextureCache(images, warn))
-    desc.update(program=program, images=images.images, map_resolution=_map_resolution(world, sizes))
+    program, sizes, suns = compile_world(world, output, warn, TextureCache(images, warn))
+    desc.update(program=program, images=images.images, map_resolution=_map_resolution(world, sizes, suns))
     return desc
 
 
-def _map_resolution(world, environment_sizes):
+def _map_resolution(world, environment_sizes, nishita_suns=()):
     """The importance map's (width, height) as Cycles picks it from the World's Settings."""
     settings = getattr(world, "cycles", None)
     method = getattr(settings, "sampling_method", "AUTOMATIC")
@@ -68,6 +70,7 @@ def _map_resolution(world, environment_sizes):
         # Cycles then never samples the World as a light; a one-cell map samples it uniformly,
         # which converges to the same image.
         return (1, 1)
-    width = max([_AUTO_MAP[0]] + [w for w, h in environment_sizes])
-    height = max([_AUTO_MAP[1]] + [h for w, h in environment_sizes])
+    base = _AUTO_MAP_WITH_SUN if list(nishita_suns) == [True] else _AUTO_MAP
+    width = max([base[0]] + [w for w, h in environment_sizes])
+    height = max([base[1]] + [h for w, h in environment_sizes])
     return (width, height)
