@@ -41,16 +41,19 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
         return ds;
     }
     const ShadowRay shadow = shadow_ray(sp, ls.wi, ls.dist);
+    const Light& light = scene.light(li);
     Color tr(1.0f);
-    if (!scene.has_media()) {
-        if (scene.occluded(shadow.o, shadow.d, shadow.tmax) || !reaches_mesh_light(scene, shadow, li)) return ds;
-    } else {
-        tr = shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, medium_towards(scene, sp, ls.wi, medium));
-        if (is_black(tr) || !reaches_mesh_light(scene, shadow, li)) return ds;
+    if (light.cast_shadow) {  // Cycles' Cast Shadow off: no shadow ray at all
+        if (!scene.has_media()) {
+            if (scene.occluded(shadow.o, shadow.d, shadow.tmax) || !reaches_mesh_light(scene, shadow, li)) return ds;
+        } else {
+            tr = shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, medium_towards(scene, sp, ls.wi, medium));
+            if (is_black(tr) || !reaches_mesh_light(scene, shadow, li)) return ds;
+        }
     }
     float light_pdf = pmf * ls.pdf;
     const float n = float(light_samples);
-    float w = ls.delta ? 1.0f : mis_weight(settings.mis, n * light_pdf, float(bsdf_samples) * sp.bsdf.pdf(sp.wo, ls.wi));
+    float w = ls.delta || !light.use_mis ? 1.0f : mis_weight(settings.mis, n * light_pdf, float(bsdf_samples) * sp.bsdf.pdf(sp.wo, ls.wi));
     ds.wi = ls.wi;
     ds.light = li;
     ds.weighted = ls.L * tr * (w / (n * light_pdf));

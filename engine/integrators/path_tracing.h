@@ -160,7 +160,7 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
     to_hit.tmax = found ? hit.t : kInf;
     // Area, point and spot lights are not in the BVH (as in Cycles): test them separately.
     scene.for_each_light_hit(to_hit, [&](uint32_t i, const LightHit& h) {
-        if (state.depth == 0 && !scene.light(i).visible_to_camera) return;
+        if (state.depth == 0 ? !scene.light(i).visible_to_camera : !scene.light(i).use_mis) return;
         Color Le = h.L * weight(scene.light_pmf(i), h.pdf);
         add(i, media ? Le * media_transmittance(*media, scene, h.t) : Le);
     });
@@ -173,7 +173,7 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
         k.depth = state.depth;
         k.length = 0.0f;  // Cycles' background shader data
         for (uint32_t i : scene.infinite_lights())
-            if ((state.depth > 0 || scene.light(i).visible_to_camera) &&
+            if ((state.depth > 0 || scene.light(i).visible_to_camera) && scene.light(i).use_mis &&
                 !(state.transparent_background && scene.light(i).is_background()) &&
                 scene.light(i).intersect_as(to_hit, k, &h))
                 add(i, far(h.L * weight(scene.light_pmf(i), h.pdf)));

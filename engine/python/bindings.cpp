@@ -400,6 +400,8 @@ LightDesc parse_light(const py::dict& d) {
     l.spot_blend = get<float>(d, "spot_blend", l.spot_blend);
     l.angle = get<float>(d, "angle", 0.0f);
     l.visible_to_camera = get<bool>(d, "visible_camera", true);
+    l.cast_shadow = get<bool>(d, "cast_shadow", true);
+    l.use_mis = get<bool>(d, "use_mis", true);
     l.spectrum = get<std::string>(d, "spectrum", l.spectrum);
     l.temperature = get<float>(d, "temperature", l.temperature);
     return l;

@@ -64,6 +64,11 @@ public:
     // infinity deliver power in proportion to the scene's cross-section, hence the radius.
     virtual float power(float scene_radius) const = 0;
     bool visible_to_camera = true;
+    // Cycles' per-light toggles. cast_shadow = false: light samples are not tested for occlusion
+    // (the light shines through everything). use_mis = false: only light samples find the light,
+    // unweighted; rays that meet it (camera rays aside) see nothing.
+    bool cast_shadow = true;
+    bool use_mis = true;
 };
 
 // Blender light description, in Blender's units (converted as Cycles converts them).
@@ -76,6 +81,7 @@ struct LightDesc {
     std::string shape = "SQUARE";
     float size = 1, size_y = 1, radius = 0, spot_size = 0.785398f, spot_blend = 0.15f, angle = 0;
     bool visible_to_camera = true;
+    bool cast_shadow = true, use_mis = true;  // Light > Cast Shadow, Multiple Importance (Cycles)
     // Spectral rendering only: the emitted spectrum (RGB = the colour upsampled, BLACKBODY at
     // `temperature` K, or a CIE illuminant D65, A, F2, F10, F11), see spectral/spectra.h.
     std::string spectrum = "RGB";
