@@ -125,3 +125,30 @@ def test_opaque_film_keeps_the_world_and_alpha_one():
     assert (ours[..., 3] == 1.0).all()
     # The World fills the top rows (colour x strength = 1.35, 0.9, 0.45).
     np.testing.assert_allclose(ours[-1, 0, :3], [1.35, 0.9, 0.45], rtol=1e-4)
+
+
+HOLDOUT = """
+bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(-0.9, -1.2, 0.9))
+bpy.ops.object.shade_smooth()
+bpy.context.active_object.is_holdout = True
+"""
+
+
+def test_holdout_object_matches_cycles():
+    """A holdout sphere in front of the diffuse sphere: a hole (alpha 0, no colour) where the camera
+    sees it, directly or through the cut-out, with the film opaque or transparent; it still shades
+    the rest of the scene as an object (a shadow, occlusion of the World's light)."""
+    for film in ("True", "False"):
+        ours, cycles = _both(HOLDOUT + "scene.render.film_transparent = %s\n" % film)
+        a, b = block_mean(ours, 4), block_mean(cycles, 4)
+        alpha_err = float(np.abs(a[..., 3] - b[..., 3]).mean())
+        colour_err = float(np.abs(a[..., :3] - b[..., :3]).mean() / b[..., :3].mean())
+        print("holdout (film transparent %s) vs Cycles: mean |alpha difference| %.4f, colour %.4f (4x4 blocks)"
+              % (film, alpha_err, colour_err))
+        hole = cycles[..., 3] < 1e-6
+        if film == "False":
+            assert hole.sum() > 30  # the holdout is a hole, the rest opaque but for its edge pixels
+            assert (cycles[..., 3] > 0.999).mean() > 0.9 and (ours[..., 3] > 0.999).mean() > 0.9
+        assert np.abs(ours[hole]).max() < 1e-6
+        assert alpha_err < 0.01
+        assert colour_err < 0.03

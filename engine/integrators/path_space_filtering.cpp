@@ -200,14 +200,14 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
     PathRecord rec;
     *model = TechniqueDensity{};
     for (int m = 0; m < extra_paths; ++m) extra[m] = PrivateSuffix{};
-    PathState st = camera_path_state(settings, ray.o);
+    PathState st = camera_path_state(ray.o);
     Color beta(1.0f);
     float eta_scale = 1.0f, prefix_length = 0.0f;
     for (;; ++st.depth) {
         SurfaceHit hit;
         bool found = scene.intersect(ray, &hit);
         rec.fixed += beta * emission_along(scene, settings, ray, found, hit, st);
-        add_background_transparency(st, found, beta, counters);
+        if (add_transparency(settings, st, found, hit, beta, counters)) return rec;
         if (!found || st.depth > settings.max_bounces) return rec;
         prefix_length += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);

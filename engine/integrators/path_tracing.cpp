@@ -110,13 +110,13 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
                 L += beta * single_scattering(scene, ray, media, rng, counters,
                                               state.depth == 0 && state.planes_on_camera_ray);
             beta *= media.transmittance_to_end();
-            add_background_transparency(state, found, beta, counters);
+            if (add_transparency(settings, state, found, hit, beta, counters)) break;
             state.medium = media.end_medium;
             if (is_black(beta)) break;
         } else {
             found = scene.intersect(ray, &hit);
             L += beta * emission_along(scene, settings, ray, found, hit, state, nullptr, &sray);
-            add_background_transparency(state, found, beta, counters);
+            if (add_transparency(settings, state, found, hit, beta, counters)) break;
         }
         // The ray leaving the last allowed bounce only collects emission (Cycles' max_bounces).
         if (!found || state.depth > settings.max_bounces) break;

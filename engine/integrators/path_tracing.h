@@ -96,24 +96,28 @@ struct PathState {
     // scaling included), for Russian roulette only: a path traced in pieces (path-space filtering's
     // suffix) then stops with the same probabilities as the whole path would.
     float rr_scale = 1.0f;
-    // Film Transparent (Cycles' PATH_RAY_TRANSPARENT_BACKGROUND): a camera path that has so far only
-    // passed through transparent surfaces (cut-outs, Transparent lobes). The World it reaches is a
-    // hole in the film, not colour: emission_along leaves it out and the path's mean throughput
-    // there counts as transparency (add_background_transparency). Any other bounce clears it.
+    // Cycles' PATH_RAY_TRANSPARENT_BACKGROUND: a camera path that has so far only passed through
+    // transparent surfaces (cut-outs, Transparent lobes). With Film Transparent, the World it
+    // reaches is a hole in the film, not colour: emission_along leaves it out and the path's mean
+    // throughput there counts as transparency (alpha = 1 - its mean, Film::resolve); a holdout
+    // object it meets is such a hole whatever the film (add_transparency). Any other bounce clears it.
     bool transparent_background = false;
 };
 // The state of a camera path starting at `origin`.
-inline PathState camera_path_state(const RenderSettings& settings, const Vec3& origin) {
+inline PathState camera_path_state(const Vec3& origin) {
     PathState st;
     st.prev_p = origin;
-    st.transparent_background = settings.film_transparent;
+    st.transparent_background = true;
     return st;
 }
-// Film Transparent: a ray that escaped with the path still in its transparent-background state
-// adds its mean throughput (Cycles' integrate_background: average(throughput)) to the sample's
-// transparency; alpha = 1 - its mean over the samples (Film::resolve).
-inline void add_background_transparency(const PathState& st, bool found, const Color& beta, LocalCounters& c) {
-    if (st.transparent_background && !found) c.sample_transparency += average(beta);
+// Whether the ray (found: it hit `hit`) ends the camera path as a hole in the film: it escaped to
+// the World with Film Transparent, or it met a holdout object. The path's mean throughput (Cycles'
+// average(throughput)) is then the sample's transparency; the caller stops a path that met a holdout.
+inline bool add_transparency(const RenderSettings& settings, const PathState& st, bool found, const SurfaceHit& hit,
+                             const Color& beta, LocalCounters& c) {
+    if (!st.transparent_background || (found ? !hit.holdout : !settings.film_transparent)) return false;
+    c.sample_transparency += average(beta);
+    return found;
 }
 // After a bounce: only a Transparent lobe keeps the background transparent (Cycles clears the flag
 // on every reflection and on every transmission but LABEL_TRANSMIT_TRANSPARENT).
@@ -174,10 +178,10 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
         k.length = 0.0f;  // Cycles' background shader data
         for (uint32_t i : scene.infinite_lights())
             if ((state.depth > 0 || scene.light(i).visible_to_camera) && scene.light(i).use_mis &&
-                !(state.transparent_background && scene.light(i).is_background()) &&
+                !(settings.film_transparent && state.transparent_background && scene.light(i).is_background()) &&
                 scene.light(i).intersect_as(to_hit, k, &h))
                 add(i, far(h.L * weight(scene.light_pmf(i), h.pdf)));
-    } else if (hit.light >= 0) {
+    } else if (hit.light >= 0 && !(hit.holdout && state.transparent_background)) {
         auto& tri = static_cast<const TriangleLight&>(scene.light(hit.light));
         add(uint32_t(hit.light), far(scene.emission_at(hit, -ray.d) *
                                      weight(scene.light_pmf(hit.light), tri.pdf_at(state.prev_p, hit.p))));

@@ -148,7 +148,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
         local.sample_transparency = 0.0f;
-        PathState camera = camera_path_state(settings, ray.o);
+        PathState camera = camera_path_state(ray.o);
         camera.medium = scene.camera_medium();
         camera.planes_on_camera_ray = use_planes;
         Color L = settings.camera_volume_only ? Color(0.0f) : trace_path(scene, settings, ray, camera, rng, local);

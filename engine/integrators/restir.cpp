@@ -36,14 +36,14 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
     px.distance = 0.0f;
     px.r = Reservoir{};
     px.eval = CandidateEval{};
-    PathState st = camera_path_state(settings, ray.o);
+    PathState st = camera_path_state(ray.o);
     Color beta(1.0f);
     float eta_scale = 1.0f;
     for (;; ++st.depth) {
         SurfaceHit hit;
         bool found = scene.intersect(ray, &hit);
         px.fixed += beta * emission_along(scene, settings, ray, found, hit, st);
-        add_background_transparency(st, found, beta, counters);
+        if (add_transparency(settings, st, found, hit, beta, counters)) return;
         if (!found || st.depth > settings.max_bounces) return;
         px.distance += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);

@@ -210,7 +210,7 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
     p.start(sampler_, u, v, wavelength_rng);
     float f[kMaxWavelengths];
     Color L(0.0f);
-    PathState state = camera_path_state(settings, ray.o);
+    PathState state = camera_path_state(ray.o);
     float eta_scale = 1.0f;
     // Film Transparent: the RGB throughput of the camera path while it passes through transparent
     // surfaces only (their colour is RGB), for the transparency it adds where it reaches the World.
@@ -226,7 +226,7 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
         SurfaceHit hit;
         bool found = scene.intersect(ray, &hit);
         for_each_emission_along(scene, settings, ray, found, hit, state, add_emission);
-        add_background_transparency(state, found, transparent_beta, counters);
+        if (add_transparency(settings, state, found, hit, transparent_beta, counters)) break;
         if (!found || state.depth > settings.max_bounces) break;
         if (programs) {
             sray.depth = state.depth;

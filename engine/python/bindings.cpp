@@ -503,15 +503,17 @@ PYBIND11_MODULE(_smis, m) {
             "be rebuilt instead")
         .def("mesh_dropped", &Scene::mesh_dropped)
         .def("add_instance",
-             [](Scene& s, uint32_t mesh, MatrixArray matrix, std::vector<float> color, float random, float pass_index) {
+             [](Scene& s, uint32_t mesh, MatrixArray matrix, std::vector<float> color, float random, float pass_index,
+                bool holdout) {
                  if (color.size() < 3) throw py::value_error("color needs three components");
                  float alpha = color.size() > 3 ? color[3] : 1.0f;
                  value_errors([&] {
-                     s.add_instance(mesh, to_transform(matrix), {color[0], color[1], color[2]}, random, pass_index, alpha);
+                     s.add_instance(mesh, to_transform(matrix), {color[0], color[1], color[2]}, random, pass_index, alpha,
+                                    holdout);
                  });
              },
              py::arg("mesh"), py::arg("matrix"), py::arg("color") = std::vector<float>{1.0f, 1.0f, 1.0f},
-             py::arg("random") = 0.0f, py::arg("pass_index") = 0.0f)
+             py::arg("random") = 0.0f, py::arg("pass_index") = 0.0f, py::arg("holdout") = false)
         .def("set_mesh_texspace",
              [](Scene& s, uint32_t mesh, std::vector<float> location, std::vector<float> size) {
                  if (location.size() != 3 || size.size() != 3) throw py::value_error("texture space needs 3 + 3 values");

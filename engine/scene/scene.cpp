@@ -361,7 +361,7 @@ std::shared_ptr<const Texture> Scene::texture(uint32_t id) const {
 }
 
 void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color, float random,
-                         float pass_index, float object_alpha) {
+                         float pass_index, float object_alpha, bool holdout) {
     if (committed_) throw std::logic_error("scene already committed");
     if (mesh >= meshes_.size()) throw std::invalid_argument("instance of an unknown mesh");
     if (!to_world.is_finite() || !invertible_in_float(to_world))
@@ -372,6 +372,8 @@ void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& 
     inst.random = std::isfinite(random) ? random : 0.0f;
     inst.pass_index = std::isfinite(pass_index) ? pass_index : 0.0f;
     inst.alpha = std::isfinite(object_alpha) ? object_alpha : 1.0f;
+    inst.holdout = holdout;
+    has_holdout_ = has_holdout_ || holdout;
     instances_.push_back(inst);
     meshes_[mesh].users++;
 }
@@ -747,6 +749,7 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
     hit->ng = ng;
     hit->ns = ns;
     hit->material = mesh.materials[prim];
+    hit->holdout = inst.holdout;
     if (kWithTextures) {
         hit->attr.object_color = inst.object_color;
         if (programs_) {

@@ -33,6 +33,14 @@ class _WorldImages:
         return len(self.images) - 1
 
 
+def evaluated_world(depsgraph):
+    """The scene's World as the depsgraph evaluated it for its frame. `depsgraph.scene.world` is the
+    original datablock: in a render from the command line it keeps the values last set by hand, not
+    the keyed ones of the frame (a keyed Background strength or Sky Texture parameter)."""
+    world = depsgraph.scene.world
+    return world.evaluated_get(depsgraph) if world is not None else None
+
+
 def export_world(world, warn):
     """The dict for `_smis.Scene.set_world` / `replace_lights`: {"color", "strength"} (the constant
     World), and for a node World "program", "images", "map_resolution", "visible_camera", "volume".
