@@ -9,75 +9,35 @@ import os
 import bpy
 import numpy as np
 
-from conftest import block_mean, render
+from conftest import EMPTY_SCENE_AND_MATERIALS, block_mean, matched_settings, render, render_both
 
-SCENE = """
-import math
-for obj in list(bpy.data.objects):
-    if obj.type != 'CAMERA':
-        bpy.data.objects.remove(obj)
-cam = scene.camera
+SCENE = EMPTY_SCENE_AND_MATERIALS + matched_settings(48, 32, 256) + """
 cam.location = (0.0, -6.0, 1.0)
 cam.rotation_euler = (math.radians(85), 0.0, 0.0)
 cam.data.lens = 30
-scene.render.resolution_x, scene.render.resolution_y = 48, 32
-scene.render.resolution_percentage = 100
 scene.render.film_transparent = True
-scene.view_settings.view_transform = 'Standard'
-scene.cycles.samples = scene.smis.samples = 256
-scene.cycles.pixel_filter_type = scene.smis.filter_type = 'BOX'
-scene.cycles.filter_width = scene.smis.filter_width = 1.0
-scene.cycles.use_denoising = False
-scene.cycles.use_adaptive_sampling = False
-scene.cycles.max_bounces = scene.smis.max_bounces = 8
 scene.cycles.transparent_max_bounces = 64
 bg = scene.world.node_tree.nodes["Background"]
 bg.inputs["Color"].default_value = (0.9, 0.6, 0.3, 1.0)
 bg.inputs["Strength"].default_value = 1.5
 
-def material(name, build):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    nt = m.node_tree
-    nt.nodes.remove(nt.nodes["Principled BSDF"])
-    nt.links.new(build(nt), nt.nodes["Material Output"].inputs["Surface"])
-    return m
-
-def diffuse(nt):
-    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
-    d.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
-    return d.outputs[0]
-
-def cutout(nt):
-    p = nt.nodes.new("ShaderNodeBsdfPrincipled")
-    p.inputs["Base Color"].default_value = (0.2, 0.5, 0.8, 1.0)
-    p.inputs["Alpha"].default_value = 0.35
-    return p.outputs[0]
-
-def tinted(nt):
-    t = nt.nodes.new("ShaderNodeBsdfTransparent")
-    t.inputs["Color"].default_value = (0.9, 0.4, 0.1, 1.0)
-    return t.outputs[0]
-
 def add(op, mat, **kw):
     op(**kw)
-    obj = bpy.context.active_object
-    obj.data.materials.append(material(obj.name, mat))
+    bpy.context.active_object.data.materials.append(mat)
 
-add(bpy.ops.mesh.primitive_uv_sphere_add, diffuse, radius=0.8, location=(-1.2, 0.0, 0.8))
+add(bpy.ops.mesh.primitive_uv_sphere_add, material("Diffuse", "ShaderNodeBsdfDiffuse", Color=(0.8, 0.8, 0.8, 1)),
+    radius=0.8, location=(-1.2, 0.0, 0.8))
 bpy.ops.object.shade_smooth()
-add(bpy.ops.mesh.primitive_plane_add, cutout, size=1.6, location=(1.0, -1.0, 1.4), rotation=(math.radians(90), 0, 0))
-add(bpy.ops.mesh.primitive_plane_add, tinted, size=1.2, location=(0.6, -2.0, 0.2), rotation=(math.radians(90), 0, 0))
+add(bpy.ops.mesh.primitive_plane_add,
+    material("Cutout", "ShaderNodeBsdfPrincipled", **{"Base Color": (0.2, 0.5, 0.8, 1), "Alpha": 0.35}),
+    size=1.6, location=(1.0, -1.0, 1.4), rotation=(math.radians(90), 0, 0))
+add(bpy.ops.mesh.primitive_plane_add, material("Tinted", "ShaderNodeBsdfTransparent", Color=(0.9, 0.4, 0.1, 1)),
+    size=1.2, location=(0.6, -2.0, 0.2), rotation=(math.radians(90), 0, 0))
 """
 
 
 def _both(setup=""):
-    images = []
-    for engine in ("SMIS", "CYCLES"):
-        run = render(setup=SCENE + setup, engine=engine)
-        assert run.returncode == 0, run.output[-3000:]
-        images.append(run.image)
-    return images
+    return render_both(SCENE + setup)
 
 
 def test_film_transparent_alpha_and_colour_match_cycles():
@@ -152,3 +112,27 @@ def test_holdout_object_matches_cycles():
         assert np.abs(ours[hole]).max() < 1e-6
         assert alpha_err < 0.01
         assert colour_err < 0.03
+
+
+def test_viewport_settings_and_passes_with_film_transparent():
+    """The viewport's session takes Film Transparent from the same settings dict as a render (it
+    draws the premultiplied image over Blender's background); the data passes do not change with it."""
+    from smis_render import _smis, properties
+    scene = bpy.context.scene
+    for value in (True, False):
+        scene.render.film_transparent = value
+        assert properties.session_settings(scene)["film_transparent"] is value
+    s = _smis.Scene()
+    s.set_camera({"matrix": np.eye(4), "width": 8, "height": 8, "lens": 20.0})
+    s.set_world({"color": (0.5, 0.25, 0.125), "strength": 2.0})
+    s.commit()
+    results = {}
+    for value in (True, False):
+        session = _smis.RenderSession(s, {"samples": 2, "seed": 1, "film_transparent": value, "aux_passes": True})
+        session.run()
+        results[value] = (np.asarray(session.pixels()).copy(), np.asarray(session.pass_pixels("Depth")).copy())
+    (hole, depth_t), (sky, depth_o) = results[True], results[False]
+    assert np.abs(hole).max() == 0.0  # nothing but the World: colour 0, alpha 0
+    np.testing.assert_allclose(sky[..., :3].reshape(-1, 3), np.broadcast_to([1.0, 0.5, 0.25], (64, 3)), rtol=1e-6)
+    assert (sky[..., 3] == 1.0).all()
+    np.testing.assert_array_equal(depth_t, depth_o)

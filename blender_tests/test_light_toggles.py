@@ -5,42 +5,13 @@ expectation), and the lamp is no longer seen in the glossy floor's reflection.""
 import bpy  # noqa: F401
 import numpy as np
 
-from conftest import block_mean, render
+from conftest import EMPTY_SCENE_AND_MATERIALS, block_mean, matched_settings, render_both
 
-SCENE = """
-import math
-for obj in list(bpy.data.objects):
-    if obj.type != 'CAMERA':
-        bpy.data.objects.remove(obj)
-cam = scene.camera
+SCENE = EMPTY_SCENE_AND_MATERIALS + matched_settings(48, 32, 256, max_bounces=4) + """
 cam.location = (0.0, -6.0, 3.0)
 cam.rotation_euler = (math.radians(62), 0.0, 0.0)
 cam.data.lens = 30
-scene.render.resolution_x, scene.render.resolution_y = 48, 32
-scene.view_settings.view_transform = 'Standard'
-scene.cycles.samples = scene.smis.samples = 256
-scene.cycles.pixel_filter_type = scene.smis.filter_type = 'BOX'
-scene.cycles.filter_width = scene.smis.filter_width = 1.0
-scene.cycles.use_denoising = False
-scene.cycles.use_adaptive_sampling = False
-scene.cycles.max_bounces = scene.smis.max_bounces = 4
-scene.cycles.sample_clamp_indirect = 0.0
-scene.cycles.blur_glossy = 0.0
 scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
-
-def material(name, kind, **inputs):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    nt = m.node_tree
-    nt.nodes.remove(nt.nodes["Principled BSDF"])
-    b = nt.nodes.new(kind)
-    for k, v in inputs.items():
-        b.inputs[k].default_value = v
-    if kind == "ShaderNodeBsdfGlossy":
-        b.distribution = 'GGX'
-    nt.links.new(b.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
-    return m
-
 bpy.ops.mesh.primitive_plane_add(size=12.0)
 floor = bpy.context.active_object
 floor.data.materials.append(material("Floor", "ShaderNodeBsdfDiffuse", Color=(0.6, 0.6, 0.6, 1)))
@@ -55,11 +26,7 @@ lamp.data.size = 1.0
 
 
 def _both(setup):
-    images = []
-    for engine in ("SMIS", "CYCLES"):
-        run = render(setup=SCENE + setup, engine=engine)
-        assert run.returncode == 0, run.output[-3000:]
-        images.append(run.image[..., :3])
+    images = [img[..., :3] for img in render_both(SCENE + setup)]
     a, b = (block_mean(img, 4).mean(-1) for img in images)
     return images, float(np.abs(a - b).mean() / b.mean())
 

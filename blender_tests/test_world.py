@@ -8,7 +8,7 @@ import os
 import bpy
 import numpy as np
 
-from conftest import REFERENCES, ROOT, _smis, block_mean, render
+from conftest import EMPTY_SCENE_AND_MATERIALS, REFERENCES, ROOT, _smis, block_mean, matched_settings, render, render_both
 from smis_render.sync import world as sync_world
 
 SPP = int(os.environ.get("SMIS_WORLD_SPP", "1024"))
@@ -303,26 +303,11 @@ def test_nishita_sky_lights_a_scene_as_in_cycles():
     """A diffuse and a glossy sphere on a floor under Blender's default Nishita sky (sun at 35 degrees,
     the default 0.545-degree disc, sampled on its own by both engines), sky in view: 8x8 block means
     against Cycles rendered in the test."""
-    lit = """
-import math
-for obj in list(bpy.data.objects):
-    if obj.type != 'CAMERA':
-        bpy.data.objects.remove(obj)
-cam = scene.camera
+    lit = EMPTY_SCENE_AND_MATERIALS + matched_settings(64, 48, 512) + """
 cam.location = (0.0, -7.0, 2.2)
 cam.rotation_euler = (math.radians(80), 0.0, 0.0)
 cam.data.lens = 28
-scene.render.resolution_x, scene.render.resolution_y = 64, 48
-scene.view_settings.view_transform = 'Standard'
-scene.cycles.samples = scene.smis.samples = 512
-scene.cycles.pixel_filter_type = scene.smis.filter_type = 'BOX'
-scene.cycles.filter_width = scene.smis.filter_width = 1.0
-scene.cycles.use_denoising = False
-scene.cycles.use_adaptive_sampling = False
-scene.cycles.max_bounces = scene.smis.max_bounces = 8
-scene.cycles.sample_clamp_indirect = 0.0
 scene.cycles.caustics_reflective = scene.cycles.caustics_refractive = True
-scene.cycles.blur_glossy = 0.0
 nt = scene.world.node_tree
 sky = nt.nodes.new("ShaderNodeTexSky")
 sky.sky_type = 'NISHITA'
@@ -330,19 +315,6 @@ sky.sun_elevation = math.radians(35.0)
 sky.sun_rotation = math.radians(200.0)
 nt.links.new(sky.outputs["Color"], nt.nodes["Background"].inputs["Color"])
 nt.nodes["Background"].inputs["Strength"].default_value = 0.2
-
-def material(name, kind, **inputs):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    mnt = m.node_tree
-    mnt.nodes.remove(mnt.nodes["Principled BSDF"])
-    b = mnt.nodes.new(kind)
-    for k, v in inputs.items():
-        b.inputs[k].default_value = v
-    if kind == "ShaderNodeBsdfGlossy":
-        b.distribution = 'GGX'
-    mnt.links.new(b.outputs[0], mnt.nodes["Material Output"].inputs["Surface"])
-    return m
 
 bpy.ops.mesh.primitive_plane_add(size=30.0)
 bpy.context.active_object.data.materials.append(material("Floor", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1)))
@@ -353,12 +325,8 @@ bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=1.0, loc
 bpy.ops.object.shade_smooth()
 bpy.context.active_object.data.materials.append(material("Metal", "ShaderNodeBsdfGlossy", Color=(0.9, 0.8, 0.6, 1), Roughness=0.3))
 """
-    images = []
-    for engine in ("SMIS", "CYCLES"):
-        run = render(setup=lit, engine=engine, timeout=900)
-        assert run.returncode == 0, run.output[-3000:]
-        images.append(run.image[..., :3])
-    a, b = (block_mean(img, 8).mean(-1) for img in images)
+    images = render_both(lit, timeout=900)
+    a, b = (block_mean(img[..., :3], 8).mean(-1) for img in images)
     rel = (a - b) / b
     report = {"mean_relative_error": float(np.abs(rel).mean()), "mean_signed_error": float(rel.mean()),
               "worst_block": float(np.abs(rel).max())}
@@ -370,21 +338,10 @@ bpy.context.active_object.data.materials.append(material("Metal", "ShaderNodeBsd
 def test_keyed_world_and_sky_strength_follow_the_frame():
     """The Background strength and the Nishita sun intensity keyed over frames: each frame renders
     with its own values, as in Cycles (the same frame rendered by both engines)."""
-    setup = """
-import math
-for obj in list(bpy.data.objects):
-    if obj.type != 'CAMERA':
-        bpy.data.objects.remove(obj)
-cam = scene.camera
+    setup = EMPTY_SCENE_AND_MATERIALS + matched_settings(24, 16, 512) + """
 cam.location = (0.0, 0.0, 0.0)
 cam.rotation_euler = (math.radians(95), 0.0, 0.0)
 cam.data.lens = 20
-scene.render.resolution_x, scene.render.resolution_y = 24, 16
-scene.view_settings.view_transform = 'Standard'
-scene.cycles.samples = scene.smis.samples = 512
-scene.cycles.pixel_filter_type = scene.smis.filter_type = 'BOX'
-scene.cycles.filter_width = scene.smis.filter_width = 1.0
-scene.cycles.use_denoising = False
 nt = scene.world.node_tree
 bg = nt.nodes["Background"]
 sky = nt.nodes.new("ShaderNodeTexSky")
@@ -401,15 +358,12 @@ for frame, strength, intensity in ((1, 0.5, 0.2), (5, 2.0, 1.5)):
 """
     means = {}
     for frame in (1, 3, 5):
-        for engine in ("SMIS", "CYCLES"):
-            run = render(setup=setup, engine=engine, frame=frame)
-            assert run.returncode == 0, run.output[-3000:]
-            means[frame, engine] = run.image[..., :3]
-        ours, cycles = means[frame, "SMIS"], means[frame, "CYCLES"]
+        ours, cycles = (img[..., :3] for img in render_both(setup, frame=frame))
+        means[frame] = ours
         # The sky away from the disc pixel by pixel; the disc (512 spp of its edge) by its total light.
         sky = (ours.max(-1) < 50.0) & (cycles.max(-1) < 50.0)
         err = float(np.abs(ours - cycles)[sky].mean() / cycles[sky].mean())
         disc = float(ours.sum() / cycles.sum() - 1.0)
         print("keyed strength, frame %d: sky relative difference to Cycles %.5f, total light %+.4f" % (frame, err, disc))
         assert err < 0.01 and abs(disc) < 0.03, (frame, err, disc)
-    assert means[5, "SMIS"].mean() > 3.0 * means[1, "SMIS"].mean()
+    assert means[5].mean() > 3.0 * means[1].mean()
