@@ -300,7 +300,7 @@ nt.links.new(sky.outputs["Color"], bg.inputs["Color"])
 
 
 def test_nishita_sky_lights_a_scene_as_in_cycles():
-    """A diffuse and a glossy sphere on a floor under Blender's default Nishita sky (sun at 35 degrees,
+    """A diffuse, a glossy and a glass sphere on a floor under Blender's default Nishita sky (sun at 35 degrees,
     the default 0.545-degree disc, sampled on its own by both engines), sky in view: 8x8 block means
     against Cycles rendered in the test."""
     lit = EMPTY_SCENE_AND_MATERIALS + matched_settings(64, 48, 512) + """
@@ -324,6 +324,9 @@ bpy.context.active_object.data.materials.append(material("Diffuse", "ShaderNodeB
 bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=1.0, location=(1.2, 0.5, 1.0))
 bpy.ops.object.shade_smooth()
 bpy.context.active_object.data.materials.append(material("Metal", "ShaderNodeBsdfGlossy", Color=(0.9, 0.8, 0.6, 1), Roughness=0.3))
+bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=0.6, location=(0.2, -1.6, 0.6))
+bpy.ops.object.shade_smooth()
+bpy.context.active_object.data.materials.append(material("Glass", "ShaderNodeBsdfGlass", IOR=1.45, Roughness=0.0))
 """
     images = render_both(lit, timeout=900)
     a, b = (block_mean(img[..., :3], 8).mean(-1) for img in images)
