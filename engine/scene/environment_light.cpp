@@ -44,6 +44,11 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const ShaderProgram> program,
     width_ = std::clamp(width, 1, 8192);
     height_ = std::clamp(height, 1, 4096);
     const int w = width_, h = height_;
+    if (const NishitaSky* sun = sample_sun ? program_->sampled_sun() : nullptr) {
+        sun_dir_ = normalize(sun->sun_direction());
+        sun_frame_ = Frame(sun_dir_);
+        sun_one_minus_cos_ = 2.0f * sqr(std::sin(0.5f * sun->sun_half_angle()));  // 1 - cos, without cancellation
+    }
     row_cdf_.assign(size_t(w + 1) * h, 0.0f);
     std::vector<double> row_sum(h, 0.0), row_color[3];
     for (auto& c : row_color) c.assign(h, 0.0);
@@ -57,9 +62,12 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const ShaderProgram> program,
             const float sin_theta = std::sin(kPi * v);
             double sum = 0.0, rgb[3] = {0.0, 0.0, 0.0};
             for (int x = 0; x < w; ++x) {
-                Color L = radiance(equirectangular_to_direction((x + 0.5f) / w, v), kind);
+                const Vec3 dir = equirectangular_to_direction((x + 0.5f) / w, v);
+                Color L = radiance(dir, kind);
                 f[x] = double(std::max(luminance(L), 0.0f)) * sin_theta;
                 sum += f[x];
+                // A sampled sun's light is integrated on its own below, not by the cells it covers.
+                if (sun_one_minus_cos_ > 0.0f && sun_pdf(dir) > 0.0f) continue;
                 for (int c = 0; c < 3; ++c) rgb[c] += double(L[c]) * sin_theta;
             }
             float* cdf = &row_cdf_[size_t(y) * (w + 1)];
@@ -90,12 +98,20 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const ShaderProgram> program,
                              : Color(0.0f);
     if (!is_finite(average_)) average_ = Color(0.0f);
 
-    if (const NishitaSky* sun = sample_sun ? program_->sampled_sun() : nullptr) {
-        sun_dir_ = normalize(sun->sun_direction());
-        sun_frame_ = Frame(sun_dir_);
-        sun_one_minus_cos_ = 2.0f * sqr(std::sin(0.5f * sun->sun_half_angle()));  // 1 - cos, without cancellation
+    if (sun_one_minus_cos_ > 0.0f) {
         constexpr float kSunWeight = 4.0f, kMapWeight = 1.0f;  // Cycles' background sun_weight and map_weight
         sun_probability_ = empty_ ? 1.0f : kSunWeight / (kSunWeight + kMapWeight);
+        // The disc's share of the mean radiance (light selection, the spectral emitter's colour):
+        // its mean radiance from stratified points of the cone, times its solid angle over 4 pi.
+        constexpr int kStrata = 16;
+        Color disc(0.0f);
+        for (int i = 0; i < kStrata; ++i)
+            for (int j = 0; j < kStrata; ++j)
+                disc += radiance(sun_frame_.to_world(sample_uniform_cone({(i + 0.5f) / kStrata, (j + 0.5f) / kStrata},
+                                                                         sun_one_minus_cos_)),
+                                 kind);
+        const Color share = disc * (sun_one_minus_cos_ / (2.0f * kStrata * kStrata));
+        if (is_finite(share)) average_ += share;
     }
 }
 

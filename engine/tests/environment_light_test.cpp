@@ -501,6 +501,19 @@ TEST(EnvironmentLight, SunSamplingIsUnbiasedAndLowersVariance) {
                 "(variance %.4g); 4096x2048 map only %.4f (variance %.4g)\n",
                 expected, disc.mean(), sun.mean(), sun.variance(), fine.mean(), fine.variance());
     EXPECT_LT(sun.variance(), 1e-2 * fine.variance());
+
+    // The mean radiance the light reports (light selection by power, the spectral emitter) counts
+    // the disc by its own integral: the same two-part reference, without the cosine.
+    auto lum = [&](const Vec3& w) { return double(luminance(with_sun.radiance(w, EnvironmentLight::light_sample_kind()))); };
+    MeanEstimator disc_lum;
+    for (int i = 0; i < 20000; ++i) {
+        Vec3 w = frame.to_world(sample_uniform_cone({cone_rng.next_float(), cone_rng.next_float()}, one_minus_cos));
+        disc_lum.add(lum(w) / uniform_cone_pdf(one_minus_cos));
+    }
+    const double mean_radiance =
+        (disc_lum.mean() + integrate_sphere([&](const Vec3& w) { return in_disc(w) ? 0.0 : lum(w); }, io,
+                                            SphereGrid{64, 128})) / (4.0 * kPi);
+    EXPECT_NEAR(luminance(with_sun.average()), mean_radiance, 0.01 * mean_radiance);
 }
 
 // A sun-lit diffuse sphere on a floor under the Nishita sky, rendered at equal samples with the sun
