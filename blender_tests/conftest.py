@@ -84,7 +84,7 @@ scene.cycles.blur_glossy = 0.0
 
 
 # Setup code: remove every object but the camera, and `material(name, node type, **inputs)`: a
-# material whose Surface is one shader node with those inputs (GGX for Glossy).
+# material whose Surface is one shader node with those inputs (GGX for Glossy and Glass).
 EMPTY_SCENE_AND_MATERIALS = """
 import math
 for obj in list(bpy.data.objects):
@@ -100,7 +100,7 @@ def material(name, kind, **inputs):
     b = nt.nodes.new(kind)
     for k, v in inputs.items():
         b.inputs[k].default_value = v
-    if kind == "ShaderNodeBsdfGlossy":
+    if kind in ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfGlass"):
         b.distribution = 'GGX'
     nt.links.new(b.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
     return m

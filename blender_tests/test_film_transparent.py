@@ -136,3 +136,28 @@ def test_viewport_settings_and_passes_with_film_transparent():
     np.testing.assert_allclose(sky[..., :3].reshape(-1, 3), np.broadcast_to([1.0, 0.5, 0.25], (64, 3)), rtol=1e-6)
     assert (sky[..., 3] == 1.0).all()
     np.testing.assert_array_equal(depth_t, depth_o)
+
+
+def test_transparent_glass_matches_cycles():
+    """Cycles' Transparent Glass: through a sharp and a slightly rough glass sphere (under the
+    roughness threshold) the World becomes alpha too; a rougher one stays opaque."""
+    glass = """
+scene.cycles.film_transparent_glass = True
+scene.cycles.film_transparent_roughness = 0.1
+for i, (rough, x) in enumerate(((0.0, -1.6), (0.05, 0.0), (0.4, 1.6))):
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.55, location=(x, -2.5, 1.6))
+    bpy.ops.object.shade_smooth()
+    bpy.context.active_object.data.materials.append(material("Glass%d" % i, "ShaderNodeBsdfGlass", IOR=1.45, Roughness=rough))
+"""
+    ours, cycles = _both(glass)
+    a, b = block_mean(ours, 4), block_mean(cycles, 4)
+    alpha_err = float(np.abs(a[..., 3] - b[..., 3]).mean())
+    # Colour left of the rough sphere: GGX glass of roughness 0.4 differs from Cycles' by a few
+    # percent with the film opaque too (the BSDF's, not the film's; issue 19).
+    left = slice(0, 8)
+    colour_err = float(np.abs(a[:, left, :3] - b[:, left, :3]).mean() / b[:, left, :3].mean())
+    rough = float(ours[:, 32:, :3].sum() / cycles[:, 32:, :3].sum() - 1.0)
+    print("transparent glass vs Cycles: mean |alpha difference| %.4f, colour %.4f (4x4 blocks; the rough sphere "
+          "%+.3f)" % (alpha_err, colour_err, rough))
+    assert alpha_err < 0.01
+    assert colour_err < 0.02

@@ -40,6 +40,10 @@ struct RenderSettings {
     // Blender's Film > Transparent: the World seen by camera rays (directly or through transparent
     // surfaces only) becomes alpha instead of colour; it still lights the scene (PathState).
     bool film_transparent = false;
+    // Cycles' Transparent Glass (with Film Transparent): a refraction through glass whose GGX alpha
+    // (roughness^2) is at most this keeps the path transparent, so the World behind glass becomes
+    // alpha too. Negative: off.
+    float film_transparent_glass = -1.0f;
     float filter_width = 1.5f;
     // Path-space filtering (integrators PSF_*).
     float psf_radius_px = 6.0f;        // gather radius in screen pixels, projected to world at the vertex

@@ -217,7 +217,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
             if (!bs.valid()) return rec;
             beta *= bs.value / bs.pdf;
             if (bs.transmission) eta_scale *= sqr(bs.eta);
-            update_transparent_background(st, sp.bsdf, bs);
+            update_transparent_background(settings, st, sp.bsdf, bs);
             st.prev_delta = true;
             st.prev_pdf = bs.pdf;
             st.prev_p = hit.p;

@@ -148,7 +148,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         beta *= bs.value / bs.pdf;
         if (bs.transmission) eta_scale *= sqr(bs.eta);
         if (programs) next_shader_ray(sp.bsdf, bs, &sray);
-        update_transparent_background(state, sp.bsdf, bs);
+        update_transparent_background(settings, state, sp.bsdf, bs);
         if constexpr (kMedia) state.medium = medium_towards(scene, sp, bs.wi, state.medium);
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;

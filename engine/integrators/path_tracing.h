@@ -120,10 +120,17 @@ inline bool add_transparency(const RenderSettings& settings, const PathState& st
     return found;
 }
 // After a bounce: only a Transparent lobe keeps the background transparent (Cycles clears the flag
-// on every reflection and on every transmission but LABEL_TRANSMIT_TRANSPARENT).
-inline void update_transparent_background(PathState& st, const Bsdf& bsdf, const BsdfSample& bs) {
-    st.transparent_background = st.transparent_background && bs.lobe >= 0 &&
-                                bsdf.lobe(bs.lobe).kind == LobeKind::Transparent;
+// on every reflection and on every transmission but LABEL_TRANSMIT_TRANSPARENT), and, with
+// Transparent Glass, a refraction through glass at most that rough (Cycles' bsdf_sample: alpha^2 at
+// most the threshold roughness^2).
+inline void update_transparent_background(const RenderSettings& settings, PathState& st, const Bsdf& bsdf,
+                                          const BsdfSample& bs) {
+    if (!st.transparent_background) return;
+    const Lobe* lobe = bs.lobe >= 0 ? &bsdf.lobe(bs.lobe) : nullptr;
+    st.transparent_background =
+        lobe && (lobe->kind == LobeKind::Transparent ||
+                 (settings.film_transparent && bs.transmission && lobe->kind == LobeKind::Dielectric &&
+                  lobe->alpha <= settings.film_transparent_glass));
 }
 struct RayMedia;
 // Transmittance along a ray's media up to t / to its end (defined with RayMedia in volume.cpp).

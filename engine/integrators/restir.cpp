@@ -62,7 +62,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
         }
         beta *= bs.value / bs.pdf;
         if (bs.transmission) eta_scale *= sqr(bs.eta);
-        update_transparent_background(st, sp.bsdf, bs);
+        update_transparent_background(settings, st, sp.bsdf, bs);
         st.prev_delta = bs.delta;
         st.light_pdf_scale = first ? resampled_light_pdf_scale(settings) : 1.0f;
         st.prev_pdf = bs.pdf;

@@ -257,7 +257,7 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
         }
         if (bs.transmission) eta_scale *= sqr(bs.eta);
         if (programs) next_shader_ray(sp.bsdf, bs, &sray);
-        update_transparent_background(state, sp.bsdf, bs);
+        update_transparent_background(settings, state, sp.bsdf, bs);
         if (state.transparent_background) transparent_beta *= bs.value / bs.pdf;
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;

@@ -132,6 +132,7 @@ RenderSettings parse_settings(const py::dict& d) {
     s.filter_width = get<float>(d, "filter_width", s.filter_width);
     s.aux_passes = get<bool>(d, "aux_passes", s.aux_passes);
     s.film_transparent = get<bool>(d, "film_transparent", s.film_transparent);
+    s.film_transparent_glass = get<float>(d, "film_transparent_glass", s.film_transparent_glass);
     s.psf_radius_px = get<float>(d, "psf_radius_px", s.psf_radius_px);
     s.psf_radius_alpha = get<float>(d, "psf_radius_alpha", s.psf_radius_alpha);
     s.psf_max_neighbors = get<int>(d, "psf_max_neighbors", s.psf_max_neighbors);
