@@ -5,7 +5,7 @@ expectation), and the lamp is no longer seen in the glossy floor's reflection.""
 import bpy  # noqa: F401
 import numpy as np
 
-from conftest import EMPTY_SCENE_AND_MATERIALS, block_mean, matched_settings, render_both
+from conftest import EMPTY_SCENE_AND_MATERIALS, block_mean, matched_settings, render, render_both
 
 SCENE = EMPTY_SCENE_AND_MATERIALS + matched_settings(48, 32, 256, max_bounces=4) + """
 cam.location = (0.0, -6.0, 3.0)
@@ -27,15 +27,27 @@ lamp.data.size = 1.0
 
 def _both(setup):
     images = [img[..., :3] for img in render_both(SCENE + setup)]
-    a, b = (block_mean(img, 4).mean(-1) for img in images)
-    return images, float(np.abs(a - b).mean() / b.mean())
+    return images, _difference(*images)
+
+
+def _difference(ours, cycles):
+    a, b = (block_mean(img, 4).mean(-1) for img in (ours, cycles))
+    return float(np.abs(a - b).mean() / b.mean())
+
+
+def _ris_difference(setup, cycles):
+    """The same scene with RIS direct lighting (its own shadow rays and MIS weights) against Cycles."""
+    run = render(setup=SCENE + setup + "scene.smis.direct_light = 'RIS'\n")
+    assert run.returncode == 0, run.output[-3000:]
+    return _difference(run.image[..., :3], cycles)
 
 
 def test_cast_shadow_off_matches_cycles():
-    (ours, _), err = _both("lamp.data.cycles.cast_shadow = False\n")
+    (ours, cycles), err = _both("lamp.data.cycles.cast_shadow = False\n")
     (shadowed, _), _ = _both("")
-    print("Cast Shadow off: relative difference to Cycles (4x4 blocks) %.4f" % err)
-    assert err < 0.01, err
+    ris = _ris_difference("lamp.data.cycles.cast_shadow = False\n", cycles)
+    print("Cast Shadow off: relative difference to Cycles (4x4 blocks) %.4f, with RIS %.4f" % (err, ris))
+    assert err < 0.01 and ris < 0.01, (err, ris)
     # The sphere's shadow on the floor is gone: pixels there are much brighter than with the shadow.
     lit = ours.mean(-1) > 1.5 * shadowed.mean(-1) + 0.01
     assert lit.sum() > 20, lit.sum()
@@ -46,9 +58,10 @@ def test_multiple_importance_off_matches_cycles():
     (its Dirac lobe cannot take light samples and BSDF rays no longer see the lamp), in both engines."""
     off = "lamp.data.cycles.use_multiple_importance_sampling = False\n"
     mirror = "floor.data.materials[0] = material('Mirror', 'ShaderNodeBsdfGlossy', Roughness=0.0)\n"
-    _, err = _both(off)
-    print("Multiple Importance off: relative difference to Cycles (4x4 blocks) %.4f" % err)
-    assert err < 0.01, err
+    (_, cycles), err = _both(off)
+    ris = _ris_difference(off, cycles)
+    print("Multiple Importance off: relative difference to Cycles (4x4 blocks) %.4f, with RIS %.4f" % (err, ris))
+    assert err < 0.01 and ris < 0.01, (err, ris)
     (ours, cycles), err_mirror = _both(off + mirror)
     (with_mis, _), _ = _both(mirror)
     print("Multiple Importance off, sharp mirror: relative difference to Cycles %.4f; brightest pixel %.3f "
