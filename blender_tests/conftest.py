@@ -62,3 +62,56 @@ def scene_path(name):
 def block_mean(img, k):
     h, w = img.shape[0] // k * k, img.shape[1] // k * k
     return img[:h, :w].reshape(h // k, k, w // k, k, -1).mean(axis=(1, 3))
+
+
+def matched_settings(width, height, samples, max_bounces=8):
+    """Setup code under which SMIS and Cycles render the same estimand: the given size, samples and
+    bounce limit, Standard view, a 1-px BOX filter, and none of Cycles' biased shortcuts (denoising,
+    adaptive sampling, indirect clamping, filter glossy)."""
+    return f"""
+scene.render.resolution_x, scene.render.resolution_y = {width}, {height}
+scene.render.resolution_percentage = 100
+scene.view_settings.view_transform = 'Standard'
+scene.cycles.samples = scene.smis.samples = {samples}
+scene.cycles.pixel_filter_type = scene.smis.filter_type = 'BOX'
+scene.cycles.filter_width = scene.smis.filter_width = 1.0
+scene.cycles.use_denoising = False
+scene.cycles.use_adaptive_sampling = False
+scene.cycles.max_bounces = scene.smis.max_bounces = {max_bounces}
+scene.cycles.sample_clamp_indirect = 0.0
+scene.cycles.blur_glossy = 0.0
+"""
+
+
+# Setup code: remove every object but the camera, and `material(name, node type, **inputs)`: a
+# material whose Surface is one shader node with those inputs (GGX for Glossy and Glass).
+EMPTY_SCENE_AND_MATERIALS = """
+import math
+for obj in list(bpy.data.objects):
+    if obj.type != 'CAMERA':
+        bpy.data.objects.remove(obj)
+cam = scene.camera
+
+def material(name, kind, **inputs):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nt = m.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    b = nt.nodes.new(kind)
+    for k, v in inputs.items():
+        b.inputs[k].default_value = v
+    if kind in ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfGlass"):
+        b.distribution = 'GGX'
+    nt.links.new(b.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    return m
+"""
+
+
+def render_both(setup, timeout=600, frame=1):
+    """The same setup rendered by SMIS and by Cycles: their RGBA images (row 0 bottom)."""
+    images = []
+    for engine in ("SMIS", "CYCLES"):
+        run = render(setup=setup, engine=engine, timeout=timeout, frame=frame)
+        assert run.returncode == 0, run.output[-3000:]
+        images.append(run.image)
+    return images

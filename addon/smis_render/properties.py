@@ -319,6 +319,28 @@ def film_exposure(scene):
     return value if math.isfinite(value) and value >= 0.0 else 1.0
 
 
+def _cycles_scene_setting(scene, name, default):
+    """A setting of Cycles' own panels that the scene carries (without the Cycles add-on: in the
+    scene's "cycles" ID properties, absent meaning Cycles' default)."""
+    cycles = getattr(scene, "cycles", None)
+    if cycles is not None and hasattr(cycles, name):
+        return getattr(cycles, name)
+    stored = scene.get("cycles")
+    return stored.get(name, default) if hasattr(stored, "get") else default
+
+
+def film_transparent_glass(scene):
+    """Cycles' Film > Transparent Glass as the engine takes it: the roughness threshold under which
+    glass lets the World through as alpha, or -1 when off (it needs Film > Transparent)."""
+    if not scene.render.film_transparent or not _cycles_scene_setting(scene, "film_transparent_glass", False):
+        return -1.0
+    try:
+        value = float(_cycles_scene_setting(scene, "film_transparent_roughness", 0.1))
+    except (TypeError, ValueError):
+        return -1.0
+    return value if math.isfinite(value) and value >= 0.0 else -1.0
+
+
 def session_settings(scene):
     """The settings dict for `_smis.RenderSession`, resolved for the scene's current frame."""
     s = scene.smis
@@ -330,6 +352,9 @@ def session_settings(scene):
     return {
         "samples": s.samples,
         "max_bounces": s.max_bounces,
+        # Blender's Film > Transparent (a scene.render setting: Cycles' own Film panel shows it)
+        "film_transparent": bool(scene.render.film_transparent),
+        "film_transparent_glass": film_transparent_glass(scene),
         "seed": seed,
         "stratified": s.sampling_pattern == 'STRATIFIED',
         "mis_heuristic": s.mis_heuristic,

@@ -7,7 +7,7 @@ void Film::resolve(float* rgba) const {
         uint32_t n = count_[i].load(std::memory_order_acquire);
         double inv = n ? 1.0 / n : 0.0;
         for (int c = 0; c < 3; ++c) rgba[4 * i + c] = static_cast<float>(sum_[3 * i + c] * inv);
-        rgba[4 * i + 3] = 1.0f;
+        rgba[4 * i + 3] = has_transparency() ? clampf(float(1.0 - transparency_sum_[i] * inv), 0.0f, 1.0f) : 1.0f;
     }
 }
 

@@ -39,6 +39,15 @@ public:
         sum_[3 * i] += c.x, sum_[3 * i + 1] += c.y, sum_[3 * i + 2] += c.z;
         count_[i].store(count_[i].load(std::memory_order_relaxed) + 1, std::memory_order_release);
     }
+    // Film Transparent: the part of a sample's camera path that reached the background unseen (see
+    // PathState::transparent_background); alpha = 1 - its mean. Costs nothing unless enabled.
+    void enable_transparency() { transparency_sum_.assign(size_t(width_) * height_, 0.0); }
+    bool has_transparency() const { return !transparency_sum_.empty(); }
+    // A sample's colour and its transparency (ignored when the film is opaque).
+    void add(int x, int y, const Color& c, float transparency) {
+        if (has_transparency()) transparency_sum_[size_t(y) * width_ + x] += transparency;
+        add(x, y, c);
+    }
     // Auxiliary passes cost nothing (no memory, no rays) unless enabled before rendering.
     void enable_aux();
     bool has_aux() const { return kWithAuxPasses && !aux_count_.empty(); }
@@ -53,7 +62,9 @@ public:
     // One auxiliary pass averaged over its samples: width x height x aux_pass_channels(pass) floats,
     // rows bottom to top; empty when the passes are off.
     std::vector<float> resolve_aux(AuxPass pass) const;
-    // RGBA float32, rows bottom to top (Blender's order), alpha 1; pixels without samples are black.
+    // RGBA float32, rows bottom to top (Blender's order); pixels without samples are black. Alpha is 1
+    // unless the film is transparent, then 1 - the mean transparency clamped to [0, 1] (Cycles'
+    // film_get_pass_pixel_combined).
     void resolve(float* rgba) const;
     std::vector<float> resolve() const {
         std::vector<float> out(4 * size_t(width_) * height_);
@@ -65,6 +76,7 @@ private:
     int width_, height_;
     std::vector<double> sum_;
     std::vector<std::atomic<uint32_t>> count_;
+    std::vector<double> transparency_sum_;
     std::vector<double> aux_sum_;
     std::vector<std::atomic<uint32_t>> aux_count_;
 };

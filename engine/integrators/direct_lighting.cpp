@@ -4,6 +4,7 @@ namespace smis {
 
 CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, const LightCandidate& x) {
     CandidateEval e;
+    e.light = x.light;
     e.ls = scene.light(x.light).sample(sp.hit.p, x.u);
     if (!e.ls.valid()) return e;
     Color f = sp.bsdf.eval(sp.wo, e.ls.wi);
@@ -15,6 +16,7 @@ CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, con
 }
 
 bool candidate_visible(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e) {
+    if (!scene.light(e.light).cast_shadow) return true;  // Cast Shadow off: no shadow ray
     const ShadowRay shadow = shadow_ray(sp, e.ls.wi, e.ls.dist);
     return !scene.occluded(shadow.o, shadow.d, shadow.tmax) && reaches_mesh_light(scene, shadow, e.ls);
 }
@@ -55,7 +57,7 @@ Color visible_reservoir_contribution(const Scene& scene, const RenderSettings& s
                                      const Reservoir& r, const CandidateEval& e) {
     if (!r.has_sample() || !(e.target > 0.0f)) return Color(0.0f);
     float w_light = 1.0f;
-    if (!e.ls.delta) {
+    if (!e.ls.delta && scene.light(r.y.light).use_mis) {  // Multiple Importance off: unweighted
         float light_pdf = resampled_light_pdf_scale(settings) * scene.light_pmf(r.y.light) * e.ls.pdf;
         w_light = mis_weight(settings.mis, light_pdf, sp.bsdf.pdf(sp.wo, e.ls.wi));
     }

@@ -26,6 +26,7 @@ struct CandidateEval {
     LightSample ls;     // the light's sample for (q, u)
     Color g{0.0f};      // f(wo, wi) Le / pdf_light: the integrand in primary sample space (unshadowed)
     float target = 0;   // p^_q(x) = luminance(g)
+    uint32_t light = 0;  // which light (x.light)
 };
 CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, const LightCandidate& x);
 // Whether the candidate's light point is visible from the shading point (one shadow ray).

@@ -39,6 +39,13 @@ struct RenderSettings {
     std::string filter = "BLACKMAN_HARRIS";
     bool aux_passes = false;      // Depth/Normal/Albedo/diagnostic passes (one extra camera ray per sample)
     bool aux_shading = true;      // ...of which Normal or Albedo (else the first hit's depth is all they need)
+    // Blender's Film > Transparent: the World seen by camera rays (directly or through transparent
+    // surfaces only) becomes alpha instead of colour; it still lights the scene (PathState).
+    bool film_transparent = false;
+    // Cycles' Transparent Glass (with Film Transparent): a refraction through glass whose GGX alpha
+    // (roughness^2) is at most this keeps the path transparent, so the World behind glass becomes
+    // alpha too. Negative: off.
+    float film_transparent_glass = -1.0f;
     float filter_width = 1.5f;
     // Path-space filtering (integrators PSF_*).
     float psf_radius_px = 6.0f;        // gather radius in screen pixels, projected to world at the vertex
@@ -119,6 +126,9 @@ struct LocalCounters {
     // The current sample's camera-ray depth (Cycles' Z), recorded by the path tracer as it traces
     // the camera ray so that the Z pass needs no ray of its own; NaN where nothing recorded it.
     float camera_depth = std::numeric_limits<float>::quiet_NaN();
+    // The current sample's transparency for Film Transparent (PathState::transparent_background),
+    // reset per sample like sample_diagnostic; not a counter.
+    float sample_transparency = 0.0f;
     void flush(RenderCounters& c) {
         c.paths += paths, c.nan_caught += nan_caught, c.samples_rejected += samples_rejected;
         *this = {};

@@ -7,8 +7,7 @@ namespace smis {
 
 Color PathIntegrator::Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
                          LocalCounters& counters) const {
-    PathState camera;
-    camera.prev_p = ray.o;
+    PathState camera = camera_path_state(ray.o);
     camera.first_vertex_ahead = true;
     camera.medium = scene.camera_medium();
     if (settings.camera_volume_only) {  // benchmarks: the camera ray's single scattering alone

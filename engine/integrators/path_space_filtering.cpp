@@ -61,6 +61,7 @@ struct SuffixVertex {
 // demand from the material (cheap, and keeps the record small).
 struct PathRecord : SuffixVertex {
     Color fixed{0.0f};   // per-pixel part: prefix emission, NEE at x1, emission found by x1's sample
+    float transparency = 0.0f;  // Film Transparent: the prefix's throughput that reached the World unseen
     bool has_vertex = false;
     bool has_suffix = false;
     uint8_t dirac_depth = 0;  // the prefix's Dirac bounces before x1 (they set the suffix's bounce budget)
@@ -212,14 +213,14 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
     PathRecord rec;
     *model = TechniqueDensity{};
     for (int m = 0; m < extra_paths; ++m) extra[m] = PrivateSuffix{};
-    PathState st;
-    st.prev_p = ray.o;
+    PathState st = camera_path_state(ray.o);
     Color beta(1.0f);
     float eta_scale = 1.0f, prefix_length = 0.0f;
     for (;; ++st.depth) {
         SurfaceHit hit;
         bool found = scene.intersect(ray, &hit);
         rec.fixed += beta * emission_along(scene, settings, ray, found, hit, st);
+        if (add_transparency(settings, st, found, hit, beta, counters)) return rec;
         if (!found || st.depth > settings.max_bounces) return rec;
         prefix_length += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
@@ -229,6 +230,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
             if (!bs.valid()) return rec;
             beta *= bs.value / bs.pdf;
             if (bs.transmission) eta_scale *= sqr(bs.eta);
+            update_transparent_background(settings, st, sp.bsdf, bs);
             st.prev_delta = true;
             st.prev_pdf = bs.pdf;
             st.prev_p = hit.p;
@@ -424,9 +426,11 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                                            uint32_t(y + scene.camera().window_y0()), settings.seed),
                       s, b.extra_bsdf_taken[k]};
         const int extra = b.extra_paths[k];
+        local.sample_transparency = 0.0f;
         records[k] = trace_record(scene, settings, ray, rng, local, scene.camera(),
                                   attribs.empty() ? nullptr : &attribs[k], &models[k], extra_strata ? &strata : nullptr,
                                   extra, b.extras.data() + b.extra_offset[k], weighting_ == PsfWeighting::SmisUnbiased);
+        records[k].transparency = local.sample_transparency;
         b.extra_bsdf_taken[k] += uint32_t(extra);
         ++local.paths;
     });
@@ -505,7 +509,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             Rng camera_rng;
             add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), reused);
         }
-        ctx.film.add(x, y, guard_sample(L, local));
+        ctx.film.add(x, y, guard_sample(L, local), records[k].transparency);
     };
 
     // PSF_PATH: the path tracer's own estimate, f cos / p_omega times the suffix radiance, averaged over

@@ -41,16 +41,19 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
         return ds;
     }
     const ShadowRay shadow = shadow_ray(sp, ls.wi, ls.dist);
+    const Light& light = scene.light(li);
     Color tr(1.0f);
-    if (!scene.has_media()) {
-        if (scene.occluded(shadow.o, shadow.d, shadow.tmax) || !reaches_mesh_light(scene, shadow, ls)) return ds;
-    } else {
-        tr = shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, medium_towards(scene, sp, ls.wi, medium));
-        if (is_black(tr) || !reaches_mesh_light(scene, shadow, ls)) return ds;
+    if (light.cast_shadow) {  // Cycles' Cast Shadow off: no shadow ray at all
+        if (!scene.has_media()) {
+            if (scene.occluded(shadow.o, shadow.d, shadow.tmax) || !reaches_mesh_light(scene, shadow, ls)) return ds;
+        } else {
+            tr = shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, medium_towards(scene, sp, ls.wi, medium));
+            if (is_black(tr) || !reaches_mesh_light(scene, shadow, ls)) return ds;
+        }
     }
     float light_pdf = pmf * ls.pdf;
     const float n = float(light_samples);
-    float w = ls.delta ? 1.0f : mis_weight(settings.mis, n * light_pdf, float(bsdf_samples) * sp.bsdf.pdf(sp.wo, ls.wi));
+    float w = ls.delta || !light.use_mis ? 1.0f : mis_weight(settings.mis, n * light_pdf, float(bsdf_samples) * sp.bsdf.pdf(sp.wo, ls.wi));
     ds.wi = ls.wi;
     ds.light = li;
     ds.weighted = ls.L * tr * (w / (n * light_pdf));
@@ -107,6 +110,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
                 L += beta * single_scattering(scene, ray, media, rng, counters,
                                               state.depth == 0 && state.planes_on_camera_ray);
             beta *= media.transmittance_to_end();
+            if (add_transparency(settings, state, found, hit, beta, counters)) break;
             state.medium = media.end_medium;
             if (is_black(beta)) break;
         } else {
@@ -114,6 +118,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
             if (state.depth == 0 && settings.aux_passes && !settings.aux_shading)  // the Z pass alone
                 counters.camera_depth = found ? scene.camera().view_depth(hit.p) : kBackgroundDepth;
             L += beta * emission_along(scene, settings, ray, found, hit, state, nullptr, &sray);
+            if (add_transparency(settings, state, found, hit, beta, counters)) break;
         }
         // The ray leaving the last allowed bounce only collects emission (Cycles' max_bounces).
         if (!found || state.depth > settings.max_bounces) break;
@@ -145,6 +150,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         beta *= bs.value / bs.pdf;
         if (bs.transmission) eta_scale *= sqr(bs.eta);
         if (programs) next_shader_ray(sp.bsdf, bs, &sray);
+        update_transparent_background(settings, state, sp.bsdf, bs);
         if constexpr (kMedia) state.medium = medium_towards(scene, sp, bs.wi, state.medium);
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;

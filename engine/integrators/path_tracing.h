@@ -93,7 +93,42 @@ struct PathState {
     // scaling included), for Russian roulette only: a path traced in pieces (path-space filtering's
     // suffix) then stops with the same probabilities as the whole path would.
     float rr_scale = 1.0f;
+    // Cycles' PATH_RAY_TRANSPARENT_BACKGROUND: a camera path that has so far only passed through
+    // transparent surfaces (cut-outs, Transparent lobes). With Film Transparent, the World it
+    // reaches is a hole in the film, not colour: emission_along leaves it out and the path's mean
+    // throughput there counts as transparency (alpha = 1 - its mean, Film::resolve); a holdout
+    // object it meets is such a hole whatever the film (add_transparency). Any other bounce clears it.
+    bool transparent_background = false;
 };
+// The state of a camera path starting at `origin`.
+inline PathState camera_path_state(const Vec3& origin) {
+    PathState st;
+    st.prev_p = origin;
+    st.transparent_background = true;
+    return st;
+}
+// Whether the ray (found: it hit `hit`) ends the camera path as a hole in the film: it escaped to
+// the World with Film Transparent, or it met a holdout object. The path's mean throughput (Cycles'
+// average(throughput)) is then the sample's transparency; the caller stops a path that met a holdout.
+inline bool add_transparency(const RenderSettings& settings, const PathState& st, bool found, const SurfaceHit& hit,
+                             const Color& beta, LocalCounters& c) {
+    if (!st.transparent_background || (found ? !hit.holdout : !settings.film_transparent)) return false;
+    c.sample_transparency += average(beta);
+    return found;
+}
+// After a bounce: only a Transparent lobe keeps the background transparent (Cycles clears the flag
+// on every reflection and on every transmission but LABEL_TRANSMIT_TRANSPARENT), and, with
+// Transparent Glass, a refraction through glass at most that rough (Cycles' bsdf_sample: alpha^2 at
+// most the threshold roughness^2).
+inline void update_transparent_background(const RenderSettings& settings, PathState& st, const Bsdf& bsdf,
+                                          const BsdfSample& bs) {
+    if (!st.transparent_background) return;
+    const Lobe* lobe = bs.lobe >= 0 ? &bsdf.lobe(bs.lobe) : nullptr;
+    st.transparent_background =
+        lobe && (lobe->kind == LobeKind::Transparent ||
+                 (settings.film_transparent && bs.transmission && lobe->kind == LobeKind::Dielectric &&
+                  lobe->alpha <= settings.film_transparent_glass));
+}
 struct RayMedia;
 // Transmittance along a ray's media up to t / to its end (defined with RayMedia in volume.cpp).
 Color media_transmittance(const RayMedia& media, const Scene& scene, float t);
@@ -133,7 +168,7 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
     to_hit.tmax = found ? hit.t : kInf;
     // Area, point and spot lights are not in the BVH (as in Cycles): test them separately.
     scene.for_each_light_hit(to_hit, [&](uint32_t i, const LightHit& h) {
-        if (state.depth == 0 && !scene.light(i).visible_to_camera) return;
+        if (state.depth == 0 ? !scene.light(i).visible_to_camera : !scene.light(i).use_mis) return;
         Color Le = h.L * weight(scene.light_pmf(i), h.pdf);
         add(i, media ? Le * media_transmittance(*media, scene, h.t) : Le);
     });
@@ -146,9 +181,11 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
         k.depth = state.depth;
         k.length = 0.0f;  // Cycles' background shader data
         for (uint32_t i : scene.infinite_lights())
-            if ((state.depth > 0 || scene.light(i).visible_to_camera) && scene.light(i).intersect_as(to_hit, k, &h))
+            if ((state.depth > 0 || scene.light(i).visible_to_camera) && scene.light(i).use_mis &&
+                !(settings.film_transparent && state.transparent_background && scene.light(i).is_background()) &&
+                scene.light(i).intersect_as(to_hit, k, &h))
                 add(i, far(h.L * weight(scene.light_pmf(i), h.pdf)));
-    } else if (hit.light >= 0) {
+    } else if (hit.light >= 0 && !(hit.holdout && state.transparent_background)) {
         auto& tri = static_cast<const TriangleLight&>(scene.light(hit.light));
         add(uint32_t(hit.light), far(scene.emission_at(hit, -ray.d) *
                                      weight(scene.light_pmf(hit.light), tri.pdf_at(state.prev_p, hit.p))));

@@ -171,11 +171,12 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     t0 = Clock::now();
     std::vector<Color> image(size_t(w) * h);
     std::vector<float> gathered_at(ctx.film.has_aux() ? image.size() : 0);  // the diagnostic pass
+    std::vector<float> transparency(ctx.film.has_transparency() ? image.size() : 0);
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
-        PathState camera;
-        camera.prev_p = ray.o;
+        local.sample_transparency = 0.0f;
+        PathState camera = camera_path_state(ray.o);
         camera.medium = scene.camera_medium();
         camera.planes_on_camera_ray = use_planes;
         Color L = settings.camera_volume_only ? Color(0.0f) : trace_path(scene, settings, ray, camera, rng, local);
@@ -216,6 +217,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         }
         ++local.paths;
         image[size_t(y) * w + x] = guard_sample(L, local);
+        if (!transparency.empty()) transparency[size_t(y) * w + x] = local.sample_transparency;
     });
     if (ctx.should_stop()) return;  // a partial iteration never reaches the film
     for (int y = 0; y < h; ++y)
@@ -224,7 +226,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 Rng camera_rng;
                 add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), gathered_at[size_t(y) * w + x]);
             }
-            ctx.film.add(x, y, image[size_t(y) * w + x]);
+            ctx.film.add(x, y, image[size_t(y) * w + x], transparency.empty() ? 0.0f : transparency[size_t(y) * w + x]);
         }
     render_seconds_ += seconds_since(t0);
     ++iterations_;

@@ -9,7 +9,7 @@ void PixelIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) 
         for (uint32_t s = s0; s < s1; ++s) {
             Rng rng;
             Ray ray = camera_ray(ctx, x, y, s, &rng);
-            local.sample_diagnostic = 0.0f;
+            local.sample_diagnostic = local.sample_transparency = 0.0f;
             local.camera_depth = std::numeric_limits<float>::quiet_NaN();
             const Camera& cam = ctx.scene.camera();
             Color L = kWithSpectral ? pixel_sample(ctx, x + cam.window_x0(), y + cam.window_y0(), s, ray, rng, local)
@@ -17,7 +17,7 @@ void PixelIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) 
             // After the sample, for its diagnostic value; the passes draw their own random numbers.
             if (ctx.film.has_aux()) add_aux_sample(ctx, x, y, s, ray, local.sample_diagnostic, local.camera_depth);
             ++local.paths;
-            ctx.film.add(x, y, guard_sample(L, local));
+            ctx.film.add(x, y, guard_sample(L, local), local.sample_transparency);
         }
     });
 }

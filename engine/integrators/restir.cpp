@@ -36,14 +36,14 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
     px.distance = 0.0f;
     px.r = Reservoir{};
     px.eval = CandidateEval{};
-    PathState st;
-    st.prev_p = ray.o;
+    PathState st = camera_path_state(ray.o);
     Color beta(1.0f);
     float eta_scale = 1.0f;
     for (;; ++st.depth) {
         SurfaceHit hit;
         bool found = scene.intersect(ray, &hit);
         px.fixed += beta * emission_along(scene, settings, ray, found, hit, st);
+        if (add_transparency(settings, st, found, hit, beta, counters)) return;
         if (!found || st.depth > settings.max_bounces) return;
         px.distance += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
@@ -62,6 +62,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
         }
         beta *= bs.value / bs.pdf;
         if (bs.transmission) eta_scale *= sqr(bs.eta);
+        update_transparent_background(settings, st, sp.bsdf, bs);
         st.prev_delta = bs.delta;
         st.light_pdf_scale = first ? resampled_light_pdf_scale(settings) : 1.0f;
         st.prev_pdf = bs.pdf;
@@ -118,7 +119,9 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         RestirPixel& me = cur[i];
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
+        local.sample_transparency = 0.0f;
         trace_pixel(scene, settings, ray, rng, local, me);
+        me.transparency = local.sample_transparency;
         ++local.paths;
         const RestirPixel& old = temporal ? prev_[i] : me;
         if (!temporal || !me.has_vertex || !old.has_vertex) return;
@@ -173,7 +176,7 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             Rng camera_rng;
             add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), me.has_vertex ? final_[i].M : 0.0f);
         }
-        ctx.film.add(x, y, guard_sample(L, local));
+        ctx.film.add(x, y, guard_sample(L, local), me.transparency);
     });
     reuse_seconds_ += seconds_since(t0);
     std::swap(prev_, cur_);

@@ -13,6 +13,7 @@ struct RestirPixel {
     ShadingPoint sp;
     Color beta{0.0f};      // camera prefix throughput up to the vertex
     Color fixed{0.0f};     // everything but the direct light at the vertex (path-traced)
+    float transparency = 0.0f;  // Film Transparent: the throughput that reached the World unseen
     float distance = 0.0f; // camera-to-vertex path length, for the neighbour similarity test
     Reservoir r;
     CandidateEval eval;    // r's sample evaluated at sp (when r has one), for the reuse stages

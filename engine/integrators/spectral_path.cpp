@@ -226,9 +226,11 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
     else p.start(sampler_, u, v, wavelength_rng);
     float f[kMaxWavelengths];
     Color L(0.0f);
-    PathState state;
-    state.prev_p = ray.o;
+    PathState state = camera_path_state(ray.o);
     float eta_scale = 1.0f;
+    // Film Transparent: the RGB throughput of the camera path while it passes through transparent
+    // surfaces only (their colour is RGB), for the transparency it adds where it reaches the World.
+    Color transparent_beta(1.0f);
     auto add_emission = [&](uint32_t light, const Color& weighted) {
         float lum = luminance(weighted);
         if (lum > 0.0f) L += p.emission(spectral_.emitter(light), lum);
@@ -240,6 +242,7 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
         SurfaceHit hit;
         bool found = scene.intersect(ray, &hit);
         for_each_emission_along(scene, settings, ray, found, hit, state, add_emission);
+        if (add_transparency(settings, state, found, hit, transparent_beta, counters)) break;
         if (!found || state.depth > settings.max_bounces) break;
         if (programs) {
             sray.depth = state.depth;
@@ -270,12 +273,15 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
         }
         if (bs.transmission) eta_scale *= sqr(bs.eta);
         if (programs) next_shader_ray(sp.bsdf, bs, &sray);
+        update_transparent_background(settings, state, sp.bsdf, bs);
+        if (state.transparent_background) transparent_beta *= bs.value / bs.pdf;
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;
         state.prev_p = hit.p;
         ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
         float survival = russian_roulette_survival(state.depth, p.max_beta(), eta_scale, rng);
         if (survival == 0.0f) break;
+        transparent_beta = transparent_beta / survival;
         bool alive = false;
         for (int i = 0; i < p.n; ++i) alive |= (p.beta[i] /= survival) > 0.0f;
         if (!alive) break;

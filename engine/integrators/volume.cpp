@@ -146,11 +146,15 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
             continue;
         }
         float tmax = std::isinf(ls.dist) ? kInf : ls.dist * (1.0f - 1e-4f);
-        Color tr = shadow_transmittance(scene, x, ls.wi, tmax, s.medium);
-        if (is_black(tr) || !reaches_mesh_light(scene, ShadowRay{x, ls.wi, tmax}, ls)) continue;
+        // Cast Shadow off: no shadow ray, so neither occlusion nor the media on the way (Cycles).
+        if (light.cast_shadow) {
+            Color tr = shadow_transmittance(scene, x, ls.wi, tmax, s.medium);
+            if (is_black(tr) || !reaches_mesh_light(scene, ShadowRay{x, ls.wi, tmax}, ls)) continue;
+            ls.L *= tr;
+        }
         float phase = med.phase.eval(-ray.d, ls.wi);
         Color t_cam = media.transmittance(scene, s.t0) * transmittance(med.sigma_t(), ds.t);
-        L += t_cam * med.sigma_s * tr * ls.L * (phase / (selection.pmf(li) * ls.pdf * pdf));
+        L += t_cam * med.sigma_s * ls.L * (phase / (selection.pmf(li) * ls.pdf * pdf));
     }
     return L;
 }

@@ -133,6 +133,8 @@ RenderSettings parse_settings(const py::dict& d) {
     s.filter_width = get<float>(d, "filter_width", s.filter_width);
     s.aux_passes = get<bool>(d, "aux_passes", s.aux_passes);
     s.aux_shading = get<bool>(d, "aux_shading", s.aux_shading);
+    s.film_transparent = get<bool>(d, "film_transparent", s.film_transparent);
+    s.film_transparent_glass = get<float>(d, "film_transparent_glass", s.film_transparent_glass);
     s.psf_radius_px = get<float>(d, "psf_radius_px", s.psf_radius_px);
     s.psf_radius_alpha = get<float>(d, "psf_radius_alpha", s.psf_radius_alpha);
     s.psf_max_neighbors = get<int>(d, "psf_max_neighbors", s.psf_max_neighbors);
@@ -401,6 +403,8 @@ LightDesc parse_light(const py::dict& d) {
     l.spot_blend = get<float>(d, "spot_blend", l.spot_blend);
     l.angle = get<float>(d, "angle", 0.0f);
     l.visible_to_camera = get<bool>(d, "visible_camera", true);
+    l.cast_shadow = get<bool>(d, "cast_shadow", true);
+    l.use_mis = get<bool>(d, "use_mis", true);
     l.spectrum = get<std::string>(d, "spectrum", l.spectrum);
     l.temperature = get<float>(d, "temperature", l.temperature);
     return l;
@@ -502,15 +506,17 @@ PYBIND11_MODULE(_smis, m) {
             "be rebuilt instead")
         .def("mesh_dropped", &Scene::mesh_dropped)
         .def("add_instance",
-             [](Scene& s, uint32_t mesh, MatrixArray matrix, std::vector<float> color, float random, float pass_index) {
+             [](Scene& s, uint32_t mesh, MatrixArray matrix, std::vector<float> color, float random, float pass_index,
+                bool holdout) {
                  if (color.size() < 3) throw py::value_error("color needs three components");
                  float alpha = color.size() > 3 ? color[3] : 1.0f;
                  value_errors([&] {
-                     s.add_instance(mesh, to_transform(matrix), {color[0], color[1], color[2]}, random, pass_index, alpha);
+                     s.add_instance(mesh, to_transform(matrix), {color[0], color[1], color[2]}, random, pass_index, alpha,
+                                    holdout);
                  });
              },
              py::arg("mesh"), py::arg("matrix"), py::arg("color") = std::vector<float>{1.0f, 1.0f, 1.0f},
-             py::arg("random") = 0.0f, py::arg("pass_index") = 0.0f)
+             py::arg("random") = 0.0f, py::arg("pass_index") = 0.0f, py::arg("holdout") = false)
         .def("set_mesh_texspace",
              [](Scene& s, uint32_t mesh, std::vector<float> location, std::vector<float> size) {
                  if (location.size() != 3 || size.size() != 3) throw py::value_error("texture space needs 3 + 3 values");

@@ -18,6 +18,7 @@ RenderSession::RenderSession(std::shared_ptr<const Scene> scene, RenderSettings 
         require_feature(kWithAuxPasses, "render passes", "aux_passes");
         film_.enable_aux();
     }
+    if (settings_.film_transparent || scene_->has_holdout()) film_.enable_transparency();
 }
 
 std::vector<std::string> RenderSession::skipped() const {

@@ -38,12 +38,17 @@ ShaderRay EnvironmentLight::light_sample_kind() {
 }
 
 EnvironmentLight::EnvironmentLight(std::shared_ptr<const ShaderProgram> program, const Scene* scene, int width,
-                                   int height)
+                                   int height, bool sample_sun)
     : program_(std::move(program)), scene_(scene) {
     if (width <= 0 || height <= 0) width = 1024, height = 512;
     width_ = std::clamp(width, 1, 8192);
     height_ = std::clamp(height, 1, 4096);
     const int w = width_, h = height_;
+    if (const NishitaSky* sun = sample_sun ? program_->sampled_sun() : nullptr) {
+        sun_dir_ = normalize(sun->sun_direction());
+        sun_frame_ = Frame(sun_dir_);
+        sun_one_minus_cos_ = 2.0f * sqr(std::sin(0.5f * sun->sun_half_angle()));  // 1 - cos, without cancellation
+    }
     row_cdf_.assign(size_t(w + 1) * h, 0.0f);
     std::vector<double> row_sum(h, 0.0), row_color[3];
     for (auto& c : row_color) c.assign(h, 0.0);
@@ -57,9 +62,12 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const ShaderProgram> program,
             const float sin_theta = std::sin(kPi * v);
             double sum = 0.0, rgb[3] = {0.0, 0.0, 0.0};
             for (int x = 0; x < w; ++x) {
-                Color L = radiance(equirectangular_to_direction((x + 0.5f) / w, v), kind);
+                const Vec3 dir = equirectangular_to_direction((x + 0.5f) / w, v);
+                Color L = radiance(dir, kind);
                 f[x] = double(std::max(luminance(L), 0.0f)) * sin_theta;
                 sum += f[x];
+                // A sampled sun's light is integrated on its own below, not by the cells it covers.
+                if (sun_one_minus_cos_ > 0.0f && sun_pdf(dir) > 0.0f) continue;
                 for (int c = 0; c < 3; ++c) rgb[c] += double(L[c]) * sin_theta;
             }
             float* cdf = &row_cdf_[size_t(y) * (w + 1)];
@@ -89,6 +97,22 @@ EnvironmentLight::EnvironmentLight(std::shared_ptr<const ShaderProgram> program,
                                     Color(0.0f))
                              : Color(0.0f);
     if (!is_finite(average_)) average_ = Color(0.0f);
+
+    if (sun_one_minus_cos_ > 0.0f) {
+        constexpr float kSunWeight = 4.0f, kMapWeight = 1.0f;  // Cycles' background sun_weight and map_weight
+        sun_probability_ = empty_ ? 1.0f : kSunWeight / (kSunWeight + kMapWeight);
+        // The disc's share of the mean radiance (light selection, the spectral emitter's colour):
+        // its mean radiance from stratified points of the cone, times its solid angle over 4 pi.
+        constexpr int kStrata = 16;
+        Color disc(0.0f);
+        for (int i = 0; i < kStrata; ++i)
+            for (int j = 0; j < kStrata; ++j)
+                disc += radiance(sun_frame_.to_world(sample_uniform_cone({(i + 0.5f) / kStrata, (j + 0.5f) / kStrata},
+                                                                         sun_one_minus_cos_)),
+                                 kind);
+        const Color share = disc * (sun_one_minus_cos_ / (2.0f * kStrata * kStrata));
+        if (is_finite(share)) average_ += share;
+    }
 }
 
 ShaderContext EnvironmentLight::context(const Vec3& dir, const ShaderRay& kind) const {
@@ -116,6 +140,17 @@ float EnvironmentLight::cell_pdf(int x, int y) const {
 LightSample EnvironmentLight::sample(const Vec3& ref, Point2 u) const {
     LightSample s;
     s.dist = kInf;
+    if (sun_probability_ > 0.0f) {
+        // Choose the strategy with u.x and reuse what is left of it for the strategy's own sample.
+        if (u.x < sun_probability_) {
+            u.x = std::min(u.x / sun_probability_, 1.0f - 1e-7f);
+            s.wi = sun_frame_.to_world(sample_uniform_cone(u, sun_one_minus_cos_));
+            s.pdf = pdf(s.wi);
+            if (s.pdf > 0.0f) s.L = radiance(s.wi, light_sample_kind());
+            return s;
+        }
+        u.x = std::min((u.x - sun_probability_) / (1.0f - sun_probability_), 1.0f - 1e-7f);
+    }
     if (empty_) return s;
     // Row: the first whose cdf passes u.y (rows of zero probability are never chosen).
     const double uy = u.y;
@@ -142,6 +177,17 @@ LightSample EnvironmentLight::sample(const Vec3& ref, Point2 u) const {
 }
 
 float EnvironmentLight::pdf(const Vec3& wi) const {
+    if (sun_probability_ <= 0.0f) return map_pdf(wi);
+    return sun_probability_ * sun_pdf(wi) + (1.0f - sun_probability_) * map_pdf(wi);
+}
+
+float EnvironmentLight::sun_pdf(const Vec3& wi) const {
+    // 1 - cos of the angle to the axis as |wi - axis|^2 / 2: exact for the disc's tiny angles.
+    Vec3 d = normalize(wi) - sun_dir_;
+    return 0.5f * dot(d, d) <= sun_one_minus_cos_ ? uniform_cone_pdf(sun_one_minus_cos_) : 0.0f;
+}
+
+float EnvironmentLight::map_pdf(const Vec3& wi) const {
     if (empty_) return 0.0f;
     float sin_theta = std::sqrt(std::max(0.0f, 1.0f - sqr(clampf(wi.z, -1.0f, 1.0f))));
     if (!(sin_theta > 0.0f)) return 0.0f;

@@ -5,6 +5,13 @@
 // cell in the row). sample() and pdf() use that table, but the radiance they return is the program
 // evaluated at the exact direction, never the tabulated value: the estimator stays unbiased at any
 // map resolution, the table only steers where samples go.
+//
+// A Nishita sky's sun disc (about 0.5 degrees, holding most of the sky's light) is sampled on its
+// own, as Cycles 3.4 does when the World has one such sun reading the plain direction
+// (ShaderProgram::sampled_sun): uniformly in its cone with probability 4/5 (Cycles' sun_weight 4
+// against the map's 1), the map otherwise. sample() and pdf() use the mixture of both densities
+// (one-sample MIS with the balance heuristic over the two strategies), which the integrators combine
+// with BSDF sampling by MIS wherever they sample lights.
 #pragma once
 #include <memory>
 #include <vector>
@@ -35,7 +42,9 @@ public:
     // program: the World's Surface (emission is the radiance); scene: where Texture Coordinate's
     // Camera and Window outputs find the camera (may be null). The map has width x height cells
     // (clamped to [1, 8192] x [1, 4096]); 0 x 0 asks for Cycles' default of 1024 x 512.
-    EnvironmentLight(std::shared_ptr<const ShaderProgram> program, const Scene* scene, int width, int height);
+    // sample_sun = false leaves a Nishita sun to the map (comparisons only).
+    EnvironmentLight(std::shared_ptr<const ShaderProgram> program, const Scene* scene, int width, int height,
+                     bool sample_sun = true);
 
     LightSample sample(const Vec3& ref, Point2 u) const override;
     float pdf(const Vec3& ref, const Vec3& wi) const override { return pdf(wi); }
@@ -45,6 +54,7 @@ public:
     bool intersect(const Ray& ray, LightHit* hit) const override;
     bool intersect_as(const Ray& ray, const ShaderRay& kind, LightHit* hit) const override;
     bool at_infinity() const override { return true; }
+    bool is_background() const override { return true; }
     float power(float scene_radius) const override;
 
     // The World's radiance arriving along -dir (the program at that direction) for a ray of `kind`.
@@ -58,9 +68,13 @@ public:
     const Color& average() const { return average_; }
     int map_width() const { return width_; }
     int map_height() const { return height_; }
+    // Probability that sample() draws from the sun's cone (0: no sun sampled on its own).
+    float sun_probability() const { return sun_probability_; }
 
 private:
     float cell_pdf(int x, int y) const;  // probability of cell (x, y)
+    float map_pdf(const Vec3& wi) const;  // solid-angle density of the map's samples
+    float sun_pdf(const Vec3& wi) const;  // ... of the sun cone's samples
 
     std::shared_ptr<const ShaderProgram> program_;
     const Scene* scene_;
@@ -69,6 +83,10 @@ private:
     std::vector<double> marginal_cdf_;   // height + 1 values from 0 to 1 (rows by their sums)
     Color average_{0.0f};
     bool empty_ = true;                  // nothing to sample: the map is black everywhere
+    // The sun's cone: axis, its frame, 1 - cos(half angle), and how often sample() takes it.
+    Vec3 sun_dir_{0.0f, 0.0f, 1.0f};
+    Frame sun_frame_{Vec3(0.0f, 0.0f, 1.0f)};
+    float sun_one_minus_cos_ = 0.0f, sun_probability_ = 0.0f;
 };
 
 }  // namespace smis

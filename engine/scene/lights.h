@@ -54,6 +54,8 @@ public:
     // program, see EnvironmentLight); lights that do not depend on it ignore the kind.
     virtual bool intersect_as(const Ray& ray, const ShaderRay& kind, LightHit* hit) const { return intersect(ray, hit); }
     virtual bool at_infinity() const { return false; }
+    // The World (uniform or a node tree): what Film Transparent takes out of the camera's view.
+    virtual bool is_background() const { return false; }
     virtual bool is_delta() const { return false; }
     // True when sample(ref, u) picks the same light point for every ref (uniform area sampling, a
     // point without radius): single scattering then aims equiangular sampling at that very point.
@@ -65,6 +67,11 @@ public:
     // infinity deliver power in proportion to the scene's cross-section, hence the radius.
     virtual float power(float scene_radius) const = 0;
     bool visible_to_camera = true;
+    // Cycles' per-light toggles. cast_shadow = false: light samples are not tested for occlusion
+    // (the light shines through everything). use_mis = false: only light samples find the light,
+    // unweighted; rays that meet it (camera rays aside) see nothing.
+    bool cast_shadow = true;
+    bool use_mis = true;
 };
 
 // Blender light description, in Blender's units (converted as Cycles converts them).
@@ -77,6 +84,7 @@ struct LightDesc {
     std::string shape = "SQUARE";
     float size = 1, size_y = 1, radius = 0, spot_size = 0.785398f, spot_blend = 0.15f, angle = 0;
     bool visible_to_camera = true;
+    bool cast_shadow = true, use_mis = true;  // Light > Cast Shadow, Multiple Importance (Cycles)
     // Spectral rendering only: the emitted spectrum (RGB = the colour upsampled, BLACKBODY at
     // `temperature` K, or a CIE illuminant D65, A, F2, F10, F11), see spectral/spectra.h.
     std::string spectrum = "RGB";
@@ -137,6 +145,7 @@ public:
     float pdf(const Vec3& ref, const Vec3& wi) const override;
     bool intersect(const Ray& ray, LightHit* hit) const override;
     bool at_infinity() const override { return true; }
+    bool is_background() const override { return true; }
     float power(float scene_radius) const override;
     const Color& radiance() const { return radiance_; }
 

@@ -361,7 +361,7 @@ std::shared_ptr<const Texture> Scene::texture(uint32_t id) const {
 }
 
 void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color, float random,
-                         float pass_index, float object_alpha) {
+                         float pass_index, float object_alpha, bool holdout) {
     if (committed_) throw std::logic_error("scene already committed");
     if (mesh >= meshes_.size()) throw std::invalid_argument("instance of an unknown mesh");
     if (!to_world.is_finite() || !invertible_in_float(to_world))
@@ -372,6 +372,8 @@ void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& 
     inst.random = std::isfinite(random) ? random : 0.0f;
     inst.pass_index = std::isfinite(pass_index) ? pass_index : 0.0f;
     inst.alpha = std::isfinite(object_alpha) ? object_alpha : 1.0f;
+    inst.holdout = holdout;
+    has_holdout_ = has_holdout_ || holdout;
     instances_.push_back(inst);
     meshes_[mesh].users++;
 }
@@ -430,7 +432,7 @@ void Scene::finish_lights() {
         // on every world edit).
         int w = world_desc_.map_width, h = world_desc_.map_height;
         if (fast_build_ && (w <= 0 || w > 1024 || h <= 0 || h > 512)) w = 1024, h = 512;
-        auto env = std::make_unique<EnvironmentLight>(world_desc_.program, this, w, h);
+        auto env = std::make_unique<EnvironmentLight>(world_desc_.program, this, w, h, world_desc_.sample_sun);
         env->visible_to_camera = world_desc_.visible_to_camera;
         emitter_sources_.push_back({"RGB", 6500.0f, env->average()});
         lights_.push_back(std::move(env));
@@ -761,6 +763,7 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
     hit->ng = ng;
     hit->ns = ns;
     hit->material = mesh.materials[prim];
+    hit->holdout = inst.holdout;
     if (kWithTextures) {
         hit->attr.object_color = inst.object_color;
         if (programs_) {

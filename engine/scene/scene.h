@@ -24,6 +24,7 @@ struct SurfaceHit {
     Vec3 ns;              // unit shading normal, on the same side as ng
     uint32_t material = 0;
     int32_t light = -1;   // index into Scene::lights() when the triangle emits, else -1
+    bool holdout = false; // the instance is a holdout (Object > Visibility > Holdout)
     SurfaceAttribs attr;  // UV and object colour, for textured materials
 };
 
@@ -48,6 +49,7 @@ struct WorldDesc {
     std::shared_ptr<const ShaderProgram> program;  // null: the constant radiance
     int map_width = 0, map_height = 0;
     bool visible_to_camera = true;
+    bool sample_sun = true;  // false: a Nishita sun is left to the map (comparisons only)
 };
 
 // A per-corner mesh attribute (UV maps by name, colour attributes) as the add-on exports it:
@@ -84,8 +86,12 @@ public:
     int32_t attribute_id(const std::string& name);
     uint32_t mesh_dropped(uint32_t mesh) const;
     // Object Info: colour (and its alpha), random in [0, 1) and pass index of the object.
+    // holdout: camera rays that meet the instance (directly or through transparent surfaces) end
+    // there as a hole in the film (alpha 0, no colour); other rays see it as usual (Cycles).
     void add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color = Color(1.0f),
-                      float random = 0.0f, float pass_index = 0.0f, float object_alpha = 1.0f);
+                      float random = 0.0f, float pass_index = 0.0f, float object_alpha = 1.0f,
+                      bool holdout = false);
+    bool has_holdout() const { return has_holdout_; }
     uint32_t add_light(const LightDesc& desc);  // throws std::invalid_argument for unusable lights
     void set_world(const Color& radiance);
     // A World program that folded to a constant becomes the uniform WorldLight; any other the
@@ -226,6 +232,7 @@ private:
         Color object_color;
         Transform to_object;   // inverse of to_world (Object texture coordinates)
         float random = 0.0f, pass_index = 0.0f, alpha = 1.0f;
+        bool holdout = false;
     };
     // Runs a material's program at a hit (the context it built into *ctx_out when given).
     ShaderResult run_program(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
@@ -263,6 +270,7 @@ private:
     std::vector<std::shared_ptr<const Texture>> textures_;
     std::vector<Mesh> meshes_;
     std::vector<Instance> instances_;
+    bool has_holdout_ = false;
     std::vector<uint32_t> geom_to_instance_;       // top-level geometry id -> instance
     std::vector<std::vector<int32_t>> emissive_local_;  // per mesh: triangle -> local emitter index
     std::vector<std::unique_ptr<Light>> lights_;

@@ -162,7 +162,9 @@ Vec3 to_camera_space(const Camera& cam, const Vec3& p, bool point) {
 // data: the sun's polar angle and azimuth (atan2(x, y), Cycles' spherical convention), a pad, the
 // zenith Y, x, y normalised by the Perez function at the zenith, and the Perez coefficients A..E of
 // Y, x and y, as the add-on's shader_compiler._sky_preetham computes them from turbidity and sun.
-constexpr size_t kSkyDataSize = 21;
+// Sky Texture models (op.i[0]) and the floats each reads at op.data.
+enum SkyModel : int32_t { kSkyPreetham = 0, kSkyHosek = 1, kSkyNishita = 2 };
+constexpr size_t kSkyDataSize[3] = {21, 32, 9};
 float sky_perez(const float* lam, float theta, float gamma) {
     float cg = std::cos(gamma);
     return (1.0f + lam[0] * std::exp(lam[1] / std::cos(theta))) * (1.0f + lam[2] * std::exp(lam[3] * gamma) + lam[4] * cg * cg);
@@ -177,6 +179,27 @@ Color sky_preetham(const float* d, const Vec3& dir) {
     float Y = d[3] * sky_perez(d + 6, theta, gamma);
     Vec3 xyz(y != 0.0f ? x / y * Y : 0.0f, Y, y != 0.0f && Y != 0.0f ? (1.0f - x - y) / y * Y : 0.0f);
     return spectral::xyz_to_rgb(xyz);
+}
+
+// Hosek and Wilkie 2012, "An Analytic Model for Full Spectral Sky-Dome Radiance", in CIE XYZ as
+// Cycles 3.4 uses it: data = the sun's polar angle and azimuth, the three channels' radiance scales
+// and nine configuration values each (eq. 9's A..I), cooked by the add-on from turbidity, ground
+// albedo and the sun's elevation (shader_compiler._sky_hosek).
+float hosek_channel(const float* c, float theta, float gamma) {
+    const float cos_theta = std::cos(theta), cos_gamma = std::cos(gamma);
+    const float chi = (1.0f + cos_gamma * cos_gamma) / std::pow(1.0f + c[8] * c[8] - 2.0f * c[8] * cos_gamma, 1.5f);
+    return (1.0f + c[0] * std::exp(c[1] / (cos_theta + 0.01f))) *
+           (c[2] + c[3] * std::exp(c[4] * gamma) + c[5] * cos_gamma * cos_gamma + c[6] * chi + c[7] * std::sqrt(cos_theta));
+}
+Color sky_hosek(const float* d, const Vec3& dir) {
+    float theta = std::acos(clampf(dir.z, -1.0f, 1.0f)), phi = std::atan2(dir.x, dir.y);
+    float cospsi = std::sin(theta) * std::sin(d[0]) * std::cos(d[1] - phi) + std::cos(theta) * std::cos(d[0]);
+    float gamma = std::acos(clampf(cospsi, -1.0f, 1.0f));
+    theta = std::min(theta, 0.5f * kPi - 0.001f);
+    Vec3 xyz(hosek_channel(d + 5, theta, gamma) * d[2], hosek_channel(d + 14, theta, gamma) * d[3],
+             hosek_channel(d + 23, theta, gamma) * d[4]);
+    // The model's XYZ is in luminous units: Cycles scales it by 2 pi / 683.
+    return vmax(spectral::xyz_to_rgb(xyz), Color(0.0f)) * (2.0f * kPi / 683.0f);
 }
 
 // object_tfm: the node's Object (world -> object rows), or null.
@@ -227,13 +250,43 @@ ShaderProgram::ShaderProgram(std::vector<ShaderOp> ops, std::vector<float> regis
             if (op.i[0] < 1 || size_t(op.data) + size_t(op.i[0]) * 4 > data_.size())
                 throw std::invalid_argument("shader program: table out of range");
         }
-        if (op.code == Op::TexSky && size_t(op.data) + kSkyDataSize > data_.size())
+        if (op.code == Op::TexSky && (op.i[0] < kSkyPreetham || op.i[0] > kSkyNishita ||
+                                      size_t(op.data) + kSkyDataSize[op.i[0]] > data_.size()))
             throw std::invalid_argument("shader program: sky data out of range");
         if (op.code == Op::TexCoord && op.i[0] == 1 && size_t(op.data) + 12 > data_.size())
             throw std::invalid_argument("shader program: object transform out of range");
         if (op.code >= Op::Count) throw std::invalid_argument("shader program: unknown op");
     }
+    for (ShaderOp& op : ops_) {
+        if (op.code != Op::TexSky || op.i[0] != kSkyNishita) continue;
+        const float* d = &data_[op.data];
+        NishitaParams p;
+        p.sun_elevation = d[0];
+        p.sun_rotation = d[1];
+        p.sun_disc = d[2] != 0.0f;
+        p.sun_size = d[3];
+        p.sun_intensity = d[4];
+        p.altitude = d[5];
+        p.air_density = d[6];
+        p.dust_density = d[7];
+        p.ozone_density = d[8];
+        for (float v : {p.sun_elevation, p.sun_rotation, p.sun_size, p.sun_intensity, p.altitude, p.air_density,
+                        p.dust_density, p.ozone_density})
+            if (!std::isfinite(v)) throw std::invalid_argument("shader program: Nishita sky parameters must be finite");
+        op.i[1] = int32_t(skies_.size());
+        skies_.push_back(std::make_shared<const NishitaSky>(p));
+    }
     analyse();
+}
+
+const NishitaSky* ShaderProgram::sampled_sun() const {
+    const ShaderOp* found = nullptr;
+    for (const ShaderOp& op : ops_) {
+        if (op.code != Op::TexSky || op.i[0] != kSkyNishita || !skies_[op.i[1]]->has_sun()) continue;
+        if (found || op.i[2] != 1) return nullptr;  // several suns, or a transformed direction
+        found = &op;
+    }
+    return found ? skies_[found->i[1]].get() : nullptr;
 }
 
 void ShaderProgram::analyse() {
@@ -754,9 +807,14 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             store3(r, op.out[1], t.color);
             break;
         }
-        case Op::TexSky:
-            store3(r, op.out[0], sky_preetham(&data_[op.data], load3(r, op.in[0], zero)));
+        case Op::TexSky: {
+            const Vec3 dir = load3(r, op.in[0], zero);
+            const float* d = &data_[op.data];
+            store3(r, op.out[0], op.i[0] == kSkyNishita ? skies_[op.i[1]]->radiance(dir)
+                                 : op.i[0] == kSkyHosek ? sky_hosek(d, dir)
+                                                        : sky_preetham(d, dir));
             break;
+        }
         case Op::TexEnvironment: {
             // Cycles' Environment Texture: the vector's direction projected onto the image,
             // equirectangular (i1 = 0) or mirror ball (1); the image's own interpolation.

@@ -17,6 +17,7 @@
 #include "scene/bsdf.h"
 #include "scene/texture.h"
 #include "shading/shader_context.h"
+#include "shading/sky_nishita.h"
 
 namespace smis {
 
@@ -91,6 +92,9 @@ public:
     size_t op_count() const { return ops_.size(); }
     size_t varying_op_count() const { return needs_hit_ ? varying_.size() : 0; }
     size_t register_count() const { return registers_.size(); }
+    // The Nishita sky whose sun Cycles would sample on its own (one Nishita Sky Texture with its disc
+    // above the horizon, reading the unmodified direction), else null (environment_light.h).
+    const NishitaSky* sampled_sun() const;
     // Parses an op name as the compiler writes it; false for unknown names.
     static bool op_by_name(const std::string& name, ShaderOpCode* code);
     static constexpr size_t kMaxRegisters = 4096;
@@ -105,6 +109,7 @@ private:
     std::vector<float> registers_;
     std::vector<float> data_;
     std::vector<std::shared_ptr<const Texture>> textures_;
+    std::vector<std::shared_ptr<const NishitaSky>> skies_;  // the Nishita Sky Textures' tables (op.i[1])
     std::vector<Lobe> templates_;
     bool may_emit_ = false, may_be_transparent_ = false;
     bool needs_hit_ = false;  // some closure reads a value that varies over the surface

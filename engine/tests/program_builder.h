@@ -12,6 +12,7 @@ struct ProgramBuilder {
     std::vector<ShaderOp> ops;
     std::vector<float> regs;
     std::vector<std::shared_ptr<const Texture>> textures;
+    std::vector<float> data;  // the ops' tables (sky parameters)
     uint16_t constant(float v) {
         regs.push_back(v);
         return uint16_t(regs.size() - 1);
@@ -42,12 +43,23 @@ struct ProgramBuilder {
         o.in[0] = vec, o.out[0] = c, o.i[0] = int(textures.size() - 1), o.i[1] = projection;
         return c;
     }
+    // A Nishita Sky Texture (the add-on's data layout); plain: its vector is the plain direction, so
+    // an EnvironmentLight samples its sun on its own.
+    uint16_t nishita_sky(uint16_t vec, const NishitaParams& p, bool plain = true) {
+        uint16_t c = alloc(3);
+        ShaderOp& o = op(ShaderOpCode::TexSky);
+        o.in[0] = vec, o.out[0] = c, o.i[0] = 2, o.i[2] = plain ? 1 : 0;
+        o.data = uint32_t(data.size());
+        data.insert(data.end(), {p.sun_elevation, p.sun_rotation, p.sun_disc ? 1.0f : 0.0f, p.sun_size,
+                                 p.sun_intensity, p.altitude, p.air_density, p.dust_density, p.ozone_density});
+        return c;
+    }
     void background(uint16_t color, float strength) {
         ShaderOp& o = op(ShaderOpCode::Background);
         o.in[1] = color, o.in[2] = constant(strength);
     }
     std::shared_ptr<const ShaderProgram> build() {
-        auto p = std::make_shared<ShaderProgram>(ops, regs, std::vector<float>{}, textures);
+        auto p = std::make_shared<ShaderProgram>(ops, regs, data, textures);
         p->fold_constants();
         return p;
     }

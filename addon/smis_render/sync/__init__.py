@@ -45,7 +45,7 @@ def export_depsgraph(native, depsgraph, reporter, engine=None, view_camera=None,
     except (CameraError, ValueError) as exc:
         raise ExportError(str(exc)) from exc
 
-    scene.set_world(world.export_world(bl_scene.world, reporter.warning))
+    scene.set_world(world.export_world(world.evaluated_world(depsgraph), reporter.warning))
 
     test_break = engine.break_requested if engine is not None else None
     mats = materials.MaterialCache(scene, reporter)

@@ -188,6 +188,17 @@ def walk_instances(depsgraph, reporter, test_break=None):
         yield 'MESH', inst, obj
 
 
+def is_holdout(inst, view_layer):
+    """Object > Visibility > Holdout, or a holdout collection of the view layer, as Cycles reads it
+    (an instance takes its instancer's)."""
+    owner = inst.parent if inst.is_instance and inst.parent is not None else inst.object
+    owner = getattr(owner, "original", owner)
+    try:
+        return bool(owner.holdout_get(view_layer=view_layer))
+    except (AttributeError, TypeError, RuntimeError):
+        return bool(getattr(owner, "is_holdout", False))
+
+
 def export_instances(depsgraph, scene, materials, reporter, test_break=None, cache=None):
     """Add all geometry and lights of the depsgraph to the engine scene; `cache`
     (GeometryCache) reuses meshes exported before and records which engine mesh and
@@ -217,7 +228,8 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
             # the object's.
             try:
                 scene.add_instance(mesh_id, instance_matrix(inst), obj.color[:],
-                                   (inst.random_id & 0xFFFFFFFF) / 4294967295.0, float(obj.pass_index))
+                                   (inst.random_id & 0xFFFFFFFF) / 4294967295.0, float(obj.pass_index),
+                                   is_holdout(inst, depsgraph.view_layer))
             except ValueError:
                 # A zero scale (a common way to hide an object in an animation) or a non-finite
                 # transform: Cycles renders nothing of the object either.

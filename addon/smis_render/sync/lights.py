@@ -14,10 +14,22 @@ def _matrix(m):
     return [list(row) for row in m]
 
 
+def _cycles_setting(light, name, default):
+    """A Cycles light setting (Light > Cast Shadow, Multiple Importance): Cycles' own panel sets it,
+    but the light carries it; without the Cycles add-on it is in the "cycles" ID properties."""
+    cycles = getattr(light, "cycles", None)
+    if cycles is not None and hasattr(cycles, name):
+        return bool(getattr(cycles, name))
+    stored = light.get("cycles")
+    return bool(stored.get(name, default)) if hasattr(stored, "get") else default
+
+
 def light_dict(light, matrix, visible_camera=True):
     """The engine dict for a Blender Light datablock placed by `matrix` (matrix_world)."""
     d = {"type": light.type, "matrix": _matrix(matrix), "color": tuple(light.color),
-         "visible_camera": bool(visible_camera)}
+         "visible_camera": bool(visible_camera),
+         "cast_shadow": _cycles_setting(light, "cast_shadow", True),
+         "use_mis": _cycles_setting(light, "use_multiple_importance_sampling", True)}
     d.update(light_spectral(light))
     if light.type == 'SUN':
         d["strength"] = float(light.energy)

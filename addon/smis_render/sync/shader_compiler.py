@@ -15,7 +15,7 @@ and node.
 
 import math
 
-from . import nodes
+from . import nodes, sky_hosek_data
 from .mesh import ACTIVE_COLOR, POINTINESS, RANDOM_PER_ISLAND, TANGENT_PREFIX
 
 # Enum identifiers in the engine's order (engine/shading/node_math.h, procedural_*.h).
@@ -1028,16 +1028,80 @@ def _sky_preetham(sun_direction, turbidity):
             + perez_Y + perez_x + perez_y)
 
 
+def _bezier5(points, t):
+    """The quintic Bezier curve through 6 control points at t (Hosek-Wilkie's elevation curve)."""
+    s = 1.0 - t
+    return (s ** 5 * points[0] + 5 * s ** 4 * t * points[1] + 10 * s ** 3 * t ** 2 * points[2] +
+            10 * s ** 2 * t ** 3 * points[3] + 5 * s * t ** 4 * points[4] + t ** 5 * points[5])
+
+
+def _hosek_cook(table, stride, turbidity, albedo, elevation):
+    """One channel's `stride` values (9 configuration parameters, or 1 radiance scale) for the
+    conditions: each (albedo, turbidity) entry of the table is a Bezier curve over
+    (elevation / (pi/2))^(1/3), interpolated linearly in albedo and between integer turbidities
+    (Hosek and Wilkie 2012, the model's reference implementation)."""
+    t_int = int(turbidity)
+    t_rem = turbidity - t_int
+    e = (elevation / (math.pi / 2.0)) ** (1.0 / 3.0)
+    out = [0.0] * stride
+    block = 6 * stride
+    for alb_weight, alb in ((1.0 - albedo, 0), (albedo, 1)):
+        for t_weight, t in ((1.0 - t_rem, t_int - 1), (t_rem, t_int)):
+            if t_weight == 0.0 or t > 9:
+                continue
+            base = alb * 10 * block + t * block
+            for i in range(stride):
+                pts = [table[base + i + stride * k] for k in range(6)]
+                out[i] += alb_weight * t_weight * _bezier5(pts, e)
+    return out
+
+
+def _sky_hosek(sun_direction, turbidity, ground_albedo):
+    """Cycles 3.4's Hosek-Wilkie precomputation (scene/shader_nodes.cpp, SKY_arhosek_xyz_skymodelstate_
+    alloc_init): the sun's spherical angles (clamped to the horizon), each XYZ channel's radiance
+    scale and nine configuration values, in the layout of the engine's tex_sky op (sky_hosek)."""
+    sx, sy, sz = sun_direction
+    theta = min(max(math.acos(max(-1.0, min(1.0, sz))), 0.0), math.pi / 2.0)
+    phi = math.atan2(sx, sy)
+    # Cycles clamps to [0, 10]; the model's tables start at turbidity 1 (below it reads before them).
+    turbidity = min(max(turbidity, 1.0), 10.0)
+    elevation = math.pi / 2.0 - theta
+    configs, radiances = [], []
+    for channel in range(3):
+        configs += _hosek_cook(sky_hosek_data.CONFIG[channel], 9, turbidity, ground_albedo, elevation)
+        radiances += _hosek_cook(sky_hosek_data.RADIANCE[channel], 1, turbidity, ground_albedo, elevation)
+    return [theta, phi] + radiances + configs
+
+
+def _reads_plain_direction(node):
+    """Whether the node's Vector is the World direction itself (unlinked, or Texture Coordinate's
+    Generated): then Cycles samples a Nishita sun on its own (scene/light.cpp), and so does the engine."""
+    src = nodes.linked_output(node.inputs["Vector"])
+    return src is None or (src.node.bl_idname == "ShaderNodeTexCoord" and src.name == "Generated")
+
+
 def _tex_sky(c, node, ctx):
     res, regs = _outs(c, node, [("Color", COLOR)])
-    if node.sky_type != "PREETHAM":
-        c.warn_node(node, "(Sky Texture, %s) is not supported by SMIS yet (only Preetham is): it renders "
-                          "black. Bake the sky into an image and use an Environment Texture instead"
-                    % node.sky_type)
-        return res
     offset = len(c.data)
-    c.data.extend(float(v) for v in _sky_preetham(tuple(node.sun_direction), float(node.turbidity)))
-    c.op("tex_sky", [c.vector_input(node, ctx)], regs, [0], data=offset)
+    if node.sky_type == "NISHITA":
+        # The node's parameters as the user set them: the engine precomputes the sky's table and
+        # the sun's disc as Cycles does (engine/shading/sky_nishita.h).
+        c.data.extend(float(v) for v in (node.sun_elevation, node.sun_rotation, 1.0 if node.sun_disc else 0.0,
+                                          node.sun_size, node.sun_intensity, node.altitude, node.air_density,
+                                          node.dust_density, node.ozone_density))
+        plain = _reads_plain_direction(node)
+        model = [2, 0, 1 if plain else 0]
+        suns = getattr(c, "nishita_suns", None)
+        if suns is not None and node.sun_disc:
+            suns.append(plain)
+    elif node.sky_type == "HOSEK_WILKIE":
+        c.data.extend(float(v) for v in _sky_hosek(tuple(node.sun_direction), float(node.turbidity),
+                                                   float(node.ground_albedo)))
+        model = [1]
+    else:
+        c.data.extend(float(v) for v in _sky_preetham(tuple(node.sun_direction), float(node.turbidity)))
+        model = [0]
+    c.op("tex_sky", [c.vector_input(node, ctx)], regs, model, data=offset)
     return res
 
 
@@ -1054,6 +1118,7 @@ class _WorldCompiler(ShaderCompiler):
     def __init__(self, world_name, warn, textures):
         super().__init__(world_name, warn, textures, None)
         self.environment_sizes = []  # (width, height) of the Environment Texture images
+        self.nishita_suns = []  # per Nishita Sky Texture with a sun disc: whether it reads the plain direction
 
     def warn_node(self, node, text):
         key = (node.as_pointer(), text)
@@ -1079,8 +1144,9 @@ class _WorldCompiler(ShaderCompiler):
 
 
 def compile_world(world, output_node, warn, textures):
-    """The program dict for a World's Surface (textures: a TextureCache), and the sizes of its
-    Environment Texture images (for Cycles' automatic importance map resolution)."""
+    """The program dict for a World's Surface (textures: a TextureCache), the sizes of its
+    Environment Texture images and, per Nishita sun disc, whether it reads the plain direction (for
+    Cycles' automatic importance map resolution)."""
     c = _WorldCompiler(world.name, warn, textures)
     c.shader(output_node.inputs["Surface"], c.constant(1.0, FLOAT), _Context())
-    return c.program(), c.environment_sizes
+    return c.program(), c.environment_sizes, c.nishita_suns

@@ -144,7 +144,7 @@ class ViewportSync:
     def _replace_lights(self, depsgraph, reporter):
         """Every lamp and the world background exported again (cheap: no geometry) and given to
         the engine scene, which keeps its emissive triangles. A world volume needs a new scene."""
-        world = sync_world.export_world(depsgraph.scene.world, reporter.warning)
+        world = sync_world.export_world(sync_world.evaluated_world(depsgraph), reporter.warning)
         if world.get("volume") is not None:
             return False
         lamps = [d for d in (usable_light_dict(obj, instance_matrix(inst), reporter)

@@ -9,8 +9,10 @@ from .textures import TextureCache
 from .volumes import translate_volume
 
 # Cycles' automatic importance map (scene/light.cpp, 3.4): without a single Nishita sun at least
-# 4096 x 2048 cells, or the largest Environment Texture image when it is bigger.
+# 4096 x 2048 cells, or the largest Environment Texture image when it is bigger; with one (sampled on
+# its own, engine/scene/environment_light.h) at least 512 x 256.
 _AUTO_MAP = (4096, 2048)
+_AUTO_MAP_WITH_SUN = (512, 256)
 
 
 class _WorldImages:
@@ -29,6 +31,14 @@ class _WorldImages:
     def add_missing_texture(self):
         self.images.append({"missing": True})
         return len(self.images) - 1
+
+
+def evaluated_world(depsgraph):
+    """The scene's World as the depsgraph evaluated it for its frame. `depsgraph.scene.world` is the
+    original datablock: in a render from the command line it keeps the values last set by hand, not
+    the keyed ones of the frame (a keyed Background strength or Sky Texture parameter)."""
+    world = depsgraph.scene.world
+    return world.evaluated_get(depsgraph) if world is not None else None
 
 
 def export_world(world, warn):
@@ -52,12 +62,12 @@ def export_world(world, warn):
     if nodes.linked_output(output.inputs["Surface"]) is None:
         return desc
     images = _WorldImages()
-    program, sizes = compile_world(world, output, warn, TextureCache(images, warn))
-    desc.update(program=program, images=images.images, map_resolution=_map_resolution(world, sizes))
+    program, sizes, suns = compile_world(world, output, warn, TextureCache(images, warn))
+    desc.update(program=program, images=images.images, map_resolution=_map_resolution(world, sizes, suns))
     return desc
 
 
-def _map_resolution(world, environment_sizes):
+def _map_resolution(world, environment_sizes, nishita_suns=()):
     """The importance map's (width, height) as Cycles picks it from the World's Settings."""
     settings = getattr(world, "cycles", None)
     method = getattr(settings, "sampling_method", "AUTOMATIC")
@@ -68,6 +78,7 @@ def _map_resolution(world, environment_sizes):
         # Cycles then never samples the World as a light; a one-cell map samples it uniformly,
         # which converges to the same image.
         return (1, 1)
-    width = max([_AUTO_MAP[0]] + [w for w, h in environment_sizes])
-    height = max([_AUTO_MAP[1]] + [h for w, h in environment_sizes])
+    base = _AUTO_MAP_WITH_SUN if list(nishita_suns) == [True] else _AUTO_MAP
+    width = max([base[0]] + [w for w, h in environment_sizes])
+    height = max([base[1]] + [h for w, h in environment_sizes])
     return (width, height)
