@@ -1,6 +1,7 @@
 #include "integrators/volume.h"
 
 #include "integrators/path_tracing.h"
+#include "scene/spherical_rectangle.h"
 
 namespace smis {
 
@@ -95,16 +96,53 @@ Color shadow_transmittance(const Scene& scene, const Vec3& origin, const Vec3& d
     return blocked ? Color(0.0f) : RayMedia::transmittance_from_tau(tau);
 }
 
+namespace {
+
+// Below this solid angle a rectangle is sampled by area: the two densities are then proportional to
+// within float precision, and the spherical construction's angles would carry no digits.
+constexpr double kMinSolidAngle = 1e-9;
+
+// Next-event sample of `light` from a point x in a medium: rectangles as `rectangles` says, every
+// other light by its own sample().
+LightSample sample_light_from_medium(const Light& light, const Vec3& x, Point2 u, RectangleSampling rectangles) {
+    LightRectangle rect;
+    if (rectangles == RectangleSampling::kSolidAngle && light.rectangle(&rect)) {
+        LightSample s;
+        if (!(dot(x - rect.corner, rect.normal) > 0.0f)) return s;  // behind the one-sided light
+        SphericalRectangle sr(x, rect.corner, rect.u, rect.v);
+        if (sr.solid_angle() > kMinSolidAngle) {
+            Vec3 d = sr.sample(u) - x;
+            float dist = length(d);
+            if (!(dist > 0.0f)) return s;
+            s.wi = d / dist;
+            s.dist = dist;
+            s.pdf = float(1.0 / sr.solid_angle());
+            s.L = rect.radiance;
+            return s;
+        }
+    }
+    return light.sample(x, u);
+}
+
+}  // namespace
+
 Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
-                        LocalCounters& counters, bool skip_rectangles) {
+                        LocalCounters& counters, bool skip_rectangles, RectangleSampling rectangles) {
     // Per scattering segment: a light chosen by power, then a distance from a one-sample MIS mixture
     // of spectral-MIS distance sampling and equiangular sampling towards a point of that light (the
     // mixture's density is the average of both), then next-event estimation from there. As in
     // Cycles, the equiangular half removes the inverse-square noise of lights inside the medium.
-    // For lights whose sampled point does not depend on the reference point (area and triangle
-    // lights) the focus is the very point next-event estimation then connects to, so the joint
-    // density of (distance, light point) cancels the 1/d^2 of the connection; for the others the
-    // focus is drawn independently, which keeps the estimator unbiased for every light type.
+    // Rectangular area lights are sampled by solid angle from the scattering point (their weight
+    // L * solid angle is bounded), and equiangular sampling aims at an independent uniform point of
+    // the light. Sampling them by area instead (RectangleSampling::kArea, the previous estimator)
+    // has a weight A cos / r^2 that diverges where the ray passes close to the sampled point: with
+    // equiangular sampling towards that very point the 1/r^2 cancels but a 1/h remains (h the
+    // point's distance to the ray), and its second moment over the light diverges for rays that
+    // cross the light. Those were the rare bright samples (volume_test.cpp measures both). For
+    // other lights whose sampled point does not depend on the reference point (triangles, disks)
+    // the focus is the very point next-event estimation then connects to, so the joint density of
+    // (distance, light point) cancels the 1/d^2 of the connection; for the rest the focus is drawn
+    // independently, which keeps the estimator unbiased for every light type.
     Color L(0.0f);
     const DiscreteDistribution& selection = scene.light_selection();
     for (int i = 0; i < media.count; ++i) {
@@ -116,8 +154,9 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
         Point2 u_focus{rng.next_float(), rng.next_float()}, u{rng.next_float(), rng.next_float()};
         if (!med.scatters() || selection.empty()) continue;
         uint32_t li = static_cast<uint32_t>(selection.sample(u_select));
-        if (skip_rectangles && scene.light(li).rectangle(nullptr)) continue;
         const Light& light = scene.light(li);
+        const bool rectangle = light.rectangle(nullptr);
+        if (skip_rectangles && rectangle) continue;
         const float len = s.t1 - s.t0;
         const Vec3 o = ray.o + ray.d * s.t0;
         EquiangularFrame eq;
@@ -125,9 +164,10 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
             Vec3 mid = o + ray.d * (std::isinf(len) ? 1.0f : 0.5f * len);
             // The focus is the light point even when mid sees the light from behind (pdf 0): the ray
             // may still pass in front of it, close to the point.
-            bool same_point = light.point_independent_of_reference();
+            bool any_point = light.point_independent_of_reference();
+            bool same_point = any_point && !(rectangle && rectangles == RectangleSampling::kSolidAngle);
             LightSample focus = light.sample(mid, same_point ? u : u_focus);
-            if ((focus.pdf > 0.0f || same_point) && focus.dist > 0.0f && std::isfinite(focus.dist))
+            if ((focus.pdf > 0.0f || any_point) && focus.dist > 0.0f && std::isfinite(focus.dist))
                 eq = equiangular_frame(o, ray.d, len, mid + focus.wi * focus.dist);
         }
         DistanceSample ds = eq.valid && u_technique < 0.5f ? sample_equiangular(eq, u_dist)
@@ -140,7 +180,7 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
             continue;
         }
         Vec3 x = o + ray.d * ds.t;
-        LightSample ls = light.sample(x, u);
+        LightSample ls = sample_light_from_medium(light, x, u, rectangles);
         if (!ls.valid()) {
             if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;
             continue;

@@ -46,11 +46,18 @@ bool intersect_through(const Scene& scene, const Ray& ray, int32_t medium, Surfa
 // Transmittance from origin along unit dir up to tmax; zero when an opaque surface blocks it.
 Color shadow_transmittance(const Scene& scene, const Vec3& origin, const Vec3& dir, float tmax, int32_t medium);
 
+// How single scattering samples rectangular area lights from a scattering point: uniformly in the
+// solid angle they subtend (bounded weights), or uniformly by area (the previous estimator, kept for
+// the tests that compare the two).
+enum class RectangleSampling { kSolidAngle, kArea };
+
 // Single scattering along the media of a ray: per scattering segment one light chosen by power, one
-// distance (one-sample MIS of spectral-MIS distance sampling and equiangular sampling towards that
-// light), one light sample from there, the phase function and the shadow ray's transmittance. With skip_rectangles, rectangular area lights contribute nothing
-// (photon planes estimate their single scattering instead).
+// distance (one-sample MIS of spectral-MIS distance sampling and equiangular sampling towards a
+// point of that light; for rectangles see RectangleSampling), one light sample from there, the
+// phase function and the shadow ray's transmittance. With skip_rectangles, rectangular area lights contribute nothing (photon planes
+// estimate their single scattering instead).
 Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
-                        LocalCounters& counters, bool skip_rectangles = false);
+                        LocalCounters& counters, bool skip_rectangles = false,
+                        RectangleSampling rectangles = RectangleSampling::kSolidAngle);
 
 }  // namespace smis
