@@ -858,9 +858,23 @@ def _closure_normal(c, node, ctx):
 
 
 def _diffuse(c, node, ctx, weight):
-    if node.inputs["Roughness"].is_linked or node.inputs["Roughness"].default_value > 0.0:
-        c.warn_node(node, "has Roughness > 0 (Oren-Nayar), which is not supported; using Lambert")
-    c.op("diffuse", [weight, c.input(node, "Color", ctx, COLOR), None, _closure_normal(c, node, ctx)])
+    """Lambert, or Oren-Nayar where Roughness > 0 (decided per hit, as Cycles does)."""
+    c.op("diffuse", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
+                     _closure_normal(c, node, ctx)])
+
+
+def _velvet(c, node, ctx, weight):
+    c.op("velvet", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Sigma", ctx, FLOAT),
+                    _closure_normal(c, node, ctx)])
+
+
+def _translucent(c, node, ctx, weight):
+    c.op("translucent", [weight, c.input(node, "Color", ctx, COLOR), None, _closure_normal(c, node, ctx)])
+
+
+def _refraction(c, node, ctx, weight):
+    c.op("refraction", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
+                        c.input(node, "IOR", ctx, FLOAT), _closure_normal(c, node, ctx)], ints=[_distribution(c, node)])
 
 
 def _distribution(c, node, supported=("SHARP", "GGX")):
@@ -922,6 +936,9 @@ SHADER_NODES = {
     "ShaderNodeBsdfDiffuse": _diffuse,
     "ShaderNodeBsdfGlossy": _glossy,
     "ShaderNodeBsdfGlass": _glass,
+    "ShaderNodeBsdfVelvet": _velvet,
+    "ShaderNodeBsdfTranslucent": _translucent,
+    "ShaderNodeBsdfRefraction": _refraction,
     "ShaderNodeBsdfTransparent": _transparent,
     "ShaderNodeEmission": _emission,
     "ShaderNodeBsdfPrincipled": _principled,

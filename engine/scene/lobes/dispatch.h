@@ -13,9 +13,13 @@
 #include "scene/lobes/diffuse.h"
 #include "scene/lobes/lobe.h"
 #include "scene/lobes/microfacet.h"
+#include "scene/lobes/oren_nayar.h"
 #include "scene/lobes/principled_diffuse.h"
+#include "scene/lobes/refraction.h"
 #include "scene/lobes/sheen.h"
+#include "scene/lobes/translucent.h"
 #include "scene/lobes/transparent.h"
+#include "scene/lobes/velvet.h"
 
 namespace smis {
 
@@ -25,7 +29,8 @@ struct LobeKindList {
 };
 // Every lobe kind, in LobeKind order.
 using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, ClearcoatLobe, SheenLobe,
-                                  TransparentLobe, PrincipledDiffuseLobe>;
+                                  TransparentLobe, PrincipledDiffuseLobe, OrenNayarLobe, VelvetLobe, TranslucentLobe,
+                                  RefractionLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -67,6 +72,10 @@ template <bool kGated = true, class F>
         case SheenLobe::kKind: return call_kind<SheenLobe, kGated>(f);
         case TransparentLobe::kKind: return call_kind<TransparentLobe, kGated>(f);
         case PrincipledDiffuseLobe::kKind: return call_kind<PrincipledDiffuseLobe, kGated>(f);
+        case OrenNayarLobe::kKind: return call_kind<OrenNayarLobe, kGated>(f);
+        case VelvetLobe::kKind: return call_kind<VelvetLobe, kGated>(f);
+        case TranslucentLobe::kKind: return call_kind<TranslucentLobe, kGated>(f);
+        case RefractionLobe::kKind: return call_kind<RefractionLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate

@@ -46,6 +46,10 @@ enum class LobeKind : uint8_t {
     Sheen,        // Principled sheen (lobes/sheen.h)
     Transparent,  // Transparent BSDF's coloured part: a Dirac straight through (wi = -wo), value = weight
     PrincipledDiffuse,  // Cycles 3.4's principled diffuse (lobes/principled_diffuse.h)
+    OrenNayar,    // Diffuse BSDF with Roughness > 0 (lobes/oren_nayar.h)
+    Velvet,       // Velvet BSDF (lobes/velvet.h)
+    Translucent,  // Translucent BSDF (lobes/translucent.h)
+    Refraction,   // Refraction BSDF (lobes/refraction.h)
     Count
 };
 
@@ -243,6 +247,14 @@ inline BsdfSample lobe_sample_at(const Lobe& lobe, const Vec3& wo, const Vec3& w
     s.pdf = r.pdf;
     s.transmission = transmission;
     s.eta = eta;
+    return s;
+}
+
+// A cosine-weighted direction of a cosine-sampled kind L, valued by L's own eval.
+template <class L>
+inline BsdfSample cosine_sample_of(const Lobe& lobe, const Vec3& wo, Point2 u) {
+    BsdfSample s = lobe_detail::sample_cosine(lobe, wo, u);
+    if (s.pdf > 0.0f) s.value = lobe_eval_pdf_of<L>(lobe, wo, s.wi).value;
     return s;
 }
 

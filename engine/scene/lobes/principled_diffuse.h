@@ -29,9 +29,7 @@ struct PrincipledDiffuseLobe : LobeDefaults<PrincipledDiffuseLobe> {
     }
 
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float) {
-        BsdfSample s = lobe_detail::sample_cosine(lobe, wo, u);
-        if (s.pdf > 0.0f) s.value = lobe_eval_pdf_of<PrincipledDiffuseLobe>(lobe, wo, s.wi).value;
-        return s;
+        return cosine_sample_of<PrincipledDiffuseLobe>(lobe, wo, u);
     }
 
     static Color albedo(const Lobe& lobe) { return lobe.weight; }

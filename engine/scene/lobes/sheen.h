@@ -28,9 +28,7 @@ struct SheenLobe : LobeDefaults<SheenLobe> {
     }
 
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float) {
-        BsdfSample s = lobe_detail::sample_cosine(lobe, wo, u);
-        if (s.pdf > 0.0f) s.value = lobe_eval_pdf_of<SheenLobe>(lobe, wo, s.wi).value;
-        return s;
+        return cosine_sample_of<SheenLobe>(lobe, wo, u);
     }
 
     static Color albedo(const Lobe& lobe) { return lobe.weight; }
