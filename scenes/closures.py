@@ -29,7 +29,7 @@ from cycles_settings import make_cycles_unbiased  # noqa: E402
 
 TILE_PX = 32
 TILE_M = 2.0
-COLS, ROWS = 4, 3
+COLS, ROWS = 4, 4
 MAX_BOUNCES = 8
 
 
@@ -58,6 +58,16 @@ def _mix(nt, fac, a, b):
     return n
 
 
+def _textured_oren_nayar(nt):
+    """Diffuse whose Roughness varies over the sphere (0 to 1 by height): Lambert and Oren-Nayar per hit."""
+    d = _bsdf(nt, "ShaderNodeBsdfDiffuse", {"Color": (0.6, 0.6, 0.6)})
+    coords = nt.nodes.new("ShaderNodeTexCoord")
+    sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+    nt.links.new(coords.outputs["Generated"], sep.inputs[0])
+    nt.links.new(sep.outputs["Y"], d.inputs["Roughness"])
+    return d
+
+
 # (name, builder(node_tree) -> shader node). The Lambert and glass spheres are the controls.
 CLOSURES = [
     ("diffuse_lambert", lambda nt: _bsdf(nt, "ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.5, 0.3)})),
@@ -82,6 +92,11 @@ CLOSURES = [
                                        distribution='GGX')),
     ("glossy_ggx_0p3", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlossy", {"Color": (0.8, 0.8, 0.8), "Roughness": 0.3},
                                         distribution='GGX')),
+    ("glossy_beckmann_0p3", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlossy", {"Color": (0.8, 0.8, 0.8), "Roughness": 0.3},
+                                             distribution='BECKMANN')),
+    ("glossy_beckmann_0p6", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlossy", {"Color": (0.9, 0.6, 0.3), "Roughness": 0.6},
+                                             distribution='BECKMANN')),
+    ("oren_nayar_textured", lambda nt: _textured_oren_nayar(nt)),
 ]
 assert len(CLOSURES) <= COLS * ROWS
 

@@ -253,7 +253,10 @@ void ShaderProgram::analyse() {
                     templates_.push_back(l);
                     break;
                 }
-                case Op::Glossy: l.kind = LobeKind::Microfacet; templates_.push_back(l); break;
+                case Op::Glossy:  // i[0]: 0 sharp, 1 GGX, 2 Beckmann
+                    l.kind = op.i[0] == 2 ? LobeKind::Beckmann : LobeKind::Microfacet;
+                    templates_.push_back(l);
+                    break;
                 case Op::Glass: l.kind = LobeKind::Dielectric; templates_.push_back(l); break;
                 case Op::Velvet: l.kind = LobeKind::Velvet; templates_.push_back(l); break;
                 case Op::Translucent: l.kind = LobeKind::Translucent; templates_.push_back(l); break;
@@ -973,7 +976,7 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             float w = load1(r, op.in[0], 1.0f);
             set_normal(out, r, op.in[3]);
             float rough = op.i[0] == 0 ? 0.0f : load1(r, op.in[2], 0.5f);
-            push_lobe(out, make_lobe(LobeKind::Microfacet, FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, rough, 1.5f,
+            push_lobe(out, make_lobe(op.i[0] == 2 ? LobeKind::Beckmann : LobeKind::Microfacet, FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, rough, 1.5f,
                                      uint8_t(op.i[5])));
             break;
         }

@@ -1,16 +1,18 @@
 // The lobes of Cycles' closures added for issue 19 (scene/lobes/: oren_nayar.h, velvet.h, translucent.h,
-// refraction.h), in bsdf_test.cpp's style:
+// refraction.h, beckmann.h), in bsdf_test.cpp's style:
 //  1. chi-square of sample() against pdf() (stats.h), Sidak-corrected over this file's cases;
 //  2. sample() / eval() / pdf() agreement;
 //  3. white furnace: the importance-sampled albedo against quadrature of eval(), and exact energy
 //     conservation where the lobe conserves it (Translucent; smooth Refraction of a white glass);
 //  4. the closed forms of Cycles 3.4's kernels at hand-picked directions (bsdf_oren_nayar.h,
-//     bsdf_ashikhmin_velvet.h, bsdf_diffuse.h), written out again here in double precision;
+//     bsdf_ashikhmin_velvet.h, bsdf_diffuse.h, bsdf_microfacet.h's Beckmann), written out again here
+//     in double precision;
 //  5. the lobe interface: every kind has a name that maps back to it, and its routines stay finite.
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <functional>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -70,6 +72,8 @@ std::vector<NamedLobe> new_lobes() {
     for (float sigma : {0.0f, 0.2f, 0.5f, 1.0f})
         v.push_back({"Velvet_s" + num(sigma), lobe_of(LobeKind::Velvet, sigma, Color(0.7f, 0.5f, 0.9f))});
     v.push_back({"Translucent", lobe_of(LobeKind::Translucent, 0.0f, Color(0.9f, 0.8f, 0.3f))});
+    for (float alpha : {0.05f, 0.2f, 0.6f})
+        v.push_back({"Beckmann_a" + num(alpha), lobe_of(LobeKind::Beckmann, alpha, Color(0.8f, 0.9f, 0.6f))});
     for (float alpha : {0.1f, 0.5f})
         v.push_back({"Refraction_a" + num(alpha), lobe_of(LobeKind::Refraction, alpha, Color(0.9f, 1.0f, 0.8f), 1.5f),
                      true});
@@ -204,42 +208,57 @@ TEST(ClosureFurnace, RefractionPassesEnergyOnly) {
                 bool tir = inside && std::sqrt(1.0 - double(c) * c) > 1.0 / 1.5;
                 std::printf("[furnace] Refraction a=%.1f %s cos %.2f: %.5f +- %.2g\n", alpha, inside ? "inside" : "outside",
                             kCosThetas[i], m.mean(), m.std_error());
-                if (alpha == 0.0f) EXPECT_NEAR(m.mean(), tir ? 0.0 : 1.0, 1e-5) << c;
-                else EXPECT_TRUE(st::at_most(m, 1.0)) << alpha << " " << c << ": " << m.mean();
-                if (!tir && !inside) EXPECT_GT(m.mean(), 0.5) << alpha << " " << c;
+                if (alpha == 0.0f) {
+                    EXPECT_NEAR(m.mean(), tir ? 0.0 : 1.0, 1e-5) << c;
+                } else {
+                    EXPECT_TRUE(st::at_most(m, 1.0)) << alpha << " " << c << ": " << m.mean();
+                }
+                if (!tir && !inside) {
+                    EXPECT_GT(m.mean(), 0.5) << alpha << " " << c;
+                }
             }
 }
 
-// Oren-Nayar (Cycles' form) loses energy only, and the estimator matches quadrature; sigma 0 is Lambert.
-TEST(ClosureFurnace, OrenNayarLosesEnergyOnly) {
-    for (float sigma : {0.0f, 0.3f, 1.0f})
+// For every parameter (kept in alpha) and incident angle: the importance-sampled albedo, which must
+// match quadrature of eval(); `check` adds the lobe's own bound.
+void furnace_sweep(const char* name, LobeKind kind, std::initializer_list<float> params, uint64_t seed,
+                   const std::function<void(float, int, const st::MeanEstimator&)>& check) {
+    for (float param : params)
         for (int i = 0; i < 3; ++i) {
-            Lobe lobe = lobe_of(LobeKind::OrenNayar, sigma);
+            Lobe lobe = lobe_of(kind, param);
             Vec3 wo = dir_from_cos(kCosThetas[i], kPhis[i]);
-            st::MeanEstimator is = sampled_albedo(lobe, wo, 200000, 13 + i);
+            st::MeanEstimator is = sampled_albedo(lobe, wo, 400000, seed + i);
             double quad = quadrature_albedo(lobe, wo);
-            std::printf("[furnace] OrenNayar s=%.1f cos %.2f: IS %.5f +- %.2g, quadrature %.5f\n", sigma, kCosThetas[i],
+            std::printf("[furnace] %s %.2f cos %.2f: IS %.5f +- %.2g, quadrature %.5f\n", name, param, kCosThetas[i],
                         is.mean(), is.std_error(), quad);
-            EXPECT_TRUE(matches_quadrature(is, quad)) << sigma;
-            EXPECT_TRUE(st::at_most(is, 1.0)) << sigma << ": " << is.mean();
-            if (sigma == 0.0f) EXPECT_LE(std::fabs(st::z_test_mean(is, 1.0, 1e-5).z), 3.0) << is.mean();
+            EXPECT_TRUE(matches_quadrature(is, quad)) << name << " " << param << " cos " << kCosThetas[i];
+            check(param, i, is);
         }
 }
 
-// Velvet is not energy conserving in Cycles' form (its G is not derived from D), so the check is that
-// the estimator matches quadrature of eval(); the albedos are printed for the README.
-TEST(ClosureFurnace, VelvetMatchesQuadrature) {
-    for (float sigma : {0.2f, 0.5f, 1.0f})
-        for (int i = 0; i < 3; ++i) {
-            Lobe lobe = lobe_of(LobeKind::Velvet, sigma);
-            Vec3 wo = dir_from_cos(kCosThetas[i], kPhis[i]);
-            st::MeanEstimator is = sampled_albedo(lobe, wo, 400000, 23 + i);
-            double quad = quadrature_albedo(lobe, wo);
-            std::printf("[furnace] Velvet s=%.1f cos %.2f: IS %.5f +- %.2g, quadrature %.5f\n", sigma, kCosThetas[i],
-                        is.mean(), is.std_error(), quad);
-            EXPECT_TRUE(matches_quadrature(is, quad)) << sigma << " cos " << kCosThetas[i];
-            EXPECT_GT(is.mean(), 0.0);
+// Oren-Nayar (Cycles' form) loses energy only; sigma 0 is Lambert (all of it).
+TEST(ClosureFurnace, OrenNayarLosesEnergyOnly) {
+    furnace_sweep("OrenNayar", LobeKind::OrenNayar, {0.0f, 0.3f, 1.0f}, 13, [](float sigma, int, const st::MeanEstimator& is) {
+        EXPECT_TRUE(st::at_most(is, 1.0)) << sigma << ": " << is.mean();
+        if (sigma == 0.0f) {
+            EXPECT_LE(std::fabs(st::z_test_mean(is, 1.0, 1e-5).z), 3.0) << is.mean();
         }
+    });
+}
+
+// Beckmann reflection (single scattering, no Fresnel) loses energy only.
+TEST(ClosureFurnace, BeckmannLosesEnergyOnly) {
+    furnace_sweep("Beckmann", LobeKind::Beckmann, {0.2f, 0.6f, 1.0f}, 43, [](float alpha, int, const st::MeanEstimator& is) {
+        EXPECT_TRUE(st::at_most(is, 1.0)) << alpha << ": " << is.mean();
+        EXPECT_GT(is.mean(), 0.2) << alpha;
+    });
+}
+
+// Velvet is not energy conserving in Cycles' form (its G is not derived from D): the check is the
+// quadrature match; the albedos are printed for the README.
+TEST(ClosureFurnace, VelvetMatchesQuadrature) {
+    furnace_sweep("Velvet", LobeKind::Velvet, {0.2f, 0.5f, 1.0f}, 23,
+                  [](float, int, const st::MeanEstimator&) {});
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -274,6 +293,24 @@ TEST(ClosureClosedForm, VelvetIsCyclesFormula) {
             Color e = lobe_eval(lobe_of(LobeKind::Velvet, float(sigma)), wo, wi);
             EXPECT_NEAR(e.x, expected, 1e-4 * expected + 1e-7) << sigma << " " << i;
             EXPECT_FLOAT_EQ(lobe_pdf(lobe_of(LobeKind::Velvet, float(sigma)), wo, wi), float(0.5 / pi));
+        }
+}
+
+TEST(ClosureClosedForm, BeckmannIsCyclesFormula) {
+    const double pi = 3.14159265358979323846;
+    auto g1 = [](double alpha, double c) {  // Walter 2007 eq. 27, as bsdf_beckmann_G1
+        double a = 1.0 / (alpha * std::sqrt(1.0 - c * c) / c);
+        return a >= 1.6 ? 1.0 : (3.535 * a + 2.181 * a * a) / (1.0 + 2.276 * a + 2.577 * a * a);
+    };
+    for (double alpha : {0.15, 0.5})
+        for (int i = 0; i < 3; ++i) {
+            Vec3 wo = dir_from_cos(kCosThetas[i], kPhis[i]), wi = dir_from_cos(0.6f, kPhis[i] + 2.5f);
+            Vec3 m = normalize(wo + wi);
+            double c2 = double(m.z) * m.z, a2 = alpha * alpha;
+            double d = std::exp(-(1.0 - c2) / c2 / a2) / (pi * a2 * c2 * c2);
+            double expected = d * g1(alpha, wo.z) * g1(alpha, wi.z) / (4.0 * wo.z);
+            Color e = lobe_eval(lobe_of(LobeKind::Beckmann, float(alpha)), wo, wi);
+            EXPECT_NEAR(e.x, expected, 1e-4 * expected + 1e-7) << alpha << " " << i;
         }
 }
 

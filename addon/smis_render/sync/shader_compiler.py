@@ -884,8 +884,10 @@ def _distribution(c, node, supported=("SHARP", "GGX")):
 
 
 def _glossy(c, node, ctx, weight):
+    """Sharp (0), GGX (1) or Beckmann (2); Ashikhmin-Shirley and multiscatter GGX as GGX (warned)."""
+    mode = 2 if node.distribution == "BECKMANN" else _distribution(c, node)
     c.op("glossy", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
-                    _closure_normal(c, node, ctx)], ints=[_distribution(c, node)])
+                    _closure_normal(c, node, ctx)], ints=[mode])
 
 
 def _glass(c, node, ctx, weight):

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <type_traits>
 
+#include "scene/lobes/beckmann.h"
 #include "scene/lobes/clearcoat.h"
 #include "scene/lobes/dielectric.h"
 #include "scene/lobes/diffuse.h"
@@ -30,7 +31,7 @@ struct LobeKindList {
 // Every lobe kind, in LobeKind order.
 using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, ClearcoatLobe, SheenLobe,
                                   TransparentLobe, PrincipledDiffuseLobe, OrenNayarLobe, VelvetLobe, TranslucentLobe,
-                                  RefractionLobe>;
+                                  RefractionLobe, BeckmannLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -76,6 +77,7 @@ template <bool kGated = true, class F>
         case VelvetLobe::kKind: return call_kind<VelvetLobe, kGated>(f);
         case TranslucentLobe::kKind: return call_kind<TranslucentLobe, kGated>(f);
         case RefractionLobe::kKind: return call_kind<RefractionLobe, kGated>(f);
+        case BeckmannLobe::kKind: return call_kind<BeckmannLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate

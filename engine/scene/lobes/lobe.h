@@ -50,6 +50,7 @@ enum class LobeKind : uint8_t {
     Velvet,       // Velvet BSDF (lobes/velvet.h)
     Translucent,  // Translucent BSDF (lobes/translucent.h)
     Refraction,   // Refraction BSDF (lobes/refraction.h)
+    Beckmann,     // Glossy BSDF with the Beckmann distribution (lobes/beckmann.h)
     Count
 };
 
