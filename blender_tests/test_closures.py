@@ -1,6 +1,6 @@
 """Closure parity with Cycles (issue 19): the scene scenes/closures.py builds (one sphere per
 closure: Oren-Nayar (constant and textured roughness), Velvet, Translucent, Refraction, Beckmann,
-with Lambert, GGX glossy and glass as controls) rendered by our engine matches the Cycles reference scenes/make_closure_references.sh
+Toon diffuse and glossy, with Lambert, GGX glossy and glass as controls) rendered by our engine matches the Cycles reference scenes/make_closure_references.sh
 rendered into blender_tests/references/closures.exr, sphere by sphere.
 
 The error measure of a sphere's 32 x 32 px tile, as in test_node_parity.py:
@@ -9,8 +9,8 @@ The error measure of a sphere's 32 x 32 px tile, as in test_node_parity.py:
           |mean_ours(b, c) - mean_ref(b, c)| / max(mean_ref(b, c), EPS),     EPS = 0.02
 
 and every tile must have MRE <= 1% (the GGX Glass control: see KNOWN). Path-space filtering, spectral rendering and the Albedo pass
-render the same scene (quick checks, looser bounds: filtering is biased, spectral upsampling
-changes coloured products slightly).
+render the same scene (quick checks of each sphere's mean, looser bounds, plus a KNOWN control's
+own: filtering is biased, spectral upsampling changes coloured products slightly).
 
 Run alone:
     blender -b --factory-startup --addons smis_render --python blender_tests/run.py -- -k closures -s
@@ -108,7 +108,7 @@ def test_path_space_filtering_renders_the_closures(tmp_path_factory):
     ref = _reference(ours.shape)
     for t in tiles:
         o, r = _tile(ours, t)[..., :3].mean(), _tile(ref, t)[..., :3].mean()
-        assert abs(o - r) <= 0.05 * r, (t["name"], o, r)
+        assert abs(o - r) <= (0.05 + KNOWN.get(t["name"], 0.0)) * r, (t["name"], o, r)
 
 
 def test_spectral_rendering_renders_the_closures(tmp_path_factory):
@@ -120,7 +120,7 @@ def test_spectral_rendering_renders_the_closures(tmp_path_factory):
     ref = _reference(ours.shape)
     for t in tiles:
         o, r = _tile(ours, t)[..., :3].mean(), _tile(ref, t)[..., :3].mean()
-        assert abs(o - r) <= 0.03 * r, (t["name"], o, r)
+        assert abs(o - r) <= (0.03 + KNOWN.get(t["name"], 0.0)) * r, (t["name"], o, r)
 
 
 def test_albedo_pass_reads_the_closure_colours(tmp_path_factory):

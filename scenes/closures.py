@@ -29,7 +29,7 @@ from cycles_settings import make_cycles_unbiased  # noqa: E402
 
 TILE_PX = 32
 TILE_M = 2.0
-COLS, ROWS = 4, 4
+COLS, ROWS = 4, 5
 MAX_BOUNCES = 8
 
 
@@ -97,6 +97,13 @@ CLOSURES = [
     ("glossy_beckmann_0p6", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlossy", {"Color": (0.9, 0.6, 0.3), "Roughness": 0.6},
                                              distribution='BECKMANN')),
     ("oren_nayar_textured", lambda nt: _textured_oren_nayar(nt)),
+    ("toon_diffuse", lambda nt: _bsdf(nt, "ShaderNodeBsdfToon", {"Color": (0.4, 0.6, 0.9), "Size": 0.5, "Smooth": 0.0},
+                                      component='DIFFUSE')),
+    # alone: Cycles' Toon Glossy reports its cone's density for every direction above the surface (its
+    # value is 0 outside the cone), which biases Cycles' MIS darker wherever another closure of the same
+    # material samples outside the cone (measured 7.9% darker for Diffuse + Toon Glossy); alone it is exact.
+    ("toon_glossy", lambda nt: _bsdf(nt, "ShaderNodeBsdfToon", {"Color": (0.8, 0.8, 0.8), "Size": 0.3, "Smooth": 0.0},
+                                     component='GLOSSY')),
 ]
 assert len(CLOSURES) <= COLS * ROWS
 
@@ -125,7 +132,7 @@ def build(out_dir):
 
     cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
     cam.data.type = 'ORTHO'
-    cam.data.ortho_scale = COLS * TILE_M
+    cam.data.ortho_scale = max(COLS, ROWS) * TILE_M  # spans the longer side of the image
     cam.location = (0.0, 0.0, 10.0)
     scene.collection.objects.link(cam)
     scene.camera = cam

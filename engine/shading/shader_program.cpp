@@ -53,7 +53,7 @@ constexpr struct {
     {"convert", Op::Convert}, {"mix_weights", Op::MixWeights}, {"diffuse", Op::Diffuse}, {"glossy", Op::Glossy},
     {"glass", Op::Glass}, {"transparent", Op::Transparent}, {"principled", Op::Principled},
     {"emission", Op::Emission}, {"holdout", Op::Holdout}, {"velvet", Op::Velvet}, {"translucent", Op::Translucent},
-    {"refraction", Op::Refraction}, {"tex_environment", Op::TexEnvironment},
+    {"refraction", Op::Refraction}, {"toon", Op::Toon}, {"tex_environment", Op::TexEnvironment},
     {"tex_sky", Op::TexSky},
     {"background", Op::Background},
 };
@@ -77,6 +77,7 @@ bool reads_context(const ShaderOp& op) {
 int lobe_slots(Op code) {
     switch (code) {
         case Op::Diffuse: case Op::Glossy: case Op::Glass: case Op::Velvet: case Op::Translucent: case Op::Refraction:
+        case Op::Toon:
             return 1;
         case Op::Principled: return 6;  // diffuse, specular, metal, transmission, sheen, clearcoat
         default: return 0;
@@ -261,6 +262,10 @@ void ShaderProgram::analyse() {
                 case Op::Velvet: l.kind = LobeKind::Velvet; templates_.push_back(l); break;
                 case Op::Translucent: l.kind = LobeKind::Translucent; templates_.push_back(l); break;
                 case Op::Refraction: l.kind = LobeKind::Refraction; templates_.push_back(l); break;
+                case Op::Toon:  // i[0]: 0 diffuse, 1 glossy
+                    l.kind = op.i[0] == 1 ? LobeKind::ToonGlossy : LobeKind::ToonDiffuse;
+                    templates_.push_back(l);
+                    break;
                 case Op::Principled: {
                     Lobe d; d.kind = LobeKind::PrincipledDiffuse;
                     Lobe s; s.kind = LobeKind::Microfacet; s.fresnel = FresnelMode::Dielectric;
@@ -962,6 +967,16 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             set_normal(out, r, op.in[3]);
             push_lobe(out, make_lobe(LobeKind::Translucent, FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, 0.0f,
                                      1.5f, uint8_t(op.i[5])));
+            break;
+        }
+        case Op::Toon: {  // Size in alpha, Smooth in f0.x (lobes/toon_diffuse.h)
+            float w = load1(r, op.in[0], 1.0f);
+            set_normal(out, r, op.in[4]);
+            Lobe l = make_lobe(op.i[0] == 1 ? LobeKind::ToonGlossy : LobeKind::ToonDiffuse, FresnelMode::None,
+                               load3(r, op.in[1], Color(0.8f)) * w, 0.0f, 1.5f, uint8_t(op.i[5]));
+            l.alpha = clamp01(load1(r, op.in[2], 0.5f));
+            l.f0 = Color(clamp01(load1(r, op.in[3], 0.0f)), 0.0f, 0.0f);
+            push_lobe(out, l);
             break;
         }
         case Op::Refraction: {

@@ -14,6 +14,7 @@
 #include <functional>
 #include <initializer_list>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/rng.h"
@@ -74,6 +75,13 @@ std::vector<NamedLobe> new_lobes() {
     v.push_back({"Translucent", lobe_of(LobeKind::Translucent, 0.0f, Color(0.9f, 0.8f, 0.3f))});
     for (float alpha : {0.05f, 0.2f, 0.6f})
         v.push_back({"Beckmann_a" + num(alpha), lobe_of(LobeKind::Beckmann, alpha, Color(0.8f, 0.9f, 0.6f))});
+    for (auto [size, smooth] : {std::pair{0.5f, 0.0f}, std::pair{0.3f, 0.4f}, std::pair{0.9f, 0.5f}}) {
+        Lobe d = lobe_of(LobeKind::ToonDiffuse, size, Color(0.6f, 0.7f, 0.9f)), g = d;
+        g.kind = LobeKind::ToonGlossy;
+        d.f0.x = g.f0.x = smooth;
+        v.push_back({"ToonDiffuse_" + num(size) + "_" + num(smooth), d});
+        v.push_back({"ToonGlossy_" + num(size) + "_" + num(smooth), g});
+    }
     for (float alpha : {0.1f, 0.5f})
         v.push_back({"Refraction_a" + num(alpha), lobe_of(LobeKind::Refraction, alpha, Color(0.9f, 1.0f, 0.8f), 1.5f),
                      true});
@@ -312,6 +320,27 @@ TEST(ClosureClosedForm, BeckmannIsCyclesFormula) {
             Color e = lobe_eval(lobe_of(LobeKind::Beckmann, float(alpha)), wo, wi);
             EXPECT_NEAR(e.x, expected, 1e-4 * expected + 1e-7) << alpha << " " << i;
         }
+}
+
+// Cycles' toon: inside the Size cone the value is the cone's uniform density, on the Smooth ramp a
+// linear fraction of it, beyond it 0.
+TEST(ClosureClosedForm, ToonIsCyclesFormula) {
+    const double pi = 3.14159265358979323846;
+    Lobe d = lobe_of(LobeKind::ToonDiffuse, 0.4f);  // full within 36 degrees, ramp to 36 + 27 = 63 degrees
+    d.f0.x = 0.3f;
+    double cone_pdf = 1.0 / (2.0 * pi * (1.0 - std::cos(0.7 * pi / 2.0)));
+    Vec3 wo = dir_from_cos(0.8f, 0.0f);
+    auto at = [](double deg) { return dir_from_cos(float(std::cos(deg * 3.14159265358979 / 180.0)), 1.0f); };
+    EXPECT_NEAR(lobe_eval(d, wo, at(20.0)).x, cone_pdf, 1e-5 * cone_pdf);
+    EXPECT_NEAR(lobe_eval(d, wo, at(50.0)).x, cone_pdf * (1.0 - (50.0 - 36.0) / 27.0), 1e-4 * cone_pdf);
+    EXPECT_EQ(lobe_eval(d, wo, at(70.0)).x, 0.0f);
+    EXPECT_NEAR(lobe_pdf(d, wo, at(50.0)), cone_pdf, 1e-5 * cone_pdf);
+    // Glossy: the same about the mirror direction of wo.
+    Lobe g = d;
+    g.kind = LobeKind::ToonGlossy;
+    Vec3 mirror(-wo.x, -wo.y, wo.z);
+    EXPECT_NEAR(lobe_eval(g, wo, mirror).x, cone_pdf, 1e-5 * cone_pdf);
+    EXPECT_EQ(lobe_eval(g, wo, dir_from_cos(0.8f, 0.0f)).x, 0.0f);  // wo itself: 74 degrees from the mirror
 }
 
 TEST(ClosureClosedForm, TranslucentIsLambertThrough) {

@@ -872,6 +872,12 @@ def _translucent(c, node, ctx, weight):
     c.op("translucent", [weight, c.input(node, "Color", ctx, COLOR), None, _closure_normal(c, node, ctx)])
 
 
+def _toon(c, node, ctx, weight):
+    c.op("toon", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Size", ctx, FLOAT),
+                  c.input(node, "Smooth", ctx, FLOAT), _closure_normal(c, node, ctx)],
+         ints=[1 if node.component == "GLOSSY" else 0])
+
+
 def _refraction(c, node, ctx, weight):
     c.op("refraction", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
                         c.input(node, "IOR", ctx, FLOAT), _closure_normal(c, node, ctx)], ints=[_distribution(c, node)])
@@ -941,6 +947,7 @@ SHADER_NODES = {
     "ShaderNodeBsdfVelvet": _velvet,
     "ShaderNodeBsdfTranslucent": _translucent,
     "ShaderNodeBsdfRefraction": _refraction,
+    "ShaderNodeBsdfToon": _toon,
     "ShaderNodeBsdfTransparent": _transparent,
     "ShaderNodeEmission": _emission,
     "ShaderNodeBsdfPrincipled": _principled,

@@ -18,6 +18,8 @@
 #include "scene/lobes/principled_diffuse.h"
 #include "scene/lobes/refraction.h"
 #include "scene/lobes/sheen.h"
+#include "scene/lobes/toon_diffuse.h"
+#include "scene/lobes/toon_glossy.h"
 #include "scene/lobes/translucent.h"
 #include "scene/lobes/transparent.h"
 #include "scene/lobes/velvet.h"
@@ -31,7 +33,7 @@ struct LobeKindList {
 // Every lobe kind, in LobeKind order.
 using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, ClearcoatLobe, SheenLobe,
                                   TransparentLobe, PrincipledDiffuseLobe, OrenNayarLobe, VelvetLobe, TranslucentLobe,
-                                  RefractionLobe, BeckmannLobe>;
+                                  RefractionLobe, BeckmannLobe, ToonDiffuseLobe, ToonGlossyLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -78,6 +80,8 @@ template <bool kGated = true, class F>
         case TranslucentLobe::kKind: return call_kind<TranslucentLobe, kGated>(f);
         case RefractionLobe::kKind: return call_kind<RefractionLobe, kGated>(f);
         case BeckmannLobe::kKind: return call_kind<BeckmannLobe, kGated>(f);
+        case ToonDiffuseLobe::kKind: return call_kind<ToonDiffuseLobe, kGated>(f);
+        case ToonGlossyLobe::kKind: return call_kind<ToonGlossyLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate

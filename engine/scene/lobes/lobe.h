@@ -51,6 +51,8 @@ enum class LobeKind : uint8_t {
     Translucent,  // Translucent BSDF (lobes/translucent.h)
     Refraction,   // Refraction BSDF (lobes/refraction.h)
     Beckmann,     // Glossy BSDF with the Beckmann distribution (lobes/beckmann.h)
+    ToonDiffuse,  // Toon BSDF, Diffuse (lobes/toon_diffuse.h)
+    ToonGlossy,   // Toon BSDF, Glossy (lobes/toon_glossy.h)
     Count
 };
 
