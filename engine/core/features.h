@@ -23,6 +23,7 @@ inline constexpr bool kWithTextures = SMIS_WITH_TEXTURES;                // imag
 inline constexpr bool kWithTexturedEmission = SMIS_WITH_TEXTURED_EMISSION;
 inline constexpr bool kWithCutouts = SMIS_WITH_CUTOUTS;                  // Principled Alpha < 1
 inline constexpr bool kWithPrincipledExtras = SMIS_WITH_PRINCIPLED_EXTRAS;  // clearcoat, sheen, Burley, Transparent
+inline constexpr bool kWithClosures = SMIS_WITH_CLOSURES;                // Oren-Nayar, Velvet, Translucent, Refraction, Beckmann, Toon
 inline constexpr bool kWithDepthOfField = SMIS_WITH_DEPTH_OF_FIELD;
 inline constexpr bool kWithAuxPasses = SMIS_WITH_AUX_PASSES;             // Depth/Normal/Albedo/diagnostic passes
 inline constexpr bool kWithStratified = SMIS_WITH_STRATIFIED;            // the stratified sampling pattern

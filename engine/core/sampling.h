@@ -58,6 +58,15 @@ inline Vec3 sample_uniform_sphere(Point2 u) {
 }
 inline float uniform_sphere_pdf() { return kInv4Pi; }
 
+// Uniform over the hemisphere around +z (z = 1 - u.x in (0, 1]); pdf in solid angle.
+inline Vec3 sample_uniform_hemisphere(Point2 u) {
+    float z = 1.0f - u.x;
+    float r = safe_sqrt(1.0f - z * z);
+    float phi = 2.0f * kPi * u.y;
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+inline float uniform_hemisphere_pdf() { return 0.5f * kInvPi; }
+
 // Uniform direction in the cone around +z whose half-angle has 1 - cos = one_minus_cos (passed
 // directly because 1 - cos loses all precision for small cones such as the sun's); pdf in solid angle.
 inline Vec3 sample_uniform_cone(Point2 u, float one_minus_cos) {

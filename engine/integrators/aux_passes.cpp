@@ -6,19 +6,12 @@ namespace smis {
 
 namespace {
 
-// Reflectance of the closures at normal incidence: a lobe's weight, times its Fresnel reflectance
-// where the lobe carries one (the Principled specular layer's dielectric F0, a metal's f0), so a
-// white Principled BSDF reads about 1, not 1 plus the specular layer's full weight.
+// Reflectance of the closures at normal incidence: each lobe's albedo (lobe.h), its weight times its
+// Fresnel reflectance where it carries one (the Principled specular layer's dielectric F0, a metal's
+// f0), so a white Principled BSDF reads about 1, not 1 plus the specular layer's full weight.
 Color albedo(const Bsdf& bsdf) {
     Color sum(0.0f);
-    for (int i = 0; i < bsdf.lobe_count(); ++i) {
-        const Lobe& l = bsdf.lobe(i);
-        if (l.kind == LobeKind::Microfacet && l.fresnel == FresnelMode::Schlick) sum += l.weight * l.f0;
-        else if ((l.kind == LobeKind::Microfacet && l.fresnel == FresnelMode::Dielectric) ||
-                 l.kind == LobeKind::Clearcoat)
-            sum += l.weight * sqr((l.eta - 1.0f) / (l.eta + 1.0f));
-        else if (l.kind != LobeKind::Transparent) sum += l.weight;  // see-through is not reflectance
-    }
+    for (int i = 0; i < bsdf.lobe_count(); ++i) sum += lobe_albedo(bsdf.lobe(i));
     return sum;
 }
 

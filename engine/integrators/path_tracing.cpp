@@ -62,15 +62,15 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
 }
 
 void next_shader_ray(const Bsdf& bsdf, const BsdfSample& bs, ShaderRay* ray) {
-    LobeKind kind = bs.lobe >= 0 ? bsdf.lobe(bs.lobe).kind : LobeKind::Diffuse;
-    bool diffuse = !bs.delta && (kind == LobeKind::Diffuse || kind == LobeKind::PrincipledDiffuse || kind == LobeKind::Sheen);
+    RayLabel label = bs.lobe >= 0 ? lobe_label(bsdf.lobe(bs.lobe)) : RayLabel::Diffuse;
+    bool diffuse = !bs.delta && label == RayLabel::Diffuse;
     ray->camera = false;
     ray->singular = bs.delta;
     ray->diffuse = diffuse;
     ray->glossy = !bs.delta && !diffuse;
     ray->transmission = bs.transmission;
     ray->reflection = !bs.transmission;
-    if (kind == LobeKind::Transparent) ++ray->transparent_depth;
+    if (label == RayLabel::Transparent) ++ray->transparent_depth;
     else if (bs.transmission) ++ray->transmission_depth;
     else if (diffuse) ++ray->diffuse_depth;
     else ++ray->glossy_depth;

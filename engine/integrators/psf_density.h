@@ -50,8 +50,9 @@ inline TechniqueDensity TechniqueDensity::of(const Bsdf& bsdf, const Vec3& p, co
     for (int i = 0; i < bsdf.lobe_count(); ++i) {
         const Lobe& lobe = bsdf.lobe(i);
         if (lobe_is_delta(lobe)) continue;  // Dirac lobes have no density
-        bool cosine = lobe.kind == LobeKind::Diffuse || lobe.kind == LobeKind::PrincipledDiffuse || lobe.kind == LobeKind::Sheen;
-        bool ggx = lobe.kind == LobeKind::Microfacet && (alpha < 0.0f || lobe.alpha == alpha);
+        DensityModel model = lobe_density_model(lobe);  // the lobe's own (lobes/lobe.h)
+        bool cosine = model == DensityModel::Cosine;
+        bool ggx = model == DensityModel::Ggx && (alpha < 0.0f || lobe.alpha == alpha);
         if (!cosine && !ggx) {  // rough dielectric, clearcoat, GGX lobes of different roughness
             m.kind = General;
             return m;
@@ -67,7 +68,7 @@ inline TechniqueDensity TechniqueDensity::of(const Bsdf& bsdf, const Vec3& p, co
     for (int i = 0; i < bsdf.lobe_count(); ++i) {
         const Lobe& lobe = bsdf.lobe(i);
         if (lobe_is_delta(lobe)) continue;
-        if (lobe.kind == LobeKind::Microfacet) m.c_ggx += fixed.probs[i] * fixed.pdf_scale[i];
+        if (lobe_density_model(lobe) == DensityModel::Ggx) m.c_ggx += fixed.probs[i] * fixed.pdf_scale[i];
         else m.c_cos += fixed.probs[i] * kInvPi;
     }
     // ggx_D clamps alpha the same way (kMinAlpha); non-Dirac lobes have alpha >= kDeltaAlpha anyway.

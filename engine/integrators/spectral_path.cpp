@@ -11,7 +11,7 @@ namespace {
 
 // The Fresnel factor of lobe `lobe` at one wavelength (1 for lobes without one, see LobeTerms).
 float spectral_fresnel(const Lobe& lobe, const SpectralLobe& s, float lambda, float cos_d) {
-    if (lobe.kind != LobeKind::Microfacet) return 1.0f;
+    if (lobe_spectral_fresnel(lobe) != SpectralFresnel::Tinted) return 1.0f;
     if (s.metal) return fresnel_conductor(cos_d, metal_ior(*s.metal, lambda));
     switch (lobe.fresnel) {
         case FresnelMode::None: return 1.0f;
@@ -138,14 +138,15 @@ bool delta_event(const ShadingPoint& sp, const SpectralMaterial& sm, const BsdfS
     float prob = sp.bsdf.fix_wo(sp.wo).probs[bs.lobe];
     if (!(prob > 0.0f)) return false;
     float cos_o = sp.bsdf.frame().to_local(sp.wo).z;
-    if (lobe.kind == LobeKind::Microfacet) {
+    SpectralFresnel fresnel_kind = lobe_spectral_fresnel(lobe);
+    if (fresnel_kind == SpectralFresnel::Tinted) {
         for (int i = 0; i < p.n; ++i) {
             float lambda = p.ws.lambda[i];
             p.beta[i] *= s.weight(lambda) * spectral_fresnel(lobe, s, lambda, cos_o) / prob;
         }
         return true;
     }
-    if (lobe.kind == LobeKind::Clearcoat) {  // smooth coat: its Fresnel (fixed IOR) is not spectral
+    if (fresnel_kind == SpectralFresnel::Fixed) {  // e.g. a smooth coat: its Fresnel (fixed IOR) is not spectral
         float f = fresnel_dielectric(cos_o, lobe.eta);
         for (int i = 0; i < p.n; ++i) p.beta[i] *= s.weight(p.ws.lambda[i]) * f / prob;
         return true;

@@ -51,14 +51,7 @@ Transform get_matrix(const py::dict& d, const char* key) {
 Lobe parse_lobe(const py::dict& d) {
     Lobe l;
     auto kind = get<std::string>(d, "kind", "diffuse");
-    if (kind == "diffuse") l.kind = LobeKind::Diffuse;
-    else if (kind == "microfacet") l.kind = LobeKind::Microfacet;
-    else if (kind == "dielectric") l.kind = LobeKind::Dielectric;
-    else if (kind == "clearcoat") l.kind = LobeKind::Clearcoat;
-    else if (kind == "sheen") l.kind = LobeKind::Sheen;
-    else if (kind == "transparent") l.kind = LobeKind::Transparent;
-    else if (kind == "principled_diffuse") l.kind = LobeKind::PrincipledDiffuse;
-    else throw py::value_error("unknown closure kind '" + kind + "'");
+    if (!lobe_kind_from_name(kind.c_str(), &l.kind)) throw py::value_error("unknown closure kind '" + kind + "'");
     auto fresnel = get<std::string>(d, "fresnel", "none");
     if (fresnel == "none") l.fresnel = FresnelMode::None;
     else if (fresnel == "schlick") l.fresnel = FresnelMode::Schlick;

@@ -15,7 +15,7 @@ Bsdf Material::program_bsdf(const ShaderResult& res, const Frame& frame, const V
     for (int i = 0; i < res.count; ++i) {
         Lobe lobe = res.lobes[i];
         lobe.weight *= inv_keep;
-        if (backfacing && lobe.kind == LobeKind::Dielectric)  // glass only: the Principled specular layer keeps its IOR (Cycles 3.4)
+        if (backfacing && lobe_backface_inverts_eta(lobe))
             lobe.eta = 1.0f / lobe.eta;
         bsdf.add(lobe);
     }

@@ -129,7 +129,7 @@ private:
                 if (in.to_f0) lobe.f0 = vmin(vmax(lobe.f0 * c, Color(0.0f)), Color(1.0f));
                 else lobe.weight *= vmax(c, Color(0.0f));
             }
-            if (backfacing && lobe.kind == LobeKind::Dielectric)  // glass only: the Principled specular layer keeps its IOR (Cycles 3.4)
+            if (backfacing && lobe_backface_inverts_eta(lobe))
                 lobe.eta = 1.0f / lobe.eta;
             bsdf.add(lobe);
         }

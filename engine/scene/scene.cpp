@@ -89,9 +89,10 @@ void validate_spectral(const MaterialSpectral& s, const std::string& name) {
 // A measurement build without some feature (core/features.h) refuses the materials that need it.
 void require_features(const Material& m) {
     for (const Lobe& l : m.lobes)
-        if (l.kind > LobeKind::Dielectric)
-            require_feature(kWithPrincipledExtras, "Principled clearcoat, sheen, diffuse or Transparent BSDF",
-                            "principled_extras");
+        visit_lobe<false>(l.kind, [&](auto k) {
+            using L = decltype(k);
+            if (L::kFeature) require_feature(L::kEnabled, (std::string("the ") + L::kName + " lobe").c_str(), L::kFeature);
+        });
     if (m.emission_texture) require_feature(kWithTexturedEmission, "textured emission", "textured_emission");
     if (m.cutout()) require_feature(kWithCutouts, "a cut-out (Alpha below 1)", "cutouts");
     if (m.needs_uv() || !m.inputs.empty())

@@ -52,7 +52,8 @@ constexpr struct {
     {"rgb_to_bw", Op::RgbToBw}, {"blackbody", Op::Blackbody}, {"wavelength", Op::Wavelength},
     {"convert", Op::Convert}, {"mix_weights", Op::MixWeights}, {"diffuse", Op::Diffuse}, {"glossy", Op::Glossy},
     {"glass", Op::Glass}, {"transparent", Op::Transparent}, {"principled", Op::Principled},
-    {"emission", Op::Emission}, {"holdout", Op::Holdout}, {"tex_environment", Op::TexEnvironment},
+    {"emission", Op::Emission}, {"holdout", Op::Holdout}, {"velvet", Op::Velvet}, {"translucent", Op::Translucent},
+    {"refraction", Op::Refraction}, {"toon", Op::Toon}, {"tex_environment", Op::TexEnvironment},
     {"tex_sky", Op::TexSky},
     {"background", Op::Background},
 };
@@ -306,9 +307,24 @@ void ShaderProgram::analyse() {
             closures_.push_back(k);
             Lobe l;
             switch (op.code) {
-                case Op::Diffuse: templates_.push_back(l); break;
-                case Op::Glossy: l.kind = LobeKind::Microfacet; templates_.push_back(l); break;
+                case Op::Diffuse: {  // Oren-Nayar where the roughness may be above 0 (a measurement build refuses it)
+                    uint16_t rough = op.in[2];
+                    if (rough != kNoReg && (varying[rough] || registers_[rough] > 0.0f)) l.kind = LobeKind::OrenNayar;
+                    templates_.push_back(l);
+                    break;
+                }
+                case Op::Glossy:  // i[0]: 0 sharp, 1 GGX, 2 Beckmann
+                    l.kind = op.i[0] == 2 ? LobeKind::Beckmann : LobeKind::Microfacet;
+                    templates_.push_back(l);
+                    break;
                 case Op::Glass: l.kind = LobeKind::Dielectric; templates_.push_back(l); break;
+                case Op::Velvet: l.kind = LobeKind::Velvet; templates_.push_back(l); break;
+                case Op::Translucent: l.kind = LobeKind::Translucent; templates_.push_back(l); break;
+                case Op::Refraction: l.kind = LobeKind::Refraction; templates_.push_back(l); break;
+                case Op::Toon:  // i[0]: 0 diffuse, 1 glossy
+                    l.kind = op.i[0] == 1 ? LobeKind::ToonGlossy : LobeKind::ToonDiffuse;
+                    templates_.push_back(l);
+                    break;
                 case Op::Principled: {
                     Lobe d; d.kind = LobeKind::PrincipledDiffuse;
                     Lobe s; s.kind = LobeKind::Microfacet; s.fresnel = FresnelMode::Dielectric;
@@ -1003,15 +1019,54 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
         case Op::Diffuse: {
             float w = load1(r, op.in[0], 1.0f);
             set_normal(out, r, op.in[3]);
-            push_lobe(out, make_lobe(LobeKind::Diffuse, FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, 0.0f, 1.5f,
-                                     uint8_t(op.i[5])));
+            Color c = load3(r, op.in[1], Color(0.8f)) * w;
+            // Cycles: Lambert at Roughness 0, Oren-Nayar with sigma = Roughness (not squared) above.
+            float rough = clamp01(load1(r, op.in[2], 0.0f));
+            Lobe l = make_lobe(rough > 0.0f ? LobeKind::OrenNayar : LobeKind::Diffuse, FresnelMode::None, c, 0.0f, 1.5f,
+                               uint8_t(op.i[5]));
+            l.alpha = rough;
+            push_lobe(out, l);
+            break;
+        }
+        case Op::Velvet: {  // sigma kept as is in alpha (lobes/velvet.h)
+            float w = load1(r, op.in[0], 1.0f);
+            set_normal(out, r, op.in[3]);
+            Lobe l = make_lobe(LobeKind::Velvet, FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, 0.0f, 1.5f,
+                               uint8_t(op.i[5]));
+            l.alpha = clamp01(load1(r, op.in[2], 1.0f));
+            push_lobe(out, l);
+            break;
+        }
+        case Op::Translucent: {
+            float w = load1(r, op.in[0], 1.0f);
+            set_normal(out, r, op.in[3]);
+            push_lobe(out, make_lobe(LobeKind::Translucent, FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, 0.0f,
+                                     1.5f, uint8_t(op.i[5])));
+            break;
+        }
+        case Op::Toon: {  // Size in alpha, Smooth in f0.x (lobes/toon_diffuse.h)
+            float w = load1(r, op.in[0], 1.0f);
+            set_normal(out, r, op.in[4]);
+            Lobe l = make_lobe(op.i[0] == 1 ? LobeKind::ToonGlossy : LobeKind::ToonDiffuse, FresnelMode::None,
+                               load3(r, op.in[1], Color(0.8f)) * w, 0.0f, 1.5f, uint8_t(op.i[5]));
+            l.alpha = clamp01(load1(r, op.in[2], 0.5f));
+            l.f0 = Color(clamp01(load1(r, op.in[3], 0.0f)), 0.0f, 0.0f);
+            push_lobe(out, l);
+            break;
+        }
+        case Op::Refraction: {
+            float w = load1(r, op.in[0], 1.0f);
+            set_normal(out, r, op.in[4]);
+            float rough = op.i[0] == 0 ? 0.0f : load1(r, op.in[2], 0.0f);
+            push_lobe(out, make_lobe(LobeKind::Refraction, FresnelMode::None, load3(r, op.in[1], Color(1.0f)) * w, rough,
+                                     load1(r, op.in[3], 1.45f), uint8_t(op.i[5])));
             break;
         }
         case Op::Glossy: {
             float w = load1(r, op.in[0], 1.0f);
             set_normal(out, r, op.in[3]);
             float rough = op.i[0] == 0 ? 0.0f : load1(r, op.in[2], 0.5f);
-            push_lobe(out, make_lobe(LobeKind::Microfacet, FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, rough, 1.5f,
+            push_lobe(out, make_lobe(op.i[0] == 2 ? LobeKind::Beckmann : LobeKind::Microfacet, FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, rough, 1.5f,
                                      uint8_t(op.i[5])));
             break;
         }

@@ -38,7 +38,7 @@ enum class ShaderOpCode : uint16_t {
     Math, VectorMath, MapRange, MapRangeVector, Clamp, ColorRamp, SeparateColor, CombineColor, CombineXyz,
     RgbToBw, Blackbody, Wavelength, Convert, MixWeights,
     // closures
-    Diffuse, Glossy, Glass, Transparent, Principled, Emission, Holdout,
+    Diffuse, Glossy, Glass, Transparent, Principled, Emission, Holdout, Velvet, Translucent, Refraction, Toon,
     Background,  // the World's Background node: colour x strength into ShaderResult::emission
     Count
 };

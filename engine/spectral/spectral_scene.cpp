@@ -16,10 +16,11 @@ SpectralMaterial make_material(const Material& m) {
         s.weight = rgb_spectrum(lobe.weight);
         s.varies = m.program || (i < m.inputs.size() && m.inputs[i].varies());
         if (lobe.fresnel == FresnelMode::Schlick) s.f0 = rgb_spectrum(lobe.f0);
-        if (lobe.kind == LobeKind::Microfacet && lobe.fresnel != FresnelMode::Dielectric) s.metal = metal;
-        // Only Dirac refraction disperses: a rough lobe's sampling density would depend on the
-        // wavelength, which the path's MIS over wavelengths does not model, so it keeps its IOR.
-        if (lobe.kind == LobeKind::Dielectric && lobe_is_delta(lobe)) {
+        // A measured metal replaces the Fresnel of the tinted lobes that are not a dielectric layer.
+        if (lobe_spectral_fresnel(lobe) == SpectralFresnel::Tinted && lobe.fresnel != FresnelMode::Dielectric)
+            s.metal = metal;
+        // Only Dirac refraction disperses (lobes/dielectric.h).
+        if (lobe_dispersive(lobe) && lobe_is_delta(lobe)) {
             if (m.spectral.dispersion == "ABBE") s.dispersion = Dispersion::abbe(lobe.eta, m.spectral.abbe);
             else if (m.spectral.dispersion != "NONE") Dispersion::sellmeier(m.spectral.dispersion, &s.dispersion);
             out.dispersive |= s.dispersion.active();

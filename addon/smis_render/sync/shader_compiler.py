@@ -865,9 +865,29 @@ def _closure_normal(c, node, ctx):
 
 
 def _diffuse(c, node, ctx, weight):
-    if node.inputs["Roughness"].is_linked or node.inputs["Roughness"].default_value > 0.0:
-        c.warn_node(node, "has Roughness > 0 (Oren-Nayar), which is not supported; using Lambert")
-    c.op("diffuse", [weight, c.input(node, "Color", ctx, COLOR), None, _closure_normal(c, node, ctx)])
+    """Lambert, or Oren-Nayar where Roughness > 0 (decided per hit, as Cycles does)."""
+    c.op("diffuse", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
+                     _closure_normal(c, node, ctx)])
+
+
+def _velvet(c, node, ctx, weight):
+    c.op("velvet", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Sigma", ctx, FLOAT),
+                    _closure_normal(c, node, ctx)])
+
+
+def _translucent(c, node, ctx, weight):
+    c.op("translucent", [weight, c.input(node, "Color", ctx, COLOR), None, _closure_normal(c, node, ctx)])
+
+
+def _toon(c, node, ctx, weight):
+    c.op("toon", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Size", ctx, FLOAT),
+                  c.input(node, "Smooth", ctx, FLOAT), _closure_normal(c, node, ctx)],
+         ints=[1 if node.component == "GLOSSY" else 0])
+
+
+def _refraction(c, node, ctx, weight):
+    c.op("refraction", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
+                        c.input(node, "IOR", ctx, FLOAT), _closure_normal(c, node, ctx)], ints=[_distribution(c, node)])
 
 
 def _distribution(c, node, supported=("SHARP", "GGX")):
@@ -877,8 +897,10 @@ def _distribution(c, node, supported=("SHARP", "GGX")):
 
 
 def _glossy(c, node, ctx, weight):
+    """Sharp (0), GGX (1) or Beckmann (2); Ashikhmin-Shirley and multiscatter GGX as GGX (warned)."""
+    mode = 2 if node.distribution == "BECKMANN" else _distribution(c, node)
     c.op("glossy", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
-                    _closure_normal(c, node, ctx)], ints=[_distribution(c, node)])
+                    _closure_normal(c, node, ctx)], ints=[mode])
 
 
 def _glass(c, node, ctx, weight):
@@ -929,6 +951,10 @@ SHADER_NODES = {
     "ShaderNodeBsdfDiffuse": _diffuse,
     "ShaderNodeBsdfGlossy": _glossy,
     "ShaderNodeBsdfGlass": _glass,
+    "ShaderNodeBsdfVelvet": _velvet,
+    "ShaderNodeBsdfTranslucent": _translucent,
+    "ShaderNodeBsdfRefraction": _refraction,
+    "ShaderNodeBsdfToon": _toon,
     "ShaderNodeBsdfTransparent": _transparent,
     "ShaderNodeEmission": _emission,
     "ShaderNodeBsdfPrincipled": _principled,

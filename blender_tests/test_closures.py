@@ -1,0 +1,143 @@
+"""Closure parity with Cycles (issue 19): the scene scenes/closures.py builds (one sphere per
+closure: Oren-Nayar (constant and textured roughness), Velvet, Translucent, Refraction, Beckmann,
+Toon diffuse and glossy, with Lambert, GGX glossy and glass as controls) rendered by our engine matches the Cycles reference scenes/make_closure_references.sh
+rendered into blender_tests/references/closures.exr, sphere by sphere.
+
+The error measure of a sphere's 32 x 32 px tile, as in test_node_parity.py:
+
+    MRE = mean over its 8x8-pixel blocks b and channels c in {R, G, B} of
+          |mean_ours(b, c) - mean_ref(b, c)| / max(mean_ref(b, c), EPS),     EPS = 0.02
+
+and every tile must have MRE <= 1% (the GGX Glass control: see KNOWN). Path-space filtering, spectral rendering and the Albedo pass
+render the same scene (quick checks of each sphere's mean, looser bounds, plus a KNOWN control's
+own: filtering is biased, spectral upsampling changes coloured products slightly).
+
+Run alone:
+    blender -b --factory-startup --addons smis_render --python blender_tests/run.py -- -k closures -s
+SMIS_CLOSURE_SPP overrides the sample count of the parity render.
+"""
+import json
+import os
+import subprocess
+
+import numpy as np
+
+from conftest import REFERENCES, ROOT, _smis, block_mean, render
+
+EPS = 0.02
+THRESHOLD = 0.01
+BLOCK = 8
+SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "512"))
+# The controls that are not issue 19's closures and do not match Cycles yet, with the error they
+# must not exceed (so that a regression still fails): Cycles 3.4 splits its GGX Glass into a
+# reflection and a refraction closure weighted by the Fresnel term at the shading normal, ours
+# chooses between them by the Fresnel term of each sampled microfacet (lobes/dielectric.h); measured
+# 2.1-2.9% over this sphere's blocks at 512 spp (against two references).
+KNOWN = {"glass_ggx_0p3": 0.04}
+_BUILT = {}
+
+
+def _scene(tmp_path_factory):
+    if "dir" not in _BUILT:
+        out = str(tmp_path_factory.mktemp("closures"))
+        proc = subprocess.run(["blender", "-b", "--factory-startup", "--python",
+                               os.path.join(ROOT, "scenes", "closures.py"), "--", out],
+                              capture_output=True, text=True, timeout=300)
+        assert proc.returncode == 0 and os.path.exists(os.path.join(out, "closures.blend")), \
+            (proc.stdout + proc.stderr)[-3000:]
+        _BUILT["dir"] = out
+    with open(os.path.join(_BUILT["dir"], "closures.json")) as f:
+        return os.path.join(_BUILT["dir"], "closures.blend"), json.load(f)["tiles"]
+
+
+def _render(blend, spp, extra=""):
+    run = render(blend, f"""
+scene.smis.samples = {spp}
+scene.smis.seed = 1
+scene.smis.max_bounces = scene.cycles.max_bounces
+scene.smis.filter_type = 'BOX'
+scene.smis.filter_width = 1.0
+scene.smis.integrator = 'PATH'
+""" + extra, timeout=600)
+    assert run.returncode == 0, run.output[-3000:]
+    # Every closure of the scene is translated: nothing falls back to a grey diffuse.
+    bad = [ln for ln in run.output.splitlines() if ln.startswith("Warning") and "not supported" in ln]
+    assert not bad, "\n".join(bad)
+    return run
+
+
+def block_mre(ours, ref):
+    a, b = block_mean(ours[..., :3], BLOCK), block_mean(ref[..., :3], BLOCK)
+    return float((np.abs(a - b) / np.maximum(b, EPS)).mean())
+
+
+def _tile(img, t):
+    return img[t["y0"]:t["y0"] + t["size"], t["x0"]:t["x0"] + t["size"]]
+
+
+def _tile_errors(ours, ref, tiles):
+    errors = {}
+    for t in tiles:
+        errors[t["name"]] = block_mre(_tile(ours, t), _tile(ref, t))
+        print("%-24s MRE %6.3f %%  ref mean %.4f  ours %.4f" % (t["name"], 100 * errors[t["name"]],
+                                                             _tile(ref, t)[..., :3].mean(),
+                                                             _tile(ours, t)[..., :3].mean()))
+    return errors
+
+
+def _reference(shape):
+    ref = _smis.read_exr(os.path.join(REFERENCES, "closures.exr"))
+    assert ref.shape[:2] == shape[:2], (ref.shape, shape)
+    return ref
+
+
+def test_every_closure_sphere_matches_cycles(tmp_path_factory):
+    blend, tiles = _scene(tmp_path_factory)
+    ours = _render(blend, SPP).image
+    assert np.isfinite(ours).all()
+    errors = _tile_errors(ours, _reference(ours.shape), tiles)
+    failing = {k: round(100 * v, 3) for k, v in errors.items() if v > KNOWN.get(k, THRESHOLD)}
+    assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
+
+
+def test_path_space_filtering_renders_the_closures(tmp_path_factory):
+    """PSF_SMIS (biased, few samples): every sphere finite and within 5% of Cycles on average."""
+    blend, tiles = _scene(tmp_path_factory)
+    ours = _render(blend, 64, "scene.smis.integrator = 'PSF_SMIS'\n").image
+    assert np.isfinite(ours).all()
+    ref = _reference(ours.shape)
+    for t in tiles:
+        o, r = _tile(ours, t)[..., :3].mean(), _tile(ref, t)[..., :3].mean()
+        assert abs(o - r) <= (0.05 + KNOWN.get(t["name"], 0.0)) * r, (t["name"], o, r)
+
+
+def test_spectral_rendering_renders_the_closures(tmp_path_factory):
+    """Hero-wavelength spectral rendering: every sphere within 3% of Cycles' RGB on average (RGB
+    upsampling makes coloured multi-bounce products differ slightly)."""
+    blend, tiles = _scene(tmp_path_factory)
+    ours = _render(blend, 128, "scene.smis.spectral = 'HERO'\n").image
+    assert np.isfinite(ours).all()
+    ref = _reference(ours.shape)
+    for t in tiles:
+        o, r = _tile(ours, t)[..., :3].mean(), _tile(ref, t)[..., :3].mean()
+        assert abs(o - r) <= (0.03 + KNOWN.get(t["name"], 0.0)) * r, (t["name"], o, r)
+
+
+def test_albedo_pass_reads_the_closure_colours(tmp_path_factory):
+    """The Albedo pass at the sphere centres: the closure colour for the new lobes (Oren-Nayar,
+    Velvet and Translucent reflect or pass their colour; a leaf is the mix of its two)."""
+    blend, tiles = _scene(tmp_path_factory)
+    run = _render(blend, 4, """
+scene.render.image_settings.file_format = 'OPEN_EXR_MULTILAYER'
+scene.view_layers[0].smis.use_pass_albedo = True
+""")
+    chans = _smis.read_exr_channels(run.image_path)
+    albedo = np.stack([chans["ViewLayer.Albedo." + c] for c in "RGB"], axis=-1)
+    expected = {"oren_nayar_0p5": (0.8, 0.5, 0.3), "oren_nayar_1": (0.3, 0.6, 0.8), "velvet_0p5": (0.7, 0.2, 0.3),
+                "translucent": (0.5, 0.8, 0.3), "leaf": (0.3, 0.65, 0.15),
+                "refraction_ggx_0p3": (1.0, 0.9, 0.8)}
+    for t in tiles:
+        if t["name"] not in expected:
+            continue
+        c = _tile(albedo, t)[12:20, 12:20].reshape(-1, 3).mean(0)
+        np.testing.assert_allclose(c, expected[t["name"]], rtol=1e-3, err_msg=t["name"])

@@ -1,0 +1,128 @@
+// Glass (Glass BSDF, Principled transmission): Fresnel-weighted reflection and refraction, smooth
+// (Dirac) or GGX-rough after Walter et al. 2007, "Microfacet Models for Refraction through Rough
+// Surfaces" (EGSR), with the reflect/refract choice made by the Fresnel term of the sampled normal,
+// so the Fresnel factors cancel in value / pdf. Two-sided: +z is the outside, eta = inside / outside.
+// Refraction scales radiance by (eta_i / eta_t)^2, so value / pdf of a refracted sample is the
+// radiance throughput, not the energy fraction.
+#pragma once
+#include "scene/lobes/lobe.h"
+
+namespace smis {
+
+struct DielectricLobe : LobeDefaults<DielectricLobe> {
+    static constexpr LobeKind kKind = LobeKind::Dielectric;
+    static constexpr const char* kName = "dielectric";
+    static constexpr bool kEnabled = true;
+    static constexpr const char* kFeature = nullptr;
+    static constexpr RayLabel kLabel = RayLabel::Glossy;
+    static constexpr DensityModel kDensity = DensityModel::General;
+    // Its Fresnel is the Dirac event's probability; only Dirac refraction disperses: a rough lobe's
+    // sampling density would depend on the wavelength, which the path's MIS over wavelengths does
+    // not model, so it keeps its IOR.
+    static constexpr SpectralFresnel kSpectral = SpectralFresnel::None;
+    static constexpr bool kDispersive = true;
+    // Glass only: the Principled specular layer keeps its IOR on the back face (Cycles 3.4).
+    static constexpr bool kBackfaceInvertsEta = true;
+
+    static bool is_delta(const Lobe& lobe) {
+        return !(lobe.alpha >= kDeltaAlpha) || !(std::fabs(lobe.eta - 1.0f) >= kIndexMatchedEps);
+    }
+
+    // Out of line, as the extra kinds': the Bsdf loops inline the common Lambert and GGX cases only.
+    [[gnu::noinline]] static LobeTerms terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+        if (!(wo.z != 0.0f) || !(wi.z != 0.0f)) return {};  // also rejects NaN
+        // Mirror the configuration so that wo is in the upper hemisphere; +z stays "wo's side".
+        float side = wo.z > 0.0f ? 1.0f : -1.0f;
+        Vec3 o = wo * side, i = wi * side;
+        // eta_t / eta_i seen from wo's medium: +z is the outside, eta = inside / outside.
+        float etap = wo.z > 0.0f ? lobe.eta : 1.0f / lobe.eta;
+        if (!(etap > 0.0f) || !std::isfinite(etap)) return {};
+        bool reflect = i.z > 0.0f;
+
+        // (Generalised) half vector: Walter eq. 13 / 16, h_t ~ -(eta_i o + eta_t i).
+        Vec3 h = reflect ? o + i : o + i * etap;
+        float len2 = length_sq(h);
+        if (!(len2 > kMinHalfLenSq)) return {};
+        Vec3 wm = h / std::sqrt(len2);
+        if (wm.z < 0.0f) wm = -wm;
+        float cos_om = dot(o, wm), cos_im = dot(i, wm);
+        // Microfacets must be seen from the front by o, and i must lie on the same side of the
+        // microfacet as of the macro-surface (the chi+ factors of Walter's G1).
+        if (!(cos_om > 0.0f)) return {};
+        if (reflect ? !(cos_im > 0.0f) : !(cos_im < 0.0f)) return {};
+
+        float alpha = lobe.alpha;
+        float d = ggx_D(wm, alpha);
+        float g1o = ggx_G1(o, alpha), g1i = ggx_G1(i, alpha);
+        float F = fresnel_dielectric(cos_om, etap);
+        LobeTerms r;
+        if (reflect) {
+            float common = d * g1o / (4.0f * o.z);
+            r.pdf = F * common;
+            r.geom = F * common * g1i;
+        } else {
+            // Jacobian of the refraction mapping (Walter eq. 17, divided through by eta_t^2):
+            // |dwm/dwi| = |i.wm| / (i.wm + o.wm / etap)^2, and (i.wm + o.wm/etap)^2 = |h|^2 / etap^2
+            // exactly, which is bounded away from 0 once index-matched interfaces are excluded.
+            float denom = len2 / (etap * etap);
+            float dwm_dwi = std::fabs(cos_im) / denom;
+            // D_wo(wm) = G1(o) D cos_om / cos_o (Heitz 2018 eq. 3).
+            float visible = g1o * d * cos_om / o.z;
+            r.pdf = (1.0f - F) * visible * dwm_dwi;
+            // f cos_i = (1-F) D G |i.wm| |o.wm| / (denom cos_o); radiance is scaled by (eta_i/eta_t)^2.
+            r.geom = (1.0f - F) * visible * dwm_dwi * g1i / (etap * etap);
+        }
+        return r;
+    }
+
+    [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event) {
+        BsdfSample s;
+        if (!(wo.z != 0.0f)) return s;
+        float side = wo.z > 0.0f ? 1.0f : -1.0f;
+        float etap = wo.z > 0.0f ? lobe.eta : 1.0f / lobe.eta;  // eta_t / eta_i
+        if (!(etap > 0.0f) || !std::isfinite(etap)) return s;
+
+        if (is_delta(lobe)) {
+            // Smooth interface: choose the event with its exact Fresnel probability; value / pdf is the
+            // throughput multiplier (weight for reflection, weight (eta_i/eta_t)^2 for refraction).
+            float cos_o = std::fabs(wo.z);
+            float F = fresnel_dielectric(cos_o, etap);
+            if (u_event < F) {
+                s.wi = Vec3(-wo.x, -wo.y, wo.z);
+                s.value = lobe.weight * F;
+                s.pdf = F;
+            } else {
+                Vec3 wt;
+                if (!lobe_detail::refract_dir(wo * side, Vec3(0, 0, 1), etap, &wt)) return BsdfSample{};
+                s.wi = wt * side;
+                s.value = lobe.weight * ((1.0f - F) / (etap * etap));
+                s.pdf = 1.0f - F;
+                s.eta = etap;
+                s.transmission = true;
+            }
+            s.delta = true;
+            if (!s.valid()) return BsdfSample{};
+            return s;
+        }
+
+        Vec3 o = wo * side;
+        Vec3 wm = ggx_sample_visible_normal(o, lobe.alpha, u);
+        float cos_om = dot(o, wm);
+        if (!(cos_om > 0.0f)) return s;
+        float F = fresnel_dielectric(cos_om, etap);
+        Vec3 i;
+        bool transmission = !(u_event < F);  // F = 1 under total internal reflection
+        if (!transmission) {
+            i = reflect(o, wm);
+            if (!(i.z > 0.0f)) return s;
+            i = normalize(i);
+        } else {
+            if (!lobe_detail::refract_dir(o, wm, etap, &i) || !(i.z < 0.0f)) return s;
+        }
+        return lobe_sample_at<DielectricLobe>(lobe, wo, i * side, transmission, transmission ? etap : 1.0f);
+    }
+
+    static Color albedo(const Lobe& lobe) { return lobe.weight; }
+};
+
+}  // namespace smis
