@@ -28,12 +28,11 @@ EPS = 0.02
 THRESHOLD = 0.01
 BLOCK = 8
 SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "512"))
-# The controls that are not issue 19's closures and do not match Cycles yet, with the error they
-# must not exceed (so that a regression still fails): Cycles 3.4 splits its GGX Glass into a
-# reflection and a refraction closure weighted by the Fresnel term at the shading normal, ours
-# chooses between them by the Fresnel term of each sampled microfacet (lobes/dielectric.h); measured
-# 2.1-2.9% over this sphere's blocks at 512 spp (against two references).
-KNOWN = {"glass_ggx_0p3": 0.04}
+# Spheres allowed more than THRESHOLD, with the error they must not exceed (so that a regression
+# still fails). The GGX Glass control is split as Cycles splits it (shader_compiler._glass): its
+# caustic-like noise leaves 1.17% at 512 spp and 0.66% at 2048 spp (SMIS_CLOSURE_SPP); the earlier
+# per-microfacet Fresnel weighting measured 2.1-2.9% at 512 spp and fails this bound.
+KNOWN = {"glass_ggx_0p3": 0.015}
 _BUILT = {}
 
 

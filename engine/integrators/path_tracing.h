@@ -118,15 +118,16 @@ inline bool add_transparency(const RenderSettings& settings, const PathState& st
 }
 // After a bounce: only a Transparent lobe keeps the background transparent (Cycles clears the flag
 // on every reflection and on every transmission but LABEL_TRANSMIT_TRANSPARENT), and, with
-// Transparent Glass, a refraction through glass at most that rough (Cycles' bsdf_sample: alpha^2 at
-// most the threshold roughness^2).
+// Transparent Glass, a refraction through glass (or a Refraction BSDF, and rough Glass's refraction
+// lobe) at most that rough (Cycles' bsdf_sample: alpha^2 at most the threshold roughness^2).
 inline void update_transparent_background(const RenderSettings& settings, PathState& st, const Bsdf& bsdf,
                                           const BsdfSample& bs) {
     if (!st.transparent_background) return;
     const Lobe* lobe = bs.lobe >= 0 ? &bsdf.lobe(bs.lobe) : nullptr;
     st.transparent_background =
         lobe && (lobe->kind == LobeKind::Transparent ||
-                 (settings.film_transparent && bs.transmission && lobe->kind == LobeKind::Dielectric &&
+                 (settings.film_transparent && bs.transmission &&
+                  (lobe->kind == LobeKind::Dielectric || lobe->kind == LobeKind::Refraction) &&
                   lobe->alpha <= settings.film_transparent_glass));
 }
 struct RayMedia;
