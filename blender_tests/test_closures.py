@@ -29,7 +29,7 @@ THRESHOLD = 0.01
 BLOCK = 8
 SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "512"))
 # Spheres allowed more than THRESHOLD, with the error they must not exceed (so that a regression
-# still fails). The GGX Glass control is split as Cycles splits it (shader_compiler._glass): its
+# still fails). The GGX Glass control weights reflection and refraction as Cycles does (lobes/dielectric.h): its
 # caustic-like noise leaves 1.17% at 512 spp and 0.66% at 2048 spp (SMIS_CLOSURE_SPP); the earlier
 # per-microfacet Fresnel weighting measured 2.1-2.9% at 512 spp and fails this bound.
 KNOWN = {"glass_ggx_0p3": 0.015}

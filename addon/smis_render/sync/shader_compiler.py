@@ -904,22 +904,10 @@ def _glossy(c, node, ctx, weight):
 
 
 def _glass(c, node, ctx, weight):
-    """Sharp glass is one dielectric lobe (its choice between reflection and refraction by the
-    Fresnel term is Cycles' pair of closures in expectation). Rough glass is what Cycles 3.4 makes
-    of it (svm/closure.h): a GGX reflection weighted by the Fresnel term at the shading normal and a
-    GGX refraction weighted by 1 - that term, not Fresnel per microfacet; the Fresnel node computes
-    the same term (IOR inverted on back faces)."""
-    distribution = _distribution(c, node)
-    color, rough = c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT)
-    ior, normal = c.input(node, "IOR", ctx, FLOAT), _closure_normal(c, node, ctx)
-    if distribution == 0:
-        c.op("glass", [weight, color, rough, ior, normal], ints=[0])
-        return
-    fresnel, reflected, refracted = c.alloc(FLOAT), c.alloc(FLOAT), c.alloc(FLOAT)
-    c.op("fresnel", [ior, normal], [fresnel])
-    c.op("mix_weights", [weight, fresnel], [refracted, reflected])
-    c.op("glossy", [reflected, color, rough, normal], ints=[1])
-    c.op("refraction", [refracted, color, rough, ior, normal], ints=[1])
+    """One dielectric lobe; rough, it weights reflection and refraction by the Fresnel term at the
+    shading normal as Cycles 3.4's pair of closures does (lobes/dielectric.h)."""
+    c.op("glass", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
+                   c.input(node, "IOR", ctx, FLOAT), _closure_normal(c, node, ctx)], ints=[_distribution(c, node)])
 
 
 def _transparent(c, node, ctx, weight):

@@ -1,7 +1,8 @@
 // Glass (Glass BSDF, Principled transmission): Fresnel-weighted reflection and refraction, smooth
-// (Dirac) or GGX-rough after Walter et al. 2007, "Microfacet Models for Refraction through Rough
-// Surfaces" (EGSR), with the reflect/refract choice made by the Fresnel term of the sampled normal,
-// so the Fresnel factors cancel in value / pdf. Two-sided: +z is the outside, eta = inside / outside.
+// (Dirac) or GGX-rough with Walter et al. 2007's microfacet reflection and refraction, "Microfacet
+// Models for Refraction through Rough Surfaces" (EGSR), weighted as Cycles 3.4 weights its pair of
+// closures: by the Fresnel term at the shading normal, which also chooses the sampled event, so it
+// cancels in value / pdf. Two-sided: +z is the outside, eta = inside / outside.
 // Refraction scales radiance by (eta_i / eta_t)^2, so value / pdf of a refracted sample is the
 // radiance throughput, not the energy fraction.
 #pragma once
@@ -54,7 +55,7 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
         float alpha = lobe.alpha;
         float d = ggx_D(wm, alpha);
         float g1o = ggx_G1(o, alpha), g1i = ggx_G1(i, alpha);
-        float F = fresnel_dielectric(cos_om, etap);
+        float F = fresnel_dielectric(o.z, etap);  // at the shading normal: see sample()
         LobeTerms r;
         if (reflect) {
             float common = d * g1o / (4.0f * o.z);
@@ -105,11 +106,15 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
             return s;
         }
 
+        // Rough: Cycles 3.4 splits its Glass (and the Principled GGX transmission) into a GGX
+        // reflection weighted by the Fresnel term at the shading normal and a GGX refraction weighted
+        // by 1 - that term (svm/closure.h), not by each microfacet's Fresnel term (Walter et al.):
+        // the event is chosen with that probability, and terms() weights each side by it.
         Vec3 o = wo * side;
         Vec3 wm = ggx_sample_visible_normal(o, lobe.alpha, u);
         float cos_om = dot(o, wm);
         if (!(cos_om > 0.0f)) return s;
-        float F = fresnel_dielectric(cos_om, etap);
+        float F = fresnel_dielectric(o.z, etap);
         Vec3 i;
         bool transmission = !(u_event < F);  // F = 1 under total internal reflection
         if (!transmission) {
