@@ -47,9 +47,9 @@ def _needs_corner_normals(mesh):
     return bool(smooth.any())
 
 
-def _corner_uvs(mesh, tris, uv_map):
-    """UVs of every triangle corner from the named UV map ('' = the active render map), or
-    None when the mesh has no such map."""
+def _corner_uvs(mesh, loops, uv_map):
+    """UVs of every triangle corner (`loops`: the corners' loop indices) from the named UV map
+    ('' = the active render map), or None when the mesh has no such map."""
     layers = mesh.uv_layers
     layer = layers.get(uv_map) if uv_map else None
     if layer is None:
@@ -58,9 +58,7 @@ def _corner_uvs(mesh, tris, uv_map):
         return None
     uv = np.empty(len(mesh.loops) * 2, dtype=np.float32)
     layer.data.foreach_get("uv", uv)
-    loops = np.empty(len(tris) * 3, dtype=np.int32)
-    tris.foreach_get("loops", loops)
-    return uv.reshape(-1, 2)[loops].reshape(len(tris), 3, 2)
+    return uv.reshape(-1, 2)[loops].reshape(-1, 3, 2)
 
 
 ACTIVE_COLOR = "\x00active color"
@@ -72,7 +70,7 @@ POINTINESS = "\x00pointiness"
 RANDOM_PER_ISLAND = "\x00random per island"
 
 
-def _corner_tangents(mesh, tris, loops, uv_maps, warn, object_name):
+def _corner_tangents(mesh, loops, uv_maps, warn, object_name):
     """{TANGENT_PREFIX + name: (M, 3, 4)} for each UV map in `uv_maps` the mesh has. Blender's
     calc_tangents is MikkTSpace, Cycles' tangent space; it refuses n-gons (Cycles triangulates
     them first): such meshes get none and normal maps fall back to per-triangle tangents."""
@@ -95,49 +93,40 @@ def _corner_tangents(mesh, tris, loops, uv_maps, warn, object_name):
         mesh.loops.foreach_get("tangent", tangent)
         mesh.loops.foreach_get("bitangent_sign", sign)
         corner = np.concatenate([tangent.reshape(n, 3), sign[:, None]], axis=1)[loops]
-        out[TANGENT_PREFIX + name] = np.ascontiguousarray(corner.reshape(len(tris), 3, 4))
+        out[TANGENT_PREFIX + name] = np.ascontiguousarray(corner.reshape(-1, 3, 4))
     return out
 
 
-def _edges(mesh):
+def _derived_attributes(mesh, vertices, loops, verts, names, warn, object_name):
+    """{name: (M, 3, k)} for the derived attributes in `names` (see TANGENT_PREFIX); `vertices`:
+    the positions, `loops` and `verts`: each triangle corner's loop and vertex index."""
+    out = _corner_tangents(mesh, loops, [n[len(TANGENT_PREFIX):] for n in names if n.startswith(TANGENT_PREFIX)],
+                           warn, object_name)
+    if POINTINESS not in names and RANDOM_PER_ISLAND not in names:
+        return out
+    smis = native.load()
     edges = np.empty(len(mesh.edges) * 2, dtype=np.int32)
     mesh.edges.foreach_get("vertices", edges)
-    return edges
-
-
-def _derived_attributes(mesh, tris, names, warn, object_name):
-    """{name: (M, 3, k)} for the derived attributes in `names` (see TANGENT_PREFIX)."""
-    loops = np.empty(len(tris) * 3, dtype=np.int32)
-    tris.foreach_get("loops", loops)
-    verts = np.empty(len(tris) * 3, dtype=np.int32)
-    tris.foreach_get("vertices", verts)
-    out = _corner_tangents(mesh, tris, loops, [n[len(TANGENT_PREFIX):] for n in names if n.startswith(TANGENT_PREFIX)],
-                           warn, object_name)
-    smis = native.load()
     if POINTINESS in names:
-        n = len(mesh.vertices)
-        co, normal = np.empty(n * 3, dtype=np.float32), np.empty(n * 3, dtype=np.float32)
-        mesh.vertices.foreach_get("co", co)
+        normal = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
         mesh.vertices.foreach_get("normal", normal)
-        per_vertex = smis.mesh_pointiness(co, normal, _edges(mesh))
-        out[POINTINESS] = np.ascontiguousarray(per_vertex[verts].reshape(len(tris), 3, 1))
+        per_vertex = smis.mesh_pointiness(vertices, normal, edges)
+        out[POINTINESS] = np.ascontiguousarray(per_vertex[verts].reshape(-1, 3, 1))
     if RANDOM_PER_ISLAND in names:
-        per_triangle = smis.mesh_random_per_island(len(mesh.vertices), _edges(mesh), verts[0::3].copy())
-        out[RANDOM_PER_ISLAND] = np.ascontiguousarray(np.repeat(per_triangle, 3).reshape(len(tris), 3, 1))
+        per_triangle = smis.mesh_random_per_island(len(mesh.vertices), edges, verts[0::3].copy())
+        out[RANDOM_PER_ISLAND] = np.ascontiguousarray(np.repeat(per_triangle, 3).reshape(-1, 3, 1))
     return out
 
 
-def _corner_attributes(mesh, tris):
+def _corner_attributes(mesh, loops, verts):
     """Every UV map (by name) and colour attribute (by name, and the active render one as
-    ACTIVE_COLOR) at every triangle corner, for shader programs that read them by name."""
+    ACTIVE_COLOR) at every triangle corner (`loops`, `verts`: its loop and vertex indices), for
+    shader programs that read them by name."""
     out = {}
-    loops = np.empty(len(tris) * 3, dtype=np.int32)
-    tris.foreach_get("loops", loops)
-    verts = None
     for layer in mesh.uv_layers:
         uv = np.empty(len(mesh.loops) * 2, dtype=np.float32)
         layer.data.foreach_get("uv", uv)
-        out[layer.name] = uv.reshape(-1, 2)[loops].reshape(len(tris), 3, 2)
+        out[layer.name] = uv.reshape(-1, 2)[loops].reshape(-1, 3, 2)
     colors = getattr(mesh, "color_attributes", None)
     if colors is not None:
         active = colors.render_color_index if hasattr(colors, "render_color_index") else -1
@@ -149,13 +138,10 @@ def _corner_attributes(mesh, tris):
             if attr.domain == 'CORNER':
                 corner = data[loops]
             elif attr.domain == 'POINT':
-                if verts is None:
-                    verts = np.empty(len(tris) * 3, dtype=np.int32)
-                    tris.foreach_get("vertices", verts)
                 corner = data[verts]
             else:
                 continue
-            arr = np.ascontiguousarray(corner.reshape(len(tris), 3, 4))
+            arr = np.ascontiguousarray(corner.reshape(-1, 3, 4))
             out[attr.name] = arr
             if i == active or (active < 0 and i == 0):
                 out[ACTIVE_COLOR] = arr
@@ -196,10 +182,16 @@ def mesh_buffers(mesh, slot_count, uv_map=None, derived=(), warn=None, object_na
         tris.foreach_get("material_index", material_index)
         np.clip(material_index, 0, slot_count - 1, out=material_index)
 
-    corner_uvs = _corner_uvs(mesh, tris, uv_map) if uv_map is not None and n_tris else None
-    attributes = _corner_attributes(mesh, tris) if uv_map is not None and n_tris else None
-    if derived and n_tris:
-        attributes = dict(attributes or {}, **_derived_attributes(mesh, tris, derived, warn, object_name))
+    corner_uvs = attributes = None
+    if n_tris and (uv_map is not None or derived):
+        loops = np.empty(n_tris * 3, dtype=np.int32)  # each corner's loop, read once for every attribute
+        tris.foreach_get("loops", loops)
+        if uv_map is not None:
+            corner_uvs = _corner_uvs(mesh, loops, uv_map)
+            attributes = _corner_attributes(mesh, loops, triangles)
+        if derived:
+            attributes = dict(attributes or {},
+                              **_derived_attributes(mesh, vertices, loops, triangles, derived, warn, object_name))
     texspace = None
     if hasattr(mesh, "texspace_location"):
         texspace = (tuple(mesh.texspace_location), tuple(mesh.texspace_size))
