@@ -67,7 +67,7 @@ struct PathRecord : SuffixVertex {
     uint8_t dirac_depth = 0;  // the prefix's Dirac bounces before x1 (they set the suffix's bounce budget)
     // Prefix endpoint x1.
     Color beta{0.0f};    // prefix throughput f_e / p up to x1
-    Vec3 p, wo, ng, ns;
+    Vec3 p, wo, ng, ns;  // ns: the interpolated shading normal on wo's side (bsdf_at turns it)
     uint32_t material = 0;
     bool backfacing = false;
     float radius = 0.0f;
@@ -87,7 +87,10 @@ Bsdf bsdf_at(const Scene& scene, uint32_t material, const Vec3& ns, const Vec3& 
         Vec3 program_ns;
         return scene.program_bsdf(material, attr, wo, backfacing, ShaderRay{}, &program_ns);
     }
-    return m.make_bsdf(Frame(ns), ng, backfacing, attr);
+    const Vec3 closure_ns = closure_normal(ns, ng, wo);
+    Bsdf bsdf = m.make_bsdf(Frame(closure_ns), ng, backfacing, attr);
+    note_turned_normal(bsdf, closure_ns, ns);
+    return bsdf;
 }
 
 // The pixel sample's place in the stratified sampler (for the extra light and BSDF samples at x1).
@@ -246,7 +249,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         rec.p = hit.p;
         rec.wo = sp.wo;
         rec.ng = sp.ng;
-        rec.ns = sp.ns;
+        rec.ns = sp.backfacing ? -hit.ns : hit.ns;
         rec.material = hit.material;
         rec.backfacing = sp.backfacing;
         if (attribs) attribs->x1 = hit.attr;

@@ -13,9 +13,19 @@ ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const
     sp.ng = sp.backfacing ? -hit.ng : hit.ng;
     sp.ns = sp.backfacing ? -hit.ns : hit.ns;
     const Material& m = scene.material(hit.material);
-    if (!m.program) sp.bsdf = m.make_bsdf(Frame(sp.ns), sp.ng, sp.backfacing, hit.attr);
-    else sp.bsdf = program_shading(scene, hit, sp, ray);
+    if (m.program) sp.bsdf = program_shading(scene, hit, sp, ray);
+    else if (hit.ns == hit.ng) sp.bsdf = m.make_bsdf(Frame(sp.ns), sp.ng, sp.backfacing, hit.attr);
+    else smooth_constant_shading(m, hit, sp);
     return sp;
+}
+
+// Out of line, like program_shading: flat-shaded hits (ns == ng, whose mirror of wo about ng is
+// always above the surface) keep the short path.
+[[gnu::noinline]] void smooth_constant_shading(const Material& m, const SurfaceHit& hit, ShadingPoint& sp) {
+    const Vec3 interpolated = sp.ns;
+    sp.ns = closure_normal(interpolated, sp.ng, sp.wo);
+    sp.bsdf = m.make_bsdf(Frame(sp.ns), sp.ng, sp.backfacing, hit.attr);
+    note_turned_normal(sp.bsdf, sp.ns, interpolated);
 }
 
 // Out of line: the constant materials' path through make_shading_point stays as small as it was.

@@ -131,11 +131,9 @@ Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3
                          const ShaderRay& ray, Vec3* ns_out) const {
     ShaderContext ctx;
     ShaderResult res = run_program(material, at, wo, ray, &ctx);
-    Vec3 ns = ctx.N;
-    if (res.has_normal) {
-        ns = shading::ensure_valid_reflection(ctx.Ng, ctx.I, res.normal);
-        if (!is_finite(ns) || !(dot(ns, ctx.Ng) > 0.0f)) ns = ctx.N;
-    }
+    // Every closure's normal is repaired, the interpolated one too (Cycles' svm_node_closure_bsdf).
+    Vec3 ns = shading::ensure_valid_reflection(ctx.Ng, ctx.I, res.has_normal ? res.normal : ctx.N);
+    if (!is_finite(ns) || !(dot(ns, ctx.Ng) > 0.0f)) ns = ctx.N;
     *ns_out = ns;
     Bsdf bsdf = materials_[material].program_bsdf(res, Frame(ns), ctx.Ng, backfacing);
     if (!(ns == ctx.N)) bsdf.set_bump_base(ctx.N);

@@ -11,10 +11,9 @@ namespace smis::shading {
 // reflection sits on the threshold: dot(R', Ng) = min(0.9 Ng.I, 0.01). Solving for N'.z in that
 // frame gives N'.z^2 = (c +- b) / (2a) with a = Ix^2 + Iz^2, b = sqrt(Ix^2 (a - t^2)), c = Iz t + a;
 // of the valid roots the shallower reflection is kept; with none, Ng.
-inline Vec3 ensure_valid_reflection(const Vec3& Ng, const Vec3& I, const Vec3& N) {
-    Vec3 R = N * (2.0f * dot(N, I)) - I;
-    float threshold = std::min(0.9f * dot(Ng, I), 0.01f);
-    if (dot(Ng, R) >= threshold) return N;
+// Out of line: the check below runs at every hit, the turn itself rarely.
+[[gnu::noinline]] inline Vec3 turn_normal_for_valid_reflection(const Vec3& Ng, const Vec3& I, const Vec3& N,
+                                                                float threshold) {
     float n_ng = dot(N, Ng);
     Vec3 x = N - Ng * n_ng;
     float xl = length(x);
@@ -48,6 +47,13 @@ inline Vec3 ensure_valid_reflection(const Vec3& Ng, const Vec3& I, const Vec3& N
         return Ng;
     }
     return x * nx + Ng * nz;
+}
+
+inline Vec3 ensure_valid_reflection(const Vec3& Ng, const Vec3& I, const Vec3& N) {
+    Vec3 R = N * (2.0f * dot(N, I)) - I;
+    float threshold = std::min(0.9f * dot(Ng, I), 0.01f);
+    if (dot(Ng, R) >= threshold) return N;
+    return turn_normal_for_valid_reflection(Ng, I, N, threshold);
 }
 
 }  // namespace smis::shading
