@@ -350,6 +350,7 @@ def main():
     log("wrote %s" % os.path.relpath(os.path.join(out, "planes_bench.md"), ROOT))
 
 
-main()
-sys.stdout.flush()
-os._exit(0)
+if __name__ == "__main__":  # bench/plane_shadow_rays.py imports the helpers above
+    main()
+    sys.stdout.flush()
+    os._exit(0)

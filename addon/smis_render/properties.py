@@ -205,6 +205,13 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
                     "with 2 the partner plane is perpendicular and only weighted",
         default=2, min=1, max=64,
     )
+    plane_shadow_rays: IntProperty(
+        name="Shadow Rays per Camera Ray",
+        description="About this many of a camera ray's plane crossings trace their shadow ray, chosen "
+                    "by their unshadowed contribution and reweighted (Russian roulette: unbiased); "
+                    "0 traces one for every crossing",
+        default=0, min=0, soft_max=1024,
+    )
     # Many-light direct illumination (integrator PATH), at the camera path's first non-specular vertex.
     direct_light: EnumProperty(
         name="Direct Light",
@@ -376,6 +383,7 @@ def session_settings(scene):
         "volume_estimator": s.volume_estimator,
         "photon_planes": s.photon_planes,
         "smis_planes": s.smis_planes,
+        "plane_shadow_rays": s.plane_shadow_rays,
         "direct_light": s.direct_light,
         "ris_candidates": s.ris_candidates,
         "restir_neighbors": s.restir_neighbors,

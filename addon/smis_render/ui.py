@@ -122,6 +122,7 @@ class SMIS_RENDER_PT_volumes(SMISButtonsPanel, bpy.types.Panel):
         col.prop(settings, "volume_estimator")
         if settings.volume_estimator.startswith("PLANES_"):
             col.prop(settings, "photon_planes")
+            col.prop(settings, "plane_shadow_rays")
         if settings.volume_estimator.startswith("PLANES_SMIS"):
             col.prop(settings, "smis_planes")
 

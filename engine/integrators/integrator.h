@@ -87,6 +87,10 @@ struct RenderSettings {
     std::string volume_estimator = "PATH";
     uint32_t photon_planes = 40960;    // planes per iteration (one iteration = one camera sample)
     int smis_planes = 2;               // n: orientations per SMIS realisation (eq. 27)
+    // K > 0: of a camera ray's plane crossings in one medium segment, about K trace their shadow ray,
+    // each with probability q = min(1, K c / sum c) by its unshadowed contribution c and divided by q
+    // (Russian roulette on visibility: unbiased); 0 traces every crossing's shadow ray.
+    uint32_t plane_shadow_rays = 0;
     // Benchmarks of the volume estimators: render only the camera rays' single scattering (PATH:
     // from every light; photon planes: from the rectangular lights they cover).
     bool camera_volume_only = false;

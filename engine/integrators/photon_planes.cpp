@@ -182,7 +182,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         Color L = settings.camera_volume_only ? Color(0.0f) : trace_path(scene, settings, ray, camera, rng, local);
         if (use_planes) {
             thread_local std::vector<PlaneHit> hits;
-            uint64_t parallel = 0, nonfinite = 0, gathered = 0;
+            uint64_t parallel = 0, nonfinite = 0, gathered = 0, shadow_rays = 0;
             SurfaceHit first;
             RayMedia media;
             intersect_through(scene, ray, camera.medium, &first, &media);
@@ -192,24 +192,59 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 if (!med.scatters()) continue;
                 set.gather(Ray{ray.o, ray.d, seg.t0, seg.t1}, &hits, &parallel);
                 gathered += hits.size();
-                for (const PlaneHit& hit : hits) {
+                // Each crossing's contribution before its shadow ray's transmittance: T_cam sigma_s
+                // and the plane's weight, kept apart so that the traced crossing's product is formed
+                // in the order it had before the roulette existed.
+                struct Unshadowed {
+                    Color cam;
+                    float weight;
+                    float size;  // the contribution's largest channel
+                };
+                thread_local std::vector<Unshadowed> unshadowed;
+                unshadowed.resize(hits.size());
+                float total = 0.0f;
+                for (size_t k = 0; k < hits.size(); ++k) {
+                    const PlaneHit& hit = hits[k];
                     const PhotonPlane& p = set.plane(hit.plane);
                     const PlaneLight& l = lights.lights[p.light];
+                    float dist = hit.b * p.sweep_length;
+                    Unshadowed& u = unshadowed[k];
+                    u.weight = plane_weight(l, p, hit, ray.d) * med.phase.eval(-ray.d, -p.w_l) *
+                               std::exp(l.flight_rate * dist);
+                    u.cam = media.transmittance(scene, hit.t) * med.sigma_s;
+                    u.size = max_component(u.cam * plane_scale[p.light] * u.weight);
+                    if (!std::isfinite(u.size)) {
+                        ++nonfinite;
+                        u.size = 0.0f;
+                    }
+                    total += u.size;
+                }
+                const float budget = float(settings.plane_shadow_rays);
+                for (size_t k = 0; k < hits.size(); ++k) {
+                    const Unshadowed& u = unshadowed[k];
+                    if (!(u.size > 0.0f)) continue;
+                    float q = 1.0f;
+                    if (budget > 0.0f) {  // Russian roulette on visibility, by the unshadowed contribution
+                        q = std::min(1.0f, budget * u.size / total);
+                        if (!(rng.next_float() < q)) continue;
+                    }
+                    const PlaneHit& hit = hits[k];
+                    const PhotonPlane& p = set.plane(hit.plane);
                     Vec3 xs = ray.o + ray.d * hit.t;
                     float dist = hit.b * p.sweep_length;
                     Color tr = shadow_transmittance(scene, xs, -p.w_l, dist * (1.0f - 1e-4f), seg.medium);
+                    ++shadow_rays;
                     if (is_black(tr)) continue;
-                    float weight = plane_weight(l, p, hit, ray.d) *
-                                   med.phase.eval(-ray.d, -p.w_l) * std::exp(l.flight_rate * dist);
-                    Color c = media.transmittance(scene, hit.t) * med.sigma_s * tr * plane_scale[p.light] * weight;
+                    Color c = u.cam * tr * plane_scale[p.light] * u.weight;
                     if (!is_finite(c)) {
                         ++nonfinite;
                         continue;
                     }
-                    L += c;
+                    L += q < 1.0f ? c / q : c;
                 }
             }
             plane_hits_ += gathered;
+            shadow_rays_ += shadow_rays;
             if (!gathered_at.empty()) gathered_at[size_t(y) * w + x] = float(gathered);
             parallel_rejected_ += parallel;
             nonfinite_rejected_ += nonfinite;
@@ -237,6 +272,7 @@ std::map<std::string, double> PhotonPlanesIntegrator::stats() const {
     return {{"iterations", double(iterations_)},
             {"planes", double(planes_)},
             {"plane_hits", double(plane_hits_.load())},
+            {"shadow_rays", double(shadow_rays_.load())},
             {"parallel_rejected", double(parallel_rejected_.load())},
             {"nonfinite_rejected", double(nonfinite_rejected_.load())},
             {"build_seconds", build_seconds_},

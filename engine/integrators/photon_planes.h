@@ -32,7 +32,7 @@ private:
     // Measurements, summed over iterations.
     double build_seconds_ = 0, render_seconds_ = 0;
     uint64_t iterations_ = 0, planes_ = 0;
-    std::atomic<uint64_t> plane_hits_{0}, parallel_rejected_{0}, nonfinite_rejected_{0};
+    std::atomic<uint64_t> plane_hits_{0}, shadow_rays_{0}, parallel_rejected_{0}, nonfinite_rejected_{0};
 };
 
 }  // namespace smis
