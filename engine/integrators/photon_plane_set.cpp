@@ -62,19 +62,34 @@ struct GatherContext {
     const std::vector<PhotonPlane>* planes;
     std::vector<PlaneHit>* hits;
     uint64_t* parallel;
+    float tmin, tmax;  // the segment (the ray's tfar holds the candidate's distance inside a filter)
 };
 
 }  // namespace
 
+// Each plane is a parallelogram: one Embree quad (origin, + edge0, + edge0 + edge1, + edge1), so the
+// BVH's leaves test planes with Embree's SIMD quad intersector and only actual crossings reach the
+// filter below (a user-geometry callback ran for every plane in every leaf the ray visited).
 PhotonPlaneSet::PhotonPlaneSet(RTCDevice device, std::vector<PhotonPlane> planes) : planes_(std::move(planes)) {
     scene_ = rtcNewScene(device);
     rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
-    rtcSetGeometryUserPrimitiveCount(geom, static_cast<unsigned>(planes_.size()));
-    rtcSetGeometryUserData(geom, &planes_);
-    rtcSetGeometryBoundsFunction(geom, &PhotonPlaneSet::bounds, nullptr);
-    rtcSetGeometryIntersectFunction(geom, &PhotonPlaneSet::intersect);
-    rtcSetGeometryOccludedFunction(geom, &PhotonPlaneSet::occluded);
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
+    const size_t n = planes_.size();
+    auto* vertices = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4 * n));
+    auto* quads = static_cast<uint32_t*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(uint32_t), n));
+    for (size_t i = 0; i < n; ++i) {
+        const PhotonPlane& p = planes_[i];
+        const Vec3 corners[4] = {p.origin, p.origin + p.edge0, p.origin + p.edge0 + p.edge1, p.origin + p.edge1};
+        for (int c = 0; c < 4; ++c) {
+            vertices[12 * i + 3 * c + 0] = corners[c].x;
+            vertices[12 * i + 3 * c + 1] = corners[c].y;
+            vertices[12 * i + 3 * c + 2] = corners[c].z;
+            quads[4 * i + c] = uint32_t(4 * i + c);
+        }
+    }
+    rtcSetGeometryIntersectFilterFunction(geom, &PhotonPlaneSet::record_crossing);
     rtcCommitGeometry(geom);
     rtcAttachGeometry(scene_, geom);
     rtcReleaseGeometry(geom);
@@ -85,47 +100,39 @@ PhotonPlaneSet::~PhotonPlaneSet() {
     if (scene_) rtcReleaseScene(scene_);
 }
 
-void PhotonPlaneSet::bounds(const RTCBoundsFunctionArguments* args) {
-    const auto& planes = *static_cast<const std::vector<PhotonPlane>*>(args->geometryUserPtr);
-    const PhotonPlane& p = planes[args->primID];
-    Vec3 lo = p.origin, hi = p.origin;
-    for (const Vec3& q : {p.origin + p.edge0, p.origin + p.edge1, p.origin + p.edge0 + p.edge1}) {
-        lo = vmin(lo, q);
-        hi = vmax(hi, q);
-    }
-    RTCBounds* b = args->bounds_o;
-    b->lower_x = lo.x, b->lower_y = lo.y, b->lower_z = lo.z;
-    b->upper_x = hi.x, b->upper_y = hi.y, b->upper_z = hi.z;
-}
-
-void PhotonPlaneSet::intersect(const RTCIntersectFunctionNArguments* args) {
-    if (args->N != 1 || !args->valid[0]) return;
+// Embree found the ray crossing a plane's quad: the crossing is recomputed from the plane itself
+// (so its t, a, b and the parallel test do not depend on the intersector), recorded, and rejected,
+// so that traversal goes on to every other plane.
+void PhotonPlaneSet::record_crossing(const RTCFilterFunctionNArguments* args) {
     auto* ctx = reinterpret_cast<GatherContext*>(args->context);
-    const PhotonPlane& p = (*ctx->planes)[args->primID];
-    const RTCRay& r = reinterpret_cast<RTCRayHit*>(args->rayhit)->ray;
-    Vec3 o(r.org_x, r.org_y, r.org_z), d(r.dir_x, r.dir_y, r.dir_z);
-    // o + t d = origin + a edge0 + b edge1 (Moller-Trumbore without the triangle's a + b <= 1).
-    Vec3 pvec = cross(d, p.edge1);
-    float det = dot(p.edge0, pvec);
-    // |det| = |edge0| |edge1| |(s_hat x w_l) . d|: below this the crossing has no usable Jacobian.
-    if (!(std::fabs(det) > 1e-7f * p.chord_length * p.sweep_length)) {
-        ++*ctx->parallel;
-        return;
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        args->valid[i] = 0;
+        const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+        const PhotonPlane& p = (*ctx->planes)[prim];
+        auto* ray = const_cast<RTCRayN*>(args->ray);
+        Vec3 o(RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i), RTCRayN_org_z(ray, args->N, i));
+        Vec3 d(RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i), RTCRayN_dir_z(ray, args->N, i));
+        // o + t d = origin + a edge0 + b edge1 (Moller-Trumbore without the triangle's a + b <= 1).
+        Vec3 pvec = cross(d, p.edge1);
+        float det = dot(p.edge0, pvec);
+        // |det| = |edge0| |edge1| |(s_hat x w_l) . d|: below this the crossing has no usable Jacobian.
+        if (!(std::fabs(det) > 1e-7f * p.chord_length * p.sweep_length)) {
+            ++*ctx->parallel;
+            continue;
+        }
+        float inv = 1.0f / det;
+        Vec3 tvec = o - p.origin;
+        float a = dot(tvec, pvec) * inv;
+        if (!(a >= 0.0f && a <= 1.0f)) continue;
+        Vec3 qvec = cross(tvec, p.edge0);
+        float b = dot(d, qvec) * inv;
+        if (!(b >= 0.0f && b <= 1.0f)) continue;
+        float t = dot(p.edge1, qvec) * inv;
+        if (!(t > ctx->tmin && t < ctx->tmax)) continue;
+        ctx->hits->push_back({prim, t, a, b});
     }
-    float inv = 1.0f / det;
-    Vec3 tvec = o - p.origin;
-    float a = dot(tvec, pvec) * inv;
-    if (!(a >= 0.0f && a <= 1.0f)) return;
-    Vec3 qvec = cross(tvec, p.edge0);
-    float b = dot(d, qvec) * inv;
-    if (!(b >= 0.0f && b <= 1.0f)) return;
-    float t = dot(p.edge1, qvec) * inv;
-    if (!(t > r.tnear && t < r.tfar)) return;
-    ctx->hits->push_back({args->primID, t, a, b});
-    // No hit is reported (tfar unchanged), so traversal goes on to every other plane.
 }
-
-void PhotonPlaneSet::occluded(const RTCOccludedFunctionNArguments*) {}
 
 void PhotonPlaneSet::gather(const Ray& ray, std::vector<PlaneHit>* hits, uint64_t* parallel) const {
     hits->clear();
@@ -134,9 +141,11 @@ void PhotonPlaneSet::gather(const Ray& ray, std::vector<PlaneHit>* hits, uint64_
     ctx.planes = &planes_;
     ctx.hits = hits;
     ctx.parallel = parallel;
+    ctx.tmin = ray.tmin;
+    ctx.tmax = ray.tmax;
     RTCRayHit rh = embree_ray_hit(ray);
     rtcIntersect1(scene_, &ctx.base, &rh);
-    // A primitive may sit in several BVH leaves: sort and keep each plane once.
+    // A crossing on a quad's diagonal can be reported by both of its triangles: keep each plane once.
     std::sort(hits->begin(), hits->end(), [](const PlaneHit& x, const PlaneHit& y) { return x.plane < y.plane; });
     hits->erase(std::unique(hits->begin(), hits->end(),
                             [](const PlaneHit& x, const PlaneHit& y) { return x.plane == y.plane; }),

@@ -68,9 +68,7 @@ public:
     size_t size() const { return planes_.size(); }
 
 private:
-    static void bounds(const RTCBoundsFunctionArguments* args);
-    static void intersect(const RTCIntersectFunctionNArguments* args);
-    static void occluded(const RTCOccludedFunctionNArguments* args);
+    static void record_crossing(const RTCFilterFunctionNArguments* args);
 
     std::vector<PhotonPlane> planes_;
     RTCScene scene_ = nullptr;
