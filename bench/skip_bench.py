@@ -76,7 +76,7 @@ FEATURES = [
     ("textured_emission", "emission colour from an image", []),
     ("cutouts", "Principled Alpha < 1", []),
     ("principled_extras", "clearcoat, sheen, Burley diffuse, Transparent BSDF", []),
-    ("closures", "Oren-Nayar, Velvet, Translucent, Refraction, Beckmann, Toon lobes", []),
+    ("closures", "Oren-Nayar, Velvet, Translucent, Refraction, Beckmann, Toon, multiscatter GGX, anisotropic lobes", []),
     ("depth_of_field", "thin-lens camera", []),
     ("aux_passes", "Depth / Normal / Albedo / diagnostic passes", []),
     ("stratified", "stratified sampling pattern", ["psf_glossy"]),

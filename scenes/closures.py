@@ -29,7 +29,7 @@ from cycles_settings import make_cycles_unbiased  # noqa: E402
 
 TILE_PX = 32
 TILE_M = 2.0
-COLS, ROWS = 4, 5
+COLS, ROWS = 4, 6
 MAX_BOUNCES = 8
 
 
@@ -104,6 +104,26 @@ CLOSURES = [
     # material samples outside the cone (measured 7.9% darker for Diffuse + Toon Glossy); alone it is exact.
     ("toon_glossy", lambda nt: _bsdf(nt, "ShaderNodeBsdfToon", {"Color": (0.8, 0.8, 0.8), "Size": 0.3, "Smooth": 0.0},
                                      component='GLOSSY')),
+    # multiscatter GGX (Heitz et al. 2016's random walk in Cycles 3.4): little multiple scattering at 0.3,
+    # much at 0.8 (white: see test_closures.py's KNOWN for the coloured one, which Cycles' walk tints
+    # again at each further bounce)
+    ("glossy_multi_0p3", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlossy", {"Color": (0.8, 0.8, 0.8), "Roughness": 0.3},
+                                          distribution='MULTI_GGX')),
+    ("glossy_multi_0p8", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlossy", {"Color": (1.0, 1.0, 1.0), "Roughness": 0.8},
+                                          distribution='MULTI_GGX')),
+    # anisotropic GGX and Beckmann with the default tangent (radial around the object's Z, the view axis)
+    ("anisotropic_ggx", lambda nt: _bsdf(nt, "ShaderNodeBsdfAnisotropic",
+                                         {"Color": (0.8, 0.8, 0.8), "Roughness": 0.4, "Anisotropy": 0.7,
+                                          "Rotation": 0.1}, distribution='GGX')),
+    ("anisotropic_beckmann", lambda nt: _bsdf(nt, "ShaderNodeBsdfAnisotropic",
+                                              {"Color": (0.7, 0.8, 0.9), "Roughness": 0.4, "Anisotropy": -0.5},
+                                              distribution='BECKMANN')),
+    ("principled_anisotropic", lambda nt: _bsdf(nt, "ShaderNodeBsdfPrincipled",
+                                                {"Base Color": (0.9, 0.6, 0.3), "Metallic": 1.0, "Roughness": 0.4,
+                                                 "Anisotropic": 0.8, "Anisotropic Rotation": 0.25})),
+    ("glossy_multi_0p8_tinted", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlossy",
+                                                 {"Color": (0.9, 0.7, 0.5), "Roughness": 0.8},
+                                                 distribution='MULTI_GGX')),
 ]
 assert len(CLOSURES) <= COLS * ROWS
 

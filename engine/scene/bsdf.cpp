@@ -40,13 +40,18 @@ float gtr1_D(float cos_m, float alpha) {
     return std::isfinite(d) ? d : 0.0f;
 }
 
-// Heitz 2018, listing 1. wo is mirrored into the upper hemisphere (D is symmetric); the returned
-// normal always has z >= 0.
-Vec3 ggx_sample_visible_normal(const Vec3& wo_in, float alpha, Point2 u) {
-    alpha = sanitize_alpha(alpha);
+Vec3 ggx_sample_visible_normal(const Vec3& wo, float alpha, Point2 u) {
+    return ggx_sample_visible_normal(wo, alpha, alpha, u);
+}
+
+// Heitz 2018, listing 1 (with alpha_x along x, alpha_y along y). wo is mirrored into the upper
+// hemisphere (D is symmetric); the returned normal always has z >= 0.
+Vec3 ggx_sample_visible_normal(const Vec3& wo_in, float alpha_x, float alpha_y, Point2 u) {
+    alpha_x = sanitize_alpha(alpha_x);
+    alpha_y = sanitize_alpha(alpha_y);
     Vec3 wo = wo_in.z < 0.0f ? -wo_in : wo_in;
     // Stretch the view direction to the hemisphere configuration (alpha = 1).
-    Vec3 vh(alpha * wo.x, alpha * wo.y, wo.z);
+    Vec3 vh(alpha_x * wo.x, alpha_y * wo.y, wo.z);
     float vlen2 = length_sq(vh);
     if (!(vlen2 > 0.0f) || !std::isfinite(vlen2)) return Vec3(0, 0, 1);
     vh = vh / std::sqrt(vlen2);
@@ -63,7 +68,7 @@ Vec3 ggx_sample_visible_normal(const Vec3& wo_in, float alpha, Point2 u) {
     p2 = (1.0f - s) * safe_sqrt(1.0f - p1 * p1) + s * p2;
     // Project onto the hemisphere and unstretch.
     Vec3 nh = t1 * p1 + t2 * p2 + vh * safe_sqrt(1.0f - p1 * p1 - p2 * p2);
-    Vec3 ne(alpha * nh.x, alpha * nh.y, std::max(0.0f, nh.z));
+    Vec3 ne(alpha_x * nh.x, alpha_y * nh.y, std::max(0.0f, nh.z));
     float nlen2 = length_sq(ne);
     if (!(nlen2 > 0.0f) || !std::isfinite(nlen2)) return Vec3(0, 0, 1);
     return ne / std::sqrt(nlen2);

@@ -127,6 +127,23 @@ ShaderResult Scene::run_program(uint32_t material, const SurfaceAttribs& at, con
     return res;
 }
 
+// The shading frame of an anisotropic closure: s along its tangent turned by `turns` x 2 pi about n
+// (Cycles' rotate_around_axis), made perpendicular to n, t = n x s (make_orthonormals_tangent);
+// Frame(n) where the tangent is along n.
+static Frame tangent_frame(const Vec3& n, const Vec3& tangent, float turns) {
+    float angle = 2.0f * kPi * turns;
+    float c = std::cos(angle), sn = std::sin(angle);
+    Vec3 t = tangent * c + cross(n, tangent) * sn + n * (dot(n, tangent) * (1.0f - c));
+    Vec3 s = t - n * dot(n, t);
+    float len2 = length_sq(s);
+    if (!(len2 > 1e-12f) || !std::isfinite(len2)) return Frame(n);
+    Frame f;
+    f.n = n;
+    f.s = s / std::sqrt(len2);
+    f.t = cross(n, f.s);
+    return f;
+}
+
 Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, bool backfacing,
                          const ShaderRay& ray, Vec3* ns_out) const {
     ShaderContext ctx;
@@ -135,7 +152,8 @@ Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3
     Vec3 ns = shading::ensure_valid_reflection(ctx.Ng, ctx.I, res.has_normal ? res.normal : ctx.N);
     if (!is_finite(ns) || !(dot(ns, ctx.Ng) > 0.0f)) ns = ctx.N;
     *ns_out = ns;
-    Bsdf bsdf = materials_[material].program_bsdf(res, Frame(ns), ctx.Ng, backfacing);
+    Frame frame = res.has_tangent ? tangent_frame(ns, res.tangent, res.tangent_rotation) : Frame(ns);
+    Bsdf bsdf = materials_[material].program_bsdf(res, frame, ctx.Ng, backfacing);
     if (!(ns == ctx.N)) bsdf.set_bump_base(ctx.N);
     return bsdf;
 }

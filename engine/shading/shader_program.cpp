@@ -55,7 +55,7 @@ constexpr struct {
     {"emission", Op::Emission}, {"holdout", Op::Holdout}, {"velvet", Op::Velvet}, {"translucent", Op::Translucent},
     {"refraction", Op::Refraction}, {"toon", Op::Toon}, {"tex_environment", Op::TexEnvironment},
     {"tex_sky", Op::TexSky},
-    {"background", Op::Background},
+    {"background", Op::Background}, {"anisotropic", Op::Anisotropic},
 };
 
 bool is_closure(Op code) { return code >= Op::Diffuse; }
@@ -313,8 +313,16 @@ void ShaderProgram::analyse() {
                     templates_.push_back(l);
                     break;
                 }
-                case Op::Glossy:  // i[0]: 0 sharp, 1 GGX, 2 Beckmann
-                    l.kind = op.i[0] == 2 ? LobeKind::Beckmann : LobeKind::Microfacet;
+                case Op::Glossy:  // i[0]: 0 sharp, 1 GGX, 2 Beckmann, 3 multiscatter GGX (two lobes)
+                    l.kind = op.i[0] == 2 ? LobeKind::Beckmann : op.i[0] == 3 ? LobeKind::MultiGgx : LobeKind::Microfacet;
+                    templates_.push_back(l);
+                    if (op.i[0] == 3) {
+                        l.kind = LobeKind::GgxMultiple;
+                        templates_.push_back(l);
+                    }
+                    break;
+                case Op::Anisotropic:  // i[0]: 1 GGX, 2 Beckmann
+                    l.kind = op.i[0] == 2 ? LobeKind::AnisoBeckmann : LobeKind::AnisoGgx;
                     templates_.push_back(l);
                     break;
                 case Op::Glass: l.kind = LobeKind::Dielectric; templates_.push_back(l); break;
@@ -442,6 +450,28 @@ void set_normal(ShaderResult* out, const float* r, uint16_t reg) {
     out->has_normal = true;
 }
 
+// The first anisotropic closure's tangent and rotation (in turns about the normal) become the shading
+// frame's s axis (Scene::program_bsdf); Cycles gives each closure its own, we share the first one.
+void set_tangent(ShaderResult* out, const float* r, uint16_t reg, float rotation) {
+    if (reg == kNoReg || out->has_tangent) return;
+    Vec3 t = load3(r, reg, Vec3(0.0f));
+    if (!is_finite(t) || !(length_sq(t) > 0.0f) || !std::isfinite(rotation)) return;
+    out->tangent = t;
+    out->tangent_rotation = rotation;
+    out->has_tangent = true;
+}
+
+// Cycles' alpha_x, alpha_y of the Anisotropic BSDF (svm/closure.h): alpha = roughness^2 stretched along
+// the tangent for anisotropy > 0 and across it for anisotropy < 0, |anisotropy| <= 0.99; each at most 1.
+void anisotropic_alphas(float roughness, float anisotropy, Lobe* lobe) {
+    float alpha = sqr(clamp01(std::isfinite(roughness) ? roughness : 0.0f));
+    float a = clampf(std::isfinite(anisotropy) ? anisotropy : 0.0f, -0.99f, 0.99f);
+    float ax = a < 0.0f ? alpha / (1.0f + a) : alpha * (1.0f - a);
+    float ay = a < 0.0f ? alpha * (1.0f + a) : alpha / (1.0f - a);
+    lobe->alpha = std::min(ax, 1.0f);
+    lobe->alpha_y = std::min(ay, 1.0f);
+}
+
 Lobe make_lobe(LobeKind kind, FresnelMode fresnel, const Color& weight, float roughness, float ior, uint8_t index) {
     Lobe l;
     l.kind = kind;
@@ -452,6 +482,15 @@ Lobe make_lobe(LobeKind kind, FresnelMode fresnel, const Color& weight, float ro
     l.eta = std::isfinite(ior) && ior > 0.0f ? ior : 1.5f;
     l.index = index;
     return l;
+}
+
+// Multiscatter GGX of colour c (lobes/multiscatter_ggx.h): the height-correlated single scattering,
+// and the energy of the multiple scattering in its own lobe, weighted by its share 1 - E_avg and the
+// colour of Cycles' further bounces; none where there is next to none (smooth, or nearly).
+void multiscatter_ggx(const Color& c, float w, float roughness, uint8_t index, ShaderResult* out) {
+    Lobe single = make_lobe(LobeKind::MultiGgx, FresnelMode::None, c * w, roughness, 1.5f, index), multiple;
+    push_lobe(out, single);
+    if (multiple_scattering_lobe(single, c, &multiple)) push_lobe(out, multiple);
 }
 
 // Blender 3.4's Principled BSDF as the engine's lobes (the translation materials.py did on constants):
@@ -482,17 +521,31 @@ void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
     float lum = luminance(base);
     Color tint = lum > 0.0f ? base / lum : Color(1.0f);
     push_lobe(out, make_lobe(LobeKind::PrincipledDiffuse, FresnelMode::None, base * (w * dielectric), rough, 1.5f, idx));
+    // Anisotropic: Cycles' alpha_x = alpha / aspect, alpha_y = alpha aspect, aspect = sqrt(1 - 0.9 anisotropic),
+    // about the Tangent turned by Anisotropic Rotation; 0 is the isotropic lobe.
+    float anisotropic = load1(r, op.in[Anisotropic], 0.0f);
+    bool aniso = anisotropic != 0.0f && std::isfinite(anisotropic);
+    LobeKind spec_kind = aniso ? LobeKind::AnisoGgx : LobeKind::Microfacet;
+    auto stretch = [&](Lobe* l) {
+        if (!aniso) return;
+        float aspect = std::max(safe_sqrt(1.0f - 0.9f * anisotropic), 1e-3f);
+        l->alpha_y = std::min(l->alpha * aspect, 1.0f);
+        l->alpha = std::min(l->alpha / aspect, 1.0f);
+    };
+    if (aniso) set_tangent(out, r, op.in[Tangent], load1(r, op.in[AnisotropicRotation], 0.0f));
     float f0 = std::min(0.08f * specular, 0.99f);
     if (f0 > 0.0f) {
         float spec_ior = 2.0f / (1.0f - std::sqrt(f0)) - 1.0f;
         Color spec_color = lerp(spec_tint, Color(1.0f), tint);
-        Lobe s = make_lobe(LobeKind::Microfacet, FresnelMode::Dielectric, spec_color * (w * dielectric), rough,
-                           spec_ior, uint8_t(idx + 1));
+        Lobe s = make_lobe(spec_kind, FresnelMode::Dielectric, spec_color * (w * dielectric), rough, spec_ior,
+                           uint8_t(idx + 1));
         s.f0 = Color(f0);
+        stretch(&s);
         push_lobe(out, s);
     }
-    Lobe metal = make_lobe(LobeKind::Microfacet, FresnelMode::Schlick, Color(w * m), rough, 1.5f, uint8_t(idx + 2));
+    Lobe metal = make_lobe(spec_kind, FresnelMode::Schlick, Color(w * m), rough, 1.5f, uint8_t(idx + 2));
     metal.f0 = vmin(base, Color(1.0f));
+    stretch(&metal);
     push_lobe(out, metal);
     push_lobe(out, make_lobe(LobeKind::Dielectric, FresnelMode::None, base * (w * t), rough, ior, uint8_t(idx + 3)));
     float sheen = std::max(load1(r, op.in[Sheen], 0.0f), 0.0f);
@@ -1066,8 +1119,23 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             float w = load1(r, op.in[0], 1.0f);
             set_normal(out, r, op.in[3]);
             float rough = op.i[0] == 0 ? 0.0f : load1(r, op.in[2], 0.5f);
-            push_lobe(out, make_lobe(op.i[0] == 2 ? LobeKind::Beckmann : LobeKind::Microfacet, FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, rough, 1.5f,
+            Color c = load3(r, op.in[1], Color(0.8f));
+            if (op.i[0] == 3) {
+                multiscatter_ggx(c, w, rough, uint8_t(op.i[5]), out);
+                break;
+            }
+            push_lobe(out, make_lobe(op.i[0] == 2 ? LobeKind::Beckmann : LobeKind::Microfacet, FresnelMode::None, c * w, rough, 1.5f,
                                      uint8_t(op.i[5])));
+            break;
+        }
+        case Op::Anisotropic: {  // in: weight, colour, roughness, anisotropy, rotation, normal, tangent
+            float w = load1(r, op.in[0], 1.0f);
+            set_normal(out, r, op.in[5]);
+            set_tangent(out, r, op.in[6], load1(r, op.in[4], 0.0f));
+            Lobe l = make_lobe(op.i[0] == 2 ? LobeKind::AnisoBeckmann : LobeKind::AnisoGgx, FresnelMode::None,
+                               load3(r, op.in[1], Color(0.8f)) * w, 0.0f, 1.5f, uint8_t(op.i[5]));
+            anisotropic_alphas(load1(r, op.in[2], 0.5f), load1(r, op.in[3], 0.5f), &l);
+            push_lobe(out, l);
             break;
         }
         case Op::Glass: {

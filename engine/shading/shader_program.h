@@ -40,6 +40,7 @@ enum class ShaderOpCode : uint16_t {
     // closures
     Diffuse, Glossy, Glass, Transparent, Principled, Emission, Holdout, Velvet, Translucent, Refraction, Toon,
     Background,  // the World's Background node: colour x strength into ShaderResult::emission
+    Anisotropic,
     Count
 };
 
@@ -67,6 +68,9 @@ struct ShaderResult {
     Color holdout{0.0f};
     Vec3 normal;              // shading normal of the closures (the first closure's own Normal input)
     bool has_normal = false;
+    Vec3 tangent;                   // the first anisotropic closure's tangent (the shading frame's s axis),
+    float tangent_rotation = 0.0f;  // turned about the normal by this many turns (Cycles' Rotation)
+    bool has_tangent = false;
     bool truncated = false;   // more lobes than a Bsdf holds: the smallest were dropped
 };
 

@@ -896,11 +896,39 @@ def _distribution(c, node, supported=("SHARP", "GGX")):
     return 0 if node.distribution == "SHARP" else 1
 
 
+GLOSSY_MODES = {"BECKMANN": 2, "MULTI_GGX": 3}
+
+
 def _glossy(c, node, ctx, weight):
-    """Sharp (0), GGX (1) or Beckmann (2); Ashikhmin-Shirley and multiscatter GGX as GGX (warned)."""
-    mode = 2 if node.distribution == "BECKMANN" else _distribution(c, node)
+    """Sharp (0), GGX (1), Beckmann (2) or multiscatter GGX (3); Ashikhmin-Shirley as GGX (warned)."""
+    mode = GLOSSY_MODES.get(node.distribution) or _distribution(c, node)
     c.op("glossy", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
                     _closure_normal(c, node, ctx)], ints=[mode])
+
+
+ANISOTROPIC_MODES = {"GGX": 1, "BECKMANN": 2}
+
+
+def _tangent_input(c, node, ctx):
+    """A closure's Tangent: its link, or Cycles' default for an unlinked one (the radial tangent around
+    the object's Z axis, as Geometry > Tangent)."""
+    t = c.normal_input(node, "Tangent", ctx)
+    if t is None:
+        t = c.alloc(VEC)
+        c.op("tangent", [], [t], [0, 2, -1])
+    return t
+
+
+def _anisotropic(c, node, ctx, weight):
+    """Anisotropic GGX (1) or Beckmann (2) about the Tangent turned by Rotation; multiscatter GGX and
+    Ashikhmin-Shirley as single-scatter GGX (warned)."""
+    mode = ANISOTROPIC_MODES.get(node.distribution)
+    if mode is None:
+        c.warn_node(node, "uses the %s distribution, which is not supported; using GGX" % node.distribution)
+        mode = 1
+    c.op("anisotropic", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
+                         c.input(node, "Anisotropy", ctx, FLOAT), c.input(node, "Rotation", ctx, FLOAT),
+                         _closure_normal(c, node, ctx), _tangent_input(c, node, ctx)], ints=[mode])
 
 
 def _glass(c, node, ctx, weight):
@@ -925,21 +953,21 @@ def _holdout(c, node, ctx, weight):
 
 def _principled(c, node, ctx, weight):
     ins = [weight]
+    used = lambda name: node.inputs[name].is_linked or node.inputs[name].default_value != 0.0  # noqa: E731
     for name in PRINCIPLED_INPUTS:
         sock = node.inputs.get(name)
         if sock is None:
             ins.append(None)
-        elif name in ("Normal", "Clearcoat Normal", "Tangent"):
+        elif name == "Tangent":
+            ins.append(_tangent_input(c, node, ctx) if used("Anisotropic") else None)
+        elif name in ("Normal", "Clearcoat Normal"):
             n = c.normal_input(node, name, ctx)
             ins.append(n if n is not None or name != "Normal" else c.surface_normal)
         else:
             ins.append(c.socket_value(sock, ctx, VEC if name in VECTOR_INPUTS_OF_PRINCIPLED else None))
     ignored = []
-    used = lambda name: node.inputs[name].is_linked or node.inputs[name].default_value > 0.0  # noqa: E731
     if used("Subsurface"):
         ignored.append("Subsurface (rendered as diffuse of the mixed colour)")
-    if used("Anisotropic"):
-        ignored.append("Anisotropic")
     if node.distribution != "GGX":
         ignored.append("Multiscatter GGX (using GGX)")
     if ignored:
@@ -953,6 +981,7 @@ SHADER_NODES = {
     "ShaderNodeBsdfDiffuse": _diffuse,
     "ShaderNodeBsdfGlossy": _glossy,
     "ShaderNodeBsdfGlass": _glass,
+    "ShaderNodeBsdfAnisotropic": _anisotropic,
     "ShaderNodeBsdfVelvet": _velvet,
     "ShaderNodeBsdfTranslucent": _translucent,
     "ShaderNodeBsdfRefraction": _refraction,

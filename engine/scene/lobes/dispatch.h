@@ -8,12 +8,14 @@
 #include <cstddef>
 #include <type_traits>
 
+#include "scene/lobes/anisotropic.h"
 #include "scene/lobes/beckmann.h"
 #include "scene/lobes/clearcoat.h"
 #include "scene/lobes/dielectric.h"
 #include "scene/lobes/diffuse.h"
 #include "scene/lobes/lobe.h"
 #include "scene/lobes/microfacet.h"
+#include "scene/lobes/multiscatter_ggx.h"
 #include "scene/lobes/oren_nayar.h"
 #include "scene/lobes/principled_diffuse.h"
 #include "scene/lobes/refraction.h"
@@ -33,7 +35,8 @@ struct LobeKindList {
 // Every lobe kind, in LobeKind order.
 using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, ClearcoatLobe, SheenLobe,
                                   TransparentLobe, PrincipledDiffuseLobe, OrenNayarLobe, VelvetLobe, TranslucentLobe,
-                                  RefractionLobe, BeckmannLobe, ToonDiffuseLobe, ToonGlossyLobe>;
+                                  RefractionLobe, BeckmannLobe, ToonDiffuseLobe, ToonGlossyLobe, MultiGgxLobe,
+                                  GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -82,6 +85,10 @@ template <bool kGated = true, class F>
         case BeckmannLobe::kKind: return call_kind<BeckmannLobe, kGated>(f);
         case ToonDiffuseLobe::kKind: return call_kind<ToonDiffuseLobe, kGated>(f);
         case ToonGlossyLobe::kKind: return call_kind<ToonGlossyLobe, kGated>(f);
+        case MultiGgxLobe::kKind: return call_kind<MultiGgxLobe, kGated>(f);
+        case GgxMultipleLobe::kKind: return call_kind<GgxMultipleLobe, kGated>(f);
+        case AnisoGgxLobe::kKind: return call_kind<AnisoGgxLobe, kGated>(f);
+        case AnisoBeckmannLobe::kKind: return call_kind<AnisoBeckmannLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate

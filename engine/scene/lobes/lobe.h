@@ -53,6 +53,10 @@ enum class LobeKind : uint8_t {
     Beckmann,     // Glossy BSDF with the Beckmann distribution (lobes/beckmann.h)
     ToonDiffuse,  // Toon BSDF, Diffuse (lobes/toon_diffuse.h)
     ToonGlossy,   // Toon BSDF, Glossy (lobes/toon_glossy.h)
+    MultiGgx,     // Multiscatter GGX, its single scattering (lobes/multiscatter_ggx.h)
+    GgxMultiple,  // Multiscatter GGX, the energy of its multiple scattering (lobes/multiscatter_ggx.h)
+    AnisoGgx,     // Anisotropic GGX: Anisotropic BSDF, Principled Anisotropic (lobes/anisotropic.h)
+    AnisoBeckmann,  // Anisotropic BSDF with the Beckmann distribution (lobes/anisotropic.h)
     Count
 };
 
@@ -70,6 +74,7 @@ struct Lobe {
     Color f0{1.0f};      // Schlick reflectance at normal incidence (FresnelMode::Schlick)
     float alpha = 0.0f;  // GGX alpha = roughness^2 (Blender's convention); below kDeltaAlpha -> delta
     float eta = 1.5f;    // IOR of the inside over the outside (Dielectric lobe / FresnelMode::Dielectric)
+    float alpha_y = 0.0f;  // anisotropic lobes: alpha across the tangent (alpha is along it, the frame's s)
 };
 
 // The label of the rays a lobe scatters (Cycles' LABEL_DIFFUSE / GLOSSY / TRANSPARENT): Light Path
@@ -134,6 +139,7 @@ float lobe_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
 // Shared math of the lobes, defined in bsdf.cpp: the one translation unit that evaluates lobes, so
 // that these inline into them.
 Vec3 ggx_sample_visible_normal(const Vec3& wo, float alpha, Point2 u);
+Vec3 ggx_sample_visible_normal(const Vec3& wo, float alpha_x, float alpha_y, Point2 u);  // anisotropic
 float fresnel_dielectric(float cos_i, float eta);
 // Burley 2012's GTR1 (gamma = 1) normal distribution of the clearcoat, normalised so that
 // integral D(m) cos(theta_m) dm = 1; alpha >= 1 is the uniform-in-cosine limit 1/pi.
@@ -162,6 +168,16 @@ inline bool refract_dir(const Vec3& o, const Vec3& m, float etap, Vec3* wt) {
     float len2 = length_sq(t);
     if (!(len2 > 0.0f) || !std::isfinite(len2)) return false;
     *wt = t / std::sqrt(len2);
+    return true;
+}
+
+// The half vector of a reflection with wo and wi above the surface, or false where it is undefined.
+inline bool reflection_half_vector(const Vec3& wo, const Vec3& wi, Vec3* wm) {
+    if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return false;
+    Vec3 h = wo + wi;
+    float len2 = length_sq(h);
+    if (!(len2 > kMinHalfLenSq)) return false;
+    *wm = h / std::sqrt(len2);
     return true;
 }
 

@@ -1,0 +1,123 @@
+// The random walk on the GGX microsurface that Cycles 3.4 uses for its Multiscatter GGX glossy closure
+// (Heitz, Hanika, d'Eon and Dachsbacher 2016, "Multiple-Scattering Microfacet BSDFs with the Smith
+// Model", SIGGRAPH; Cycles' bsdf_microfacet_multi_impl.h, mf_sample with the glossy phase function and
+// no Fresnel): the ray enters at height 1, the height of its next intersection with the uncorrelated
+// Smith microsurface is sampled from the masking function (a uniform height distribution), the
+// microfacet normal there from the visible normals of the direction it travels, and the ray reflects
+// about it; it leaves when the height sampling says it escapes, or dies after 10 bounces as in Cycles.
+//
+// The engine does not walk at render time: scene/tools/ggx_multiple_gen.cpp tabulates where the walks
+// of more than one bounce leave (lobes/multiscatter_ggx.h evaluates that table), and the tests compare
+// the table with fresh walks.
+#pragma once
+#include <cmath>
+
+#include "core/math.h"
+
+namespace smis::ggx_walk {
+
+constexpr int kMaxBounces = 10;  // Cycles' walks stop after 10 bounces, losing what is left
+
+// Smith's Lambda of GGX for a direction travelling up (> 0) or down (< 0): for a downward direction
+// the masking of the reversed ray, negated and minus one (Heitz 2016, supplemental, p. 12).
+inline float lambda(const Vec3& w, float alpha) {
+    if (w.z > 0.9999f) return 0.0f;
+    if (w.z < -0.9999f) return -0.9999f;
+    float inv_z2 = 1.0f / std::max(w.z * w.z, 1e-7f);
+    float v = std::sqrt(1.0f + alpha * alpha * (w.x * w.x + w.y * w.y) * inv_z2);
+    return 0.5f * ((w.z <= 0.0f ? -v : v) - 1.0f);
+}
+
+// The height distribution's CDF (uniform on [-1, 1]) and its inverse.
+inline float height_cdf(float h) { return clampf(0.5f * (h + 1.0f), 0.0f, 1.0f); }
+inline float height_of_cdf(float c) { return 2.0f * clampf(c, 0.0f, 1.0f) - 1.0f; }
+
+// The probability that an upward ray at the height of CDF c escapes: c^Lambda.
+inline float escape_probability(const Vec3& w, float c, float lam) {
+    if (w.z > 0.9999f) return 1.0f;
+    if (w.z < 1e-5f) return 0.0f;
+    return std::pow(c, lam);
+}
+
+struct State {
+    Vec3 dir;              // the direction the ray travels
+    float lam = 0.0f;      // lambda(dir)
+    float cdf = 1.0f;      // the height's CDF (the ray starts at the top)
+    float escape = 0.0f;   // escape_probability(dir, cdf, lam)
+};
+
+// The next intersection's height; false when the ray leaves the surface.
+inline bool next_height(State* s, float u) {
+    if (s->dir.z > 0.9999f) return false;
+    if (s->dir.z < -0.9999f) {
+        s->cdf *= u;
+    } else if (std::fabs(s->dir.z) >= 1e-4f) {
+        if (u > 1.0f - s->escape) return false;
+        // As Cycles: a ray travelling up that hits again does so at the top of the height range.
+        s->cdf = s->lam >= 0.0f ? 1.0f : s->cdf * std::pow(1.0f - u, -1.0f / s->lam);
+    }
+    s->escape = escape_probability(s->dir, s->cdf, s->lam);
+    return true;
+}
+
+// Slopes of the visible normals of the unit-roughness configuration for a direction of cosine cos_i
+// (Heitz 2014's sampling of P22_wi, in the supplemental's rational approximation of the inverse CDF).
+inline void sample_unit_slopes(float cos_i, float ux, float uy, float* sx, float* sy) {
+    if (cos_i > 0.9999f || std::fabs(cos_i) < 1e-6f) {
+        float r = std::sqrt(ux / std::max(1.0f - ux, 1e-7f)), phi = 2.0f * kPi * uy;
+        *sx = r * std::cos(phi);
+        *sy = r * std::sin(phi);
+        return;
+    }
+    float sin_i = safe_sqrt(1.0f - cos_i * cos_i), tan_i = sin_i / cos_i;
+    float proj = 0.5f * (cos_i + 1.0f);
+    *sx = *sy = 0.0f;
+    if (proj < 1e-4f) return;
+    float a = 2.0f * ux * proj / cos_i - 1.0f;
+    float t = a * a - 1.0f;
+    if (std::fabs(t) < 1e-7f) return;
+    t = 1.0f / t;
+    float d = safe_sqrt(tan_i * tan_i * t * t - (a * a - tan_i * tan_i) * t);
+    float x2 = tan_i * t + d;
+    *sx = (a < 0.0f || x2 > 1.0f / tan_i) ? tan_i * t - d : x2;
+    float u2 = uy >= 0.5f ? 2.0f * (uy - 0.5f) : 2.0f * (0.5f - uy);
+    float z = (u2 * (u2 * (u2 * 0.27385f - 0.73369f) + 0.46341f)) /
+              (u2 * (u2 * (u2 * 0.093073f + 0.309420f) - 1.0f) + 0.597999f);
+    *sy = (uy >= 0.5f ? 1.0f : -1.0f) * z * std::sqrt(1.0f + *sx * *sx);
+}
+
+// A microfacet normal visible from w (stretch, sample the unit slopes, rotate, unstretch).
+inline Vec3 visible_normal(const Vec3& w, float alpha, float ux, float uy) {
+    Vec3 w11 = normalize(Vec3(alpha * w.x, alpha * w.y, w.z));
+    float sx, sy;
+    sample_unit_slopes(w11.z, ux, uy, &sx, &sy);
+    float len = std::sqrt(w11.x * w11.x + w11.y * w11.y);
+    float c = len > 0.0f ? w11.x / len : 1.0f, s = len > 0.0f ? w11.y / len : 0.0f;
+    float x = alpha * (c * sx - s * sy), y = alpha * (s * sx + c * sy);
+    return normalize(Vec3(-x, -y, 1.0f));
+}
+
+struct Exit {
+    Vec3 dir;          // where the walk left the surface (z > 0)
+    int bounces = 0;   // 1 = single scattering; 0 = the walk died (after kMaxBounces)
+};
+
+// One walk for light arriving from wi (z > 0), rand() returning uniform numbers in [0, 1).
+template <class Rand>
+Exit walk(const Vec3& wi, float alpha, Rand&& rand) {
+    State s;
+    s.dir = -wi;
+    s.lam = lambda(s.dir, alpha);
+    for (int bounces = 0; bounces < kMaxBounces; ++bounces) {
+        if (!next_height(&s, rand())) return {s.dir, bounces};
+        float uy = rand(), ux = rand();
+        Vec3 back = -s.dir;
+        Vec3 wm = visible_normal(back, alpha, ux, uy);
+        s.dir = wm * (2.0f * dot(back, wm)) - back;
+        s.lam = lambda(s.dir, alpha);
+        s.escape = escape_probability(s.dir, s.cdf, s.lam);
+    }
+    return {Vec3(0, 0, 1), 0};
+}
+
+}  // namespace smis::ggx_walk
