@@ -410,6 +410,7 @@ LightDesc parse_light(const py::dict& d) {
     l.spot_size = get<float>(d, "spot_size", l.spot_size);
     l.spot_blend = get<float>(d, "spot_blend", l.spot_blend);
     l.angle = get<float>(d, "angle", 0.0f);
+    l.spread = get<float>(d, "spread", l.spread);
     l.visible_to_camera = get<bool>(d, "visible_camera", true);
     l.cast_shadow = get<bool>(d, "cast_shadow", true);
     l.use_mis = get<bool>(d, "use_mis", true);
