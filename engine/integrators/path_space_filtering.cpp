@@ -174,8 +174,8 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
         // traced as if it started with throughput 1 would survive longer, costing more per path.
         float eta2 = eta_scale * (bs.transmission ? sqr(bs.eta) : 1.0f) * (bs1.transmission ? sqr(bs1.eta) : 1.0f);
         st2.rr_scale = max_component(path_weight * bs1.value / bs1.pdf) * eta2;
-        Color L_in = trace_path(scene, settings, Ray{spawn_origin(sp1, bs1.wi), bs1.wi, 0.0f, kInf, sp1.hit.time}, st2, rng,
-                                counters);
+        Color L_in = trace_path(scene, settings, Ray{spawn_origin(sp1, bs1.wi), bs1.wi, 0.0f, kInf, sp1.hit.time}, st2,
+                                rng, counters);
         out.next_dir = bs1.wi;
         out.next_weighted = bs1.delta ? Color(0.0f) : L_in / bs1.pdf;
         const Color scattered = bs1.value / bs1.pdf * L_in;

@@ -45,7 +45,8 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
     Color tr(1.0f);
     if (light.cast_shadow) {  // Cycles' Cast Shadow off: no shadow ray at all
         if (!scene.has_media()) {
-            if (scene.occluded(shadow.o, shadow.d, shadow.tmax, shadow.time) || !reaches_mesh_light(scene, shadow, ls)) return ds;
+            if (scene.occluded(shadow.o, shadow.d, shadow.tmax, shadow.time) || !reaches_mesh_light(scene, shadow, ls))
+                return ds;
         } else {
             tr = shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, medium_towards(scene, sp, ls.wi, medium));
             if (is_black(tr) || !reaches_mesh_light(scene, shadow, ls)) return ds;

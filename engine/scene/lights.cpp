@@ -55,7 +55,8 @@ public:
     [[gnu::noinline]] LightSample sample_with_spread(const Vec3& ref, Point2 u) const {
         Part part{-1.0f, 1.0f, -1.0f, 1.0f};
         if (clip_ && !reachable_part(ref, &part)) return LightSample{};
-        Point2 ab = clip_ ? Point2{part.a0 + (part.a1 - part.a0) * u.x, part.b0 + (part.b1 - part.b0) * u.y} : position(u);
+        Point2 ab = clip_ ? Point2{part.a0 + (part.a1 - part.a0) * u.x, part.b0 + (part.b1 - part.b0) * u.y}
+                          : position(u);
         LightSample s = sample_point(ref, ab.x, ab.y, part.area(area_));
         if (s.pdf > 0.0f) s.L *= spread_.attenuation(-dot(s.wi, n_));
         return s;

@@ -63,6 +63,18 @@ Transform inverse(const Transform& t) {
     return inv;
 }
 
+struct WorldFrame {
+    Vec3 p, ng, ns;
+};
+// A hit point and its normals on a moving instance, from its space into the world's at `time`
+// (where Embree placed the instance then). Out of line: still instances do not pay for it.
+[[gnu::noinline]] WorldFrame moving_to_world(RTCGeometry geometry, float time, Vec3 p, Vec3 ng, Vec3 ns) {
+    Transform at;
+    rtcGetGeometryTransform(geometry, time, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &at.m[0][0]);
+    float sign = at.determinant3() < 0.0f ? -1.0f : 1.0f;
+    return {at.point(p), at.normal(ng) * sign, at.normal(ns) * sign};
+}
+
 void check_emitter(const std::string& spectrum, float temperature, const std::string& what) {
     spectral::EmitterKind kind;
     if (!spectral::parse_emitter_kind(spectrum, &kind))
@@ -781,14 +793,15 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
         ns = cn[0] * w + cn[1] * u + cn[2] * v;
     }
     if (!inst.identity) {
-        Transform moved;
-        if (!inst.motion.empty())  // where Embree placed the instance at the ray's time
-            rtcGetGeometryTransform(inst.geometry, rh.ray.time, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &moved.m[0][0]);
-        const Transform& to_world = inst.motion.empty() ? inst.to_world : moved;
-        p = to_world.point(p);
-        float sign = to_world.determinant3() < 0.0f ? -1.0f : 1.0f;
-        ng = to_world.normal(ng) * sign;
-        ns = to_world.normal(ns) * sign;
+        if (__builtin_expect(inst.motion.empty(), 1)) {
+            p = inst.to_world.point(p);
+            float sign = inst.to_world.determinant3() < 0.0f ? -1.0f : 1.0f;
+            ng = inst.to_world.normal(ng) * sign;
+            ns = inst.to_world.normal(ns) * sign;
+        } else {
+            WorldFrame w = moving_to_world(inst.geometry, rh.ray.time, p, ng, ns);
+            p = w.p, ng = w.ng, ns = w.ns;
+        }
     }
     ng = normalize(ng);
     ns = normalize(ns);

@@ -183,10 +183,9 @@ TEST(Motion, ShutterCurveDistributesTimesByItsShape) {
     EXPECT_THROW(ShutterCurve({1.0f, -1.0f}), std::invalid_argument);
 }
 
-// A black box 1 wide crossing an orthographic view of a white world, from x = -1 to x = 1 over
-// the shutter: a pixel is dark for the fraction of the shutter the box covers it (the mean over the
-// pixel's footprint), which each column's mean must match.
-TEST(Motion, RenderedPixelsSeeTheBoxForTheTimeItCoversThem) {
+// A black box 1 wide (3 deep) moving from x = -1 to x = 1 over the shutter, under a white world,
+// seen from above by a 16 x 4 orthographic camera spanning x in [-2, 2] (0.25 per pixel).
+std::shared_ptr<Scene> crossing_box_scene() {
     auto scene = std::make_shared<Scene>();
     uint32_t black = scene->add_material(testing::diffuse(Color(0.0f)));
     Transform from, to;
@@ -195,9 +194,17 @@ TEST(Motion, RenderedPixelsSeeTheBoxForTheTimeItCoversThem) {
     scene->set_world(Color(1.0f));
     CameraDesc c = testing::camera_at(Vec3(0.0f, 0.0f, 5.0f), 16, 4);
     c.orthographic = true;
-    c.ortho_scale = 4.0f;  // x in [-2, 2], 0.25 per pixel
+    c.ortho_scale = 4.0f;
     scene->set_camera(c);
     scene->commit();
+    return scene;
+}
+
+// The box crossing an orthographic view of a white world, from x = -1 to x = 1 over
+// the shutter: a pixel is dark for the fraction of the shutter the box covers it (the mean over the
+// pixel's footprint), which each column's mean must match.
+TEST(Motion, RenderedPixelsSeeTheBoxForTheTimeItCoversThem) {
+    auto scene = crossing_box_scene();
     RenderSettings st;
     st.samples = 64;
     st.max_bounces = 0;
@@ -220,6 +227,27 @@ TEST(Motion, RenderedPixelsSeeTheBoxForTheTimeItCoversThem) {
             EXPECT_GE(stats::z_test(m.mean(), expected, se, 1e-6).p_value, alpha)
                 << "column " << col << ": " << m.mean() << " vs " << expected << (stratified ? " stratified" : "");
         }
+    }
+}
+
+// Every integrator renders a moving scene: finite pixels whose image mean is the fraction of the
+// view the box leaves uncovered over the shutter (the path tracer's rays carry the sample's time; the
+// others trace what they trace at their rays' times or the shutter's centre).
+TEST(Motion, EveryIntegratorRendersAMovingScene) {
+    auto scene = crossing_box_scene();
+    for (const std::string& name : testing::all_integrators()) {
+        RenderSettings st;
+        testing::select_integrator(st, name);
+        st.samples = 16;
+        st.max_bounces = 1;
+        std::vector<float> img = testing::render(scene, st);
+        double mean = 0.0;
+        for (size_t i = 0; i < img.size(); i += 4) {
+            ASSERT_TRUE(std::isfinite(img[i]) && std::isfinite(img[i + 1]) && std::isfinite(img[i + 2])) << name;
+            mean += img[i + 1] / (img.size() / 4);
+        }
+        // The box (1 wide) covers a quarter of the 4-wide view at any time it is inside it.
+        EXPECT_NEAR(mean, 0.75, 0.05) << name;
     }
 }
 
