@@ -109,3 +109,33 @@ def test_shutter_curve_matches_cycles():
     print("moving cube, rising shutter curve: mean relative error against Cycles (8x8 blocks) %.4f; "
           "with a flat shutter %.4f" % (err, err_flat))
     assert err < BOUND and err_flat > 2 * BOUND, (err, err_flat)
+
+
+def test_what_is_not_blurred_is_named():
+    """A moving emitter renders without motion blur and a deforming mesh with its transform's blur
+    only, each named in a warning; the render still succeeds."""
+    setup = SCENE + MOVING_CUBE + """
+scene.render.motion_blur_shutter = 1.0
+glow = bpy.data.materials.new("Glow")
+glow.use_nodes = True
+glow.node_tree.nodes["Principled BSDF"].inputs["Emission"].default_value = (1.0, 1.0, 1.0, 1.0)
+glow.node_tree.nodes["Principled BSDF"].inputs["Emission Strength"].default_value = 2.0
+cube.data.materials[0] = glow
+bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0.0, 1.5, 1.5))
+sheet = bpy.context.active_object
+sheet.name = "Sheet"
+sheet.shape_key_add(name="Basis")
+bend = sheet.shape_key_add(name="Bend")
+bend.data[0].co.z += 1.0
+bend.value = 0.0
+bend.keyframe_insert("value", frame=1)
+bend.value = 1.0
+bend.keyframe_insert("value", frame=2)
+"""
+    run = render(setup=setup)
+    assert run.returncode == 0, run.output[-3000:]
+    assert run.image[..., :3].mean() > 0.0
+    warnings = [line for line in run.output.splitlines() if "motion blur" in line.lower()]
+    print("\n".join(warnings))
+    assert any("'Cube'" in w and "emissive" in w for w in warnings), run.output[-3000:]
+    assert any("'Sheet'" in w and "Deformation" in w for w in warnings), run.output[-3000:]

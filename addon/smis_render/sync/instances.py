@@ -207,7 +207,7 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
     counts = ExportCounts()
     prototypes = {}   # prototype key -> engine mesh id, or None for empty geometry
     singular, broken = [], []  # objects skipped (the rest of the scene still renders)
-    unblurred = []  # moving objects the engine refused to blur (emitters), rendered at the frame
+    unblurred = []  # moving objects the engine refused to blur (emitters), rendered unblurred
     for kind, inst, obj in walk_instances(depsgraph, reporter, test_break):
         if kind == 'LIGHT':
             if lights.export_light(scene, obj, instance_matrix(inst), reporter):
@@ -238,7 +238,7 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
                     if steps is None:
                         raise
                     scene.add_instance(*args)
-                    unblurred.append("%s (%s)" % (obj.name, exc))
+                    unblurred.append("'%s' (%s)" % (obj.name, exc))
             except ValueError:
                 # A zero scale (a common way to hide an object in an animation) or a non-finite
                 # transform: Cycles renders nothing of the object either.
@@ -249,13 +249,15 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
                 cache.record_instance(obj, mesh_id)
     _warn_skipped(reporter, singular, "with a zero-scale, singular or non-finite transform")
     _warn_skipped(reporter, broken, "whose geometry could not be exported")
-    _warn_skipped(reporter, unblurred, "from motion blur", "render at the frame")
+    if unblurred:
+        reporter.warning("Rendered without motion blur: " + ", ".join(unblurred[:10])
+                         + (" and %d more" % (len(unblurred) - 10) if len(unblurred) > 10 else ""))
     return counts
 
 
-def _warn_skipped(reporter, names, why, outcome="the rest of the scene renders"):
+def _warn_skipped(reporter, names, why):
     if not names:
         return
     shown = ", ".join("'%s'" % n for n in names[:10]) + (" and %d more" % (len(names) - 10) if len(names) > 10 else "")
-    reporter.warning("Skipped %d object%s %s: %s; %s"
-                     % (len(names), "" if len(names) == 1 else "s", why, shown, outcome))
+    reporter.warning("Skipped %d object%s %s: %s; the rest of the scene renders"
+                     % (len(names), "" if len(names) == 1 else "s", why, shown))

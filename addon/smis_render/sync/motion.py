@@ -3,8 +3,9 @@ takes them (intern/cycles/blender/sync.cpp, sync_motion; util.h, object_motion_s
 
 Cycles evaluates the scene again at the shutter's times around the frame and keeps each object's
 matrix there; the engine interpolates between these steps (scene/motion.h) and gives every camera
-sample a time in the shutter. Deformation motion blur (vertices moving within the mesh) and moving
-lights are not done: such scenes render them at the frame, with a warning.
+sample a time in the shutter. Deformation motion blur (vertices moving within the mesh), moving
+emitters and moving lights are not done: they render unblurred, at the shutter's centre (the first
+two with a warning).
 """
 
 import math
