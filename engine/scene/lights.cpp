@@ -118,7 +118,7 @@ private:
     };
     // The radiance and pdf of a hit at (a, b) seen under cos_light from `ref` (hit->t set), for a
     // light with a spread; false when the hit lies outside the cone or the part sampled from ref.
-    bool spread_hit(const Vec3& ref, float a, float b, float cos_light, LightHit* hit) const {
+    [[gnu::noinline]] bool spread_hit(const Vec3& ref, float a, float b, float cos_light, LightHit* hit) const {
         const float falloff = spread_.attenuation(cos_light);
         if (!(falloff > 0.0f)) return false;
         float area = area_;
