@@ -18,7 +18,7 @@ CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, con
 bool candidate_visible(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e) {
     if (!scene.light(e.light).cast_shadow) return true;  // Cast Shadow off: no shadow ray
     const ShadowRay shadow = shadow_ray(sp, e.ls.wi, e.ls.dist);
-    return !scene.occluded(shadow.o, shadow.d, shadow.tmax) && reaches_mesh_light(scene, shadow, e.ls);
+    return !scene.occluded(shadow.o, shadow.d, shadow.tmax, shadow.time) && reaches_mesh_light(scene, shadow, e.ls);
 }
 
 Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng,

@@ -148,7 +148,7 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
     }
     PathState st1{depth + 1, bs.delta, bs.pdf, sp.hit.p};
     st1.light_pdf_scale = float(light_samples) / float(own_samples);
-    Ray r1{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
+    Ray r1{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, sp.hit.time};
     const Color path_weight = beta * bs.value / bs.pdf;
     const Color bsdf_weight = path_weight / float(own_samples);
     if (bs.delta) {
@@ -177,8 +177,8 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
         // traced as if it started with throughput 1 would survive longer, costing more per path.
         float eta2 = eta_scale * (bs.transmission ? sqr(bs.eta) : 1.0f) * (bs1.transmission ? sqr(bs1.eta) : 1.0f);
         st2.rr_scale = max_component(path_weight * bs1.value / bs1.pdf) * eta2;
-        Color L_in = trace_path(scene, settings, Ray{spawn_origin(sp1, bs1.wi), bs1.wi, 0.0f, kInf}, st2, rng,
-                                counters);
+        Color L_in = trace_path(scene, settings, Ray{spawn_origin(sp1, bs1.wi), bs1.wi, 0.0f, kInf, sp1.hit.time}, st2,
+                                rng, counters);
         out.next_dir = bs1.wi;
         out.next_weighted = bs1.delta ? Color(0.0f) : L_in / bs1.pdf;
         const Color scattered = bs1.value / bs1.pdf * L_in;
@@ -237,7 +237,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
             st.prev_delta = true;
             st.prev_pdf = bs.pdf;
             st.prev_p = hit.p;
-            ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
+            ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time};
             if (!russian_roulette(st.depth, beta, eta_scale, rng) || is_black(beta)) return rec;
             continue;
         }

@@ -55,7 +55,8 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
     Color tr(1.0f);
     if (light.cast_shadow) {  // Cycles' Cast Shadow off: no shadow ray at all
         if (!scene.has_media()) {
-            if (scene.occluded(shadow.o, shadow.d, shadow.tmax) || !reaches_mesh_light(scene, shadow, ls)) return ds;
+            if (scene.occluded(shadow.o, shadow.d, shadow.tmax, shadow.time) || !reaches_mesh_light(scene, shadow, ls))
+                return ds;
         } else {
             tr = shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, medium_towards(scene, sp, ls.wi, medium));
             if (is_black(tr) || !reaches_mesh_light(scene, shadow, ls)) return ds;
@@ -165,7 +166,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;
         state.prev_p = hit.p;
-        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
+        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time};
         if (!russian_roulette(state.depth, beta, eta_scale * state.rr_scale, rng) || is_black(beta)) break;
     }
     return L;

@@ -48,6 +48,7 @@ inline Vec3 spawn_origin(const ShadingPoint& sp, const Vec3& d) {
 struct ShadowRay {
     Vec3 o, d;
     float tmax;
+    float time = kShutterCentre;  // the path's time in the shutter (motion blur)
 };
 // From origin o to `target`; (wi, dist) from the unoffset point, used if o is degenerate.
 inline ShadowRay shadow_ray_from(const Vec3& o, const Vec3& target, const Vec3& wi, float dist) {
@@ -59,8 +60,9 @@ inline ShadowRay shadow_ray_from(const Vec3& o, const Vec3& target, const Vec3& 
 // From the shading point to the point `dist` along `wi` (a light sample; at infinity when dist is).
 inline ShadowRay shadow_ray(const ShadingPoint& sp, const Vec3& wi, float dist) {
     Vec3 o = spawn_origin(sp, wi);
-    if (std::isinf(dist)) return {o, wi, kInf};
-    return shadow_ray_from(o, sp.hit.p + wi * dist, wi, dist);
+    ShadowRay s = std::isinf(dist) ? ShadowRay{o, wi, kInf} : shadow_ray_from(o, sp.hit.p + wi * dist, wi, dist);
+    s.time = sp.hit.time;
+    return s;
 }
 // The same between two surface points: from p (geometric normal ng, either side) to `target`
 // (path-space filtering's connections).
@@ -83,7 +85,7 @@ inline bool reaches_mesh_light(const Scene& scene, const ShadowRay& s, const Lig
     const float len = s.tmax / (1.0f - 1e-4f);
     if (!(ls.edge_distance <= 1e-3f * len)) return true;
     SurfaceHit hit;
-    return !scene.intersect(Ray{s.o, s.d, s.tmax, len * (1.0f + 2e-4f)}, &hit) || hit.light >= 0;
+    return !scene.intersect(Ray{s.o, s.d, s.tmax, len * (1.0f + 2e-4f), s.time}, &hit) || hit.light >= 0;
 }
 
 // The MIS state carried from one vertex to the next.

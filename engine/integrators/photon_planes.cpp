@@ -190,7 +190,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 const RayMedia::Segment& seg = media.seg[i];
                 const Medium& med = scene.medium(seg.medium);
                 if (!med.scatters()) continue;
-                set.gather(Ray{ray.o, ray.d, seg.t0, seg.t1}, &hits, &parallel);
+                set.gather(Ray{ray.o, ray.d, seg.t0, seg.t1, ray.time}, &hits, &parallel);
                 gathered += hits.size();
                 // Each crossing's contribution before its shadow ray's transmittance: T_cam sigma_s
                 // and the plane's weight, kept apart so that the traced crossing's product is formed

@@ -67,7 +67,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
         st.light_pdf_scale = first ? resampled_light_pdf_scale(settings) : 1.0f;
         st.prev_pdf = bs.pdf;
         st.prev_p = hit.p;
-        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
+        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time};
         if (!russian_roulette(st.depth, beta, eta_scale, rng) || is_black(beta)) return;
         if (first) {
             // The rest of the path, with NEE from here on.

@@ -279,7 +279,7 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;
         state.prev_p = hit.p;
-        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
+        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time};
         float survival = russian_roulette_survival(state.depth, p.max_beta(), eta_scale, rng);
         if (survival == 0.0f) break;
         transparent_beta = transparent_beta / survival;

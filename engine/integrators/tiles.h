@@ -92,15 +92,34 @@ inline void set_extra_bsdf_sample_prefix(Rng* rng, uint64_t pixel_key, uint32_t 
     rng->set_prefix(v, 3);
 }
 
+// The dimension group of a camera sample's time in the shutter (groups 0-8 are taken above).
+constexpr uint32_t kTimeDimensionGroup = 9;
+
 inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s, Rng* rng) {
     const Camera& cam = ctx.scene.camera();
     int fx = x + cam.window_x0(), fy = y + cam.window_y0();
     *rng = pixel_sample_rng(fx, fy, s, ctx.settings.seed);
     if (kWithStratified && ctx.settings.stratified) set_stratified_prefix(rng, fx, fy, s, ctx.settings.seed, cam.has_aperture());
     Point2 off = ctx.filter.sample({rng->next_float(), rng->next_float()});
-    if (!cam.has_aperture()) return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y);
-    Point2 u_lens{rng->next_float(), rng->next_float()};
-    return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y, u_lens);
+    if (!ctx.scene.has_motion()) {
+        if (!cam.has_aperture()) return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y);
+        Point2 u_lens{rng->next_float(), rng->next_float()};
+        return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y, u_lens);
+    }
+    // Motion blur: every ray of the path sees the scene at the sample's time in the shutter. Drawn
+    // after the lens, so scenes that do not move keep their numbers; stratified over the pixel's
+    // samples from a group of its own (the prefix's numbers stay the lens' and the first vertex's).
+    Point2 u_lens{0.5f, 0.5f};
+    if (cam.has_aperture()) u_lens = {rng->next_float(), rng->next_float()};
+    float u_time;
+    if (kWithStratified && ctx.settings.stratified) {
+        float v[2];
+        stratified::sample_2d(s, stratified_pixel_key(fx, fy, ctx.settings.seed), kTimeDimensionGroup, v);
+        u_time = v[0];
+    } else {
+        u_time = rng->next_float();
+    }
+    return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y, u_lens, cam.sample_time(u_time));
 }
 
 // Stage timings of the multi-stage integrators (reported through Integrator::stats()).

@@ -43,6 +43,21 @@ Transform to_transform(const MatrixArray& a) {
     return t;
 }
 
+// Motion steps: an n x 4 x 4 (or n x 3 x 4) array of matrices, or None for none.
+std::vector<Transform> to_motion(const py::object& steps) {
+    std::vector<Transform> out;
+    if (steps.is_none()) return out;
+    auto a = steps.cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
+    if (a.ndim() != 3 || a.shape(1) < 3 || a.shape(2) != 4) throw py::value_error("motion must be n x 4 x 4 matrices");
+    for (py::ssize_t k = 0; k < a.shape(0); ++k) {
+        Transform t;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c) t.m[r][c] = static_cast<float>(a.at(k, r, c));
+        out.push_back(t);
+    }
+    return out;
+}
+
 Transform get_matrix(const py::dict& d, const char* key) {
     if (!d.contains(key)) throw py::value_error(std::string("missing ") + key);
     return to_transform(d[key].cast<MatrixArray>());
@@ -396,6 +411,7 @@ LightDesc parse_light(const py::dict& d) {
     l.spot_size = get<float>(d, "spot_size", l.spot_size);
     l.spot_blend = get<float>(d, "spot_blend", l.spot_blend);
     l.angle = get<float>(d, "angle", 0.0f);
+    l.spread = get<float>(d, "spread", l.spread);
     l.visible_to_camera = get<bool>(d, "visible_camera", true);
     l.cast_shadow = get<bool>(d, "cast_shadow", true);
     l.use_mis = get<bool>(d, "use_mis", true);
@@ -501,16 +517,19 @@ PYBIND11_MODULE(_smis, m) {
         .def("mesh_dropped", &Scene::mesh_dropped)
         .def("add_instance",
              [](Scene& s, uint32_t mesh, MatrixArray matrix, std::vector<float> color, float random, float pass_index,
-                bool holdout) {
+                bool holdout, const py::object& motion) {
                  if (color.size() < 3) throw py::value_error("color needs three components");
                  float alpha = color.size() > 3 ? color[3] : 1.0f;
+                 std::vector<Transform> steps = to_motion(motion);
                  value_errors([&] {
                      s.add_instance(mesh, to_transform(matrix), {color[0], color[1], color[2]}, random, pass_index, alpha,
-                                    holdout);
+                                    holdout, steps);
                  });
              },
              py::arg("mesh"), py::arg("matrix"), py::arg("color") = std::vector<float>{1.0f, 1.0f, 1.0f},
-             py::arg("random") = 0.0f, py::arg("pass_index") = 0.0f, py::arg("holdout") = false)
+             py::arg("random") = 0.0f, py::arg("pass_index") = 0.0f, py::arg("holdout") = false,
+             py::arg("motion") = py::none(),
+             "motion: transform motion blur, the matrices at evenly spaced times over the shutter (n x 4 x 4)")
         .def("set_mesh_texspace",
              [](Scene& s, uint32_t mesh, std::vector<float> location, std::vector<float> size) {
                  if (location.size() != 3 || size.size() != 3) throw py::value_error("texture space needs 3 + 3 values");
@@ -552,6 +571,8 @@ PYBIND11_MODULE(_smis, m) {
                  c.aperture_blades = get<int>(d, "aperture_blades", c.aperture_blades);
                  c.aperture_rotation = get<float>(d, "aperture_rotation", c.aperture_rotation);
                  c.aperture_ratio = get<float>(d, "aperture_ratio", c.aperture_ratio);
+                 if (d.contains("motion")) c.motion = to_motion(d["motion"]);
+                 if (d.contains("shutter_curve")) c.shutter_curve = d["shutter_curve"].cast<std::vector<float>>();
                  if (d.contains("border")) {
                      auto b = d["border"].cast<std::vector<int>>();
                      if (b.size() != 4) throw py::value_error("border must be (x0, y0, x1, y1)");
@@ -584,6 +605,7 @@ PYBIND11_MODULE(_smis, m) {
             d["emissive_triangles"] = st.emissive_triangles;
             d["materials"] = st.materials;
             d["has_media"] = s.has_media();
+            d["has_motion"] = s.has_motion();
             return d;
         });
 

@@ -1,5 +1,6 @@
 #include "scene/camera.h"
 
+#include <cstring>
 #include <stdexcept>
 
 namespace smis {
@@ -67,6 +68,16 @@ Camera::Camera(const CameraDesc& desc) : desc_(desc) {
         if (!std::isfinite(aperture_radius_)) aperture_radius_ = 0.0f;
     }
 
+    if (desc.motion.size() == 1) throw std::invalid_argument("camera motion needs at least two steps");
+    bool moves = false;
+    for (const Transform& t : desc.motion) {
+        if (!t.is_finite() || !(std::fabs(t.determinant3()) > 0.0f))
+            throw std::invalid_argument("camera motion matrix is not finite or is singular");
+        moves = moves || std::memcmp(&t, &desc.motion[0], sizeof(Transform)) != 0;
+    }
+    if (moves) motion_ = decompose_motion(desc.motion);
+    if (!desc.shutter_curve.empty()) shutter_ = ShutterCurve(desc.shutter_curve);
+
     const int* b = desc.border;
     bool has_border = b[2] > b[0] && b[3] > b[1];
     window_[0] = has_border ? std::max(0, b[0]) : 0;
@@ -82,7 +93,7 @@ Point2 Camera::sample_aperture(Point2 u) const {
     return {p.x * aperture_radius_ / desc_.aperture_ratio, p.y * aperture_radius_};
 }
 
-Ray Camera::generate_ray(float fx, float fy, Point2 u_lens) const {
+Ray Camera::generate_ray(float fx, float fy, Point2 u_lens, float time) const {
     float sx = -half_w_ + 2.0f * half_w_ * (fx / desc_.width) + shift_x_;
     float sy = -half_h_ + 2.0f * half_h_ * (fy / desc_.height) + shift_y_;
     // Camera space: x right, y up, z along the view axis. A pinhole ray starts at `o` in direction d;
@@ -99,8 +110,17 @@ Ray Camera::generate_ray(float fx, float fy, Point2 u_lens) const {
     }
     d = normalize(d);
     Ray ray;
-    ray.o = origin_ + right_ * o.x + up_ * o.y;
-    ray.d = right_ * d.x + up_ * d.y + forward_ * d.z;
+    ray.time = time;
+    if (!motion_.empty()) {
+        // Cycles interpolates the camera-to-world transform of its motion steps the same way.
+        Transform m = interpolate_motion(motion_, time);
+        Vec3 right = normalize(m.column(0)), up = normalize(m.column(1)), forward = -normalize(m.column(2));
+        ray.o = m.column(3) + right * o.x + up * o.y;
+        ray.d = right * d.x + up * d.y + forward * d.z;
+    } else {
+        ray.o = origin_ + right_ * o.x + up_ * o.y;
+        ray.d = right_ * d.x + up_ * d.y + forward_ * d.z;
+    }
     // Blender clips planes perpendicular to the view axis, so ray distances grow with the obliqueness.
     ray.tmin = desc_.clip_start / d.z;
     ray.tmax = desc_.clip_end / d.z;

@@ -2,15 +2,18 @@
 // (intern/cycles/blender/camera.cpp: sensor fit, shift in units of the fitted dimension).
 #pragma once
 #include <string>
+#include <vector>
 #include "core/features.h"
 #include "core/math.h"
 #include "core/sampling.h"
+#include "scene/motion.h"
 
 namespace smis {
 
 struct Ray {
     Vec3 o, d;
     float tmin = 0.0f, tmax = kInf;
+    float time = kShutterCentre;  // in the shutter interval, 0 = open, 1 = close (motion blur)
 };
 
 struct CameraDesc {
@@ -30,6 +33,10 @@ struct CameraDesc {
     int aperture_blades = 0;        // < 3: round aperture
     float aperture_rotation = 0.0f; // radians
     float aperture_ratio = 1.0f;    // anamorphic: the aperture's x extent is divided by it
+    // Motion blur: the camera's matrices at evenly spaced times over the shutter (none or at least
+    // two; all equal counts as none), and the shutter curve (values over the shutter; empty = flat).
+    std::vector<Transform> motion;
+    std::vector<float> shutter_curve;
 };
 
 class Camera {
@@ -37,8 +44,12 @@ public:
     Camera() = default;
     explicit Camera(const CameraDesc& desc);
     // (fx, fy): continuous coordinates on the full frame in pixels, y from the bottom row; u_lens
-    // picks the point on the aperture (ignored by a pinhole camera).
-    Ray generate_ray(float fx, float fy, Point2 u_lens = {0.5f, 0.5f}) const;
+    // picks the point on the aperture (ignored by a pinhole camera); time in the shutter moves a
+    // camera that has motion (and is the ray's time).
+    Ray generate_ray(float fx, float fy, Point2 u_lens = {0.5f, 0.5f}, float time = kShutterCentre) const;
+    bool has_motion() const { return !motion_.empty(); }
+    // A ray's time in the shutter from a uniform number (the shutter curve's distribution).
+    float sample_time(float u) const { return shutter_.sample(u); }
     bool has_aperture() const { return kWithDepthOfField && aperture_radius_ > 0.0f; }
     float aperture_radius() const { return aperture_radius_; }  // world units
     int width() const { return desc_.width; }
@@ -67,6 +78,8 @@ private:
     float half_w_ = 1.0f, half_h_ = 1.0f;  // image-plane half extents (at distance 1, or world units)
     float shift_x_ = 0.0f, shift_y_ = 0.0f;
     float aperture_radius_ = 0.0f;
+    std::vector<DecomposedTransform> motion_;  // empty: a camera that does not move
+    ShutterCurve shutter_;
     // Point on the aperture in the camera's (right, up) plane, world units.
     Point2 sample_aperture(Point2 u) const;
 };

@@ -15,7 +15,7 @@ inline RTCRayHit embree_ray_hit(const Ray& ray) {
     rh.ray.tfar = ray.tmax;
     rh.ray.mask = 0xFFFFFFFFu;
     rh.ray.flags = 0;
-    rh.ray.time = 0.0f;
+    rh.ray.time = ray.time;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     return rh;

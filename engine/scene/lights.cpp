@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "scene/area_spread.h"
+
 namespace smis {
 namespace {
 
@@ -24,36 +26,56 @@ inline float smoothstep01(float x) {
 }
 
 // Rectangle or ellipse, one-sided, emitting along -Z of the light object (Blender area light).
+// With a spread below 180 degrees the emission is confined to a cone (AreaSpread); a rectangle then
+// samples only the part of it that can reach the reference point, as Cycles does
+// (light_spread_clamp_area_light): the rectangle around the disk of AreaSpread::reach() at the
+// point's foot, clipped to the light; the pdf is that part's.
 class AreaLight : public Light {
 public:
-    AreaLight(const Vec3& center, const Vec3& axis_u, const Vec3& axis_v, bool ellipse, const Color& radiance)
-        : center_(center), u_(axis_u), v_(axis_v), ellipse_(ellipse), radiance_(radiance) {
+    AreaLight(const Vec3& center, const Vec3& axis_u, const Vec3& axis_v, bool ellipse, const Color& radiance,
+              AreaSpread spread)
+        : center_(center), u_(axis_u), v_(axis_v), ellipse_(ellipse), radiance_(radiance), spread_(spread) {
         Vec3 n = cross(u_, v_);
         float len = length(n);
         area_ = 4.0f * len * (ellipse ? kPi / 4.0f : 1.0f);  // u_, v_ are half axes
         n_ = -(n / len);
         inv_u_sq_ = 1.0f / length_sq(u_);
         inv_v_sq_ = 1.0f / length_sq(v_);
+        // The reachable part is a rectangle in the light's own axes: they must be orthogonal
+        // (a sheared light samples all of itself, which is unbiased too).
+        clip_ = spread_.active() && !ellipse_ && std::fabs(dot(u_, v_)) <= 1e-4f * length(u_) * length(v_);
     }
     LightSample sample(const Vec3& ref, Point2 u) const override {
-        float a, b;
-        if (ellipse_) {
-            Point2 d = sample_uniform_disk_concentric(u);
-            a = d.x;
-            b = d.y;
-        } else {
-            a = 2.0f * u.x - 1.0f;
-            b = 2.0f * u.y - 1.0f;
-        }
-        Vec3 p = center_ + u_ * a + v_ * b;
+        if (spread_.active()) return sample_with_spread(ref, u);
+        Point2 ab = position(u);
+        return sample_point(ref, ab.x, ab.y, area_);
+    }
+    // Out of line, so lights without a spread keep their short path: a rectangle samples the part
+    // of itself that reaches ref, and the radiance falls off within the cone.
+    [[gnu::noinline]] LightSample sample_with_spread(const Vec3& ref, Point2 u) const {
+        Part part{-1.0f, 1.0f, -1.0f, 1.0f};
+        if (clip_ && !reachable_part(ref, &part)) return LightSample{};
+        Point2 ab = clip_ ? Point2{part.a0 + (part.a1 - part.a0) * u.x, part.b0 + (part.b1 - part.b0) * u.y}
+                          : position(u);
+        LightSample s = sample_point(ref, ab.x, ab.y, part.area(area_));
+        if (s.pdf > 0.0f) s.L *= spread_.attenuation(-dot(s.wi, n_));
+        return s;
+    }
+    // The point of the whole light at u, in half-axis coordinates.
+    Point2 position(Point2 u) const {
+        return ellipse_ ? sample_uniform_disk_concentric(u) : Point2{2.0f * u.x - 1.0f, 2.0f * u.y - 1.0f};
+    }
+    // The sample at (a, b) of a part of the light of `area` sampled uniformly.
+    LightSample sample_point(const Vec3& ref, float a, float b, float area) const {
         LightSample s;
+        Vec3 p = center_ + u_ * a + v_ * b;
         Vec3 d = p - ref;
         float dist_sq = length_sq(d);
         if (!(dist_sq > 0.0f)) return s;
         s.dist = std::sqrt(dist_sq);
         s.wi = d / s.dist;
         float cos_l = -dot(s.wi, n_);
-        s.pdf = area_to_solid_angle(1.0f / area_, dist_sq, cos_l);
+        s.pdf = area_to_solid_angle(1.0f / area, dist_sq, cos_l);
         if (s.pdf > 0.0f) s.L = radiance_;
         return s;
     }
@@ -72,23 +94,61 @@ public:
         bool inside = ellipse_ ? (a * a + b * b <= 1.0f) : (std::fabs(a) <= 1.0f && std::fabs(b) <= 1.0f);
         if (!inside) return false;
         hit->t = t;
+        if (spread_.active()) return spread_hit(ray.o, a, b, -denom, hit);
         hit->L = radiance_;
         hit->pdf = area_to_solid_angle(1.0f / area_, t * t, -denom);
         return true;
     }
-    float power(float) const override { return luminance(radiance_) * area_ * kPi; }
-    bool point_independent_of_reference() const override { return true; }
+    float power(float) const override { return luminance(radiance_) * area_ * kPi; }  // spread keeps it
+    bool point_independent_of_reference() const override { return !clip_; }
     bool rectangle(LightRectangle* out) const override {
-        // Photon planes need an orthogonal frame on the light (a sheared light falls back to NEE).
-        if (ellipse_ || std::fabs(dot(u_, v_)) > 1e-4f * length(u_) * length(v_)) return false;
+        // Photon planes need an orthogonal frame on the light (a sheared light falls back to NEE)
+        // and constant radiance (a light with a spread too).
+        if (ellipse_ || spread_.active() || std::fabs(dot(u_, v_)) > 1e-4f * length(u_) * length(v_)) return false;
         if (out) *out = {center_ - u_ - v_, u_ * 2.0f, v_ * 2.0f, n_, radiance_};
         return true;
     }
 
 private:
+    // A part of the rectangle in its half-axis coordinates, [a0, a1] x [b0, b1] within [-1, 1]^2.
+    struct Part {
+        float a0, a1, b0, b1;
+        float area(float full) const { return full * 0.25f * (a1 - a0) * (b1 - b0); }
+        bool contains(float a, float b) const { return a >= a0 && a <= a1 && b >= b0 && b <= b1; }
+    };
+    // The radiance and pdf of a hit at (a, b) seen under cos_light from `ref` (hit->t set), for a
+    // light with a spread; false when the hit lies outside the cone or the part sampled from ref.
+    [[gnu::noinline]] bool spread_hit(const Vec3& ref, float a, float b, float cos_light, LightHit* hit) const {
+        const float falloff = spread_.attenuation(cos_light);
+        if (!(falloff > 0.0f)) return false;
+        float area = area_;
+        if (clip_) {
+            Part part;
+            if (!reachable_part(ref, &part) || !part.contains(a, b)) return false;
+            area = part.area(area_);
+        }
+        hit->L = radiance_ * falloff;
+        hit->pdf = area_to_solid_angle(1.0f / area, hit->t * hit->t, cos_light);
+        return true;
+    }
+    // The part of the rectangle that can light `ref`; false when none can.
+    bool reachable_part(const Vec3& ref, Part* part) const {
+        const Vec3 rel = ref - center_;
+        const float reach = spread_.reach(std::fabs(dot(rel, n_)));
+        const float len_u = std::sqrt(1.0f / inv_u_sq_), len_v = std::sqrt(1.0f / inv_v_sq_);
+        const float cu = dot(rel, u_) / len_u, cv = dot(rel, v_) / len_v;  // the foot, in lengths
+        part->a0 = std::max((cu - reach) / len_u, -1.0f);
+        part->a1 = std::min((cu + reach) / len_u, 1.0f);
+        part->b0 = std::max((cv - reach) / len_v, -1.0f);
+        part->b1 = std::min((cv + reach) / len_v, 1.0f);
+        return part->a0 < part->a1 && part->b0 < part->b1;
+    }
+
     Vec3 center_, u_, v_, n_;
     bool ellipse_;
     Color radiance_;
+    AreaSpread spread_;
+    bool clip_ = false;
     float area_, inv_u_sq_, inv_v_sq_;
 };
 
@@ -248,7 +308,9 @@ std::unique_ptr<Light> make_light(const LightDesc& d) {
             Vec3 u = d.to_world.column(0) * (0.5f * sx), v = d.to_world.column(1) * (0.5f * sy);
             float area = length(cross(u, v)) * 4.0f * (ellipse ? kPi / 4.0f : 1.0f);
             require(area > 1e-12f && std::isfinite(area), "area light has zero size");
-            light = std::make_unique<AreaLight>(pos, u, v, ellipse, d.color * (d.power * kAreaLightFactor / area));
+            require(std::isfinite(d.spread) && d.spread >= 0.0f, "area light spread must be finite and non-negative");
+            light = std::make_unique<AreaLight>(pos, u, v, ellipse, d.color * (d.power * kAreaLightFactor / area),
+                                                AreaSpread::from_angle(d.spread));
         } else if (d.type == "POINT" || d.type == "SPOT") {
             require(std::isfinite(d.radius) && d.radius >= 0.0f, "light radius must be finite and non-negative");
             bool spot = d.type == "SPOT";

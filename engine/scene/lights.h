@@ -83,6 +83,7 @@ struct LightDesc {
     float strength = 0;  // W/m^2 (SUN)
     std::string shape = "SQUARE";
     float size = 1, size_y = 1, radius = 0, spot_size = 0.785398f, spot_blend = 0.15f, angle = 0;
+    float spread = kPi;  // AREA: the emission cone's full angle (radians; pi = Lambertian, no cone)
     bool visible_to_camera = true;
     bool cast_shadow = true, use_mis = true;  // Light > Cast Shadow, Multiple Importance (Cycles)
     // Spectral rendering only: the emitted spectrum (RGB = the colour upsampled, BLACKBODY at

@@ -63,6 +63,18 @@ Transform inverse(const Transform& t) {
     return inv;
 }
 
+struct WorldFrame {
+    Vec3 p, ng, ns;
+};
+// A hit point and its normals on a moving instance, from its space into the world's at `time`
+// (where Embree placed the instance then). Out of line: still instances do not pay for it.
+[[gnu::noinline]] WorldFrame moving_to_world(RTCGeometry geometry, float time, Vec3 p, Vec3 ng, Vec3 ns) {
+    Transform at;
+    rtcGetGeometryTransform(geometry, time, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &at.m[0][0]);
+    float sign = at.determinant3() < 0.0f ? -1.0f : 1.0f;
+    return {at.point(p), at.normal(ng) * sign, at.normal(ns) * sign};
+}
+
 void check_emitter(const std::string& spectrum, float temperature, const std::string& what) {
     spectral::EmitterKind kind;
     if (!spectral::parse_emitter_kind(spectrum, &kind))
@@ -362,11 +374,20 @@ std::shared_ptr<const Texture> Scene::texture(uint32_t id) const {
 }
 
 void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color, float random,
-                         float pass_index, float object_alpha, bool holdout) {
+                         float pass_index, float object_alpha, bool holdout, const std::vector<Transform>& motion) {
     if (committed_) throw std::logic_error("scene already committed");
     if (mesh >= meshes_.size()) throw std::invalid_argument("instance of an unknown mesh");
     if (!to_world.is_finite() || !invertible_in_float(to_world))
         throw std::invalid_argument("instance transform is not finite or is singular");
+    if (motion.size() == 1) throw std::invalid_argument("instance motion needs at least two steps");
+    bool moves = false;
+    for (const Transform& t : motion) {
+        if (!t.is_finite() || !invertible_in_float(t))
+            throw std::invalid_argument("instance motion transform is not finite or is singular");
+        moves = moves || std::memcmp(&t, &motion[0], sizeof(Transform)) != 0;
+    }
+    if (moves && emissive(meshes_[mesh]))
+        throw std::invalid_argument("motion blur of emissive objects is not supported");
     if (meshes_[mesh].indices.empty()) return;
     Instance inst{mesh, to_world, false, -1, is_finite(object_color) ? vmax(object_color, Color(0.0f)) : Color(1.0f),
                   inverse(to_world)};
@@ -375,6 +396,7 @@ void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& 
     inst.alpha = std::isfinite(object_alpha) ? object_alpha : 1.0f;
     inst.holdout = holdout;
     has_holdout_ = has_holdout_ || holdout;
+    if (moves) inst.motion = motion;
     instances_.push_back(inst);
     meshes_[mesh].users++;
 }
@@ -635,8 +657,11 @@ void Scene::commit() {
     // Meshes used once are flattened into world space (one BVH level, as Cycles does for unique
     // objects); meshes used several times become one Embree prototype shared by Embree instances.
     // Fast-build (viewport) scenes keep every used mesh a prototype, for in-place updates.
-    for (Mesh& mesh : meshes_)
-        if (mesh.users >= (fast_build_ ? 1u : 2u)) build_prototype(mesh);
+    // A moving instance is an Embree motion instance, so its mesh is a prototype even when used once.
+    std::vector<char> moving_user(meshes_.size(), 0);
+    for (const Instance& inst : instances_) moving_user[inst.mesh] |= !inst.motion.empty();
+    for (size_t m = 0; m < meshes_.size(); ++m)
+        if (meshes_[m].users >= (fast_build_ ? 1u : 2u) || moving_user[m]) build_prototype(meshes_[m]);
     emissive_local_.assign(meshes_.size(), {});
     for (size_t m = 0; m < meshes_.size(); ++m) {
         const Mesh& mesh = meshes_[m];
@@ -683,7 +708,19 @@ void Scene::commit() {
         } else {
             RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
             rtcSetGeometryInstancedScene(geom, mesh.prototype);
-            rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &inst.to_world.m[0][0]);
+            if (inst.motion.empty()) {
+                rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &inst.to_world.m[0][0]);
+            } else {
+                // Quaternion steps, so Embree interpolates rotations as Cycles does (scene/motion.h).
+                std::vector<DecomposedTransform> steps = decompose_motion(inst.motion);
+                rtcSetGeometryTimeStepCount(geom, static_cast<unsigned>(steps.size()));
+                for (size_t k = 0; k < steps.size(); ++k) {
+                    RTCQuaternionDecomposition q = embree_decomposition(steps[k]);
+                    rtcSetGeometryTransformQuaternion(geom, static_cast<unsigned>(k), &q);
+                }
+                inst.geometry = geom;  // the scene keeps it alive
+                has_motion_ = true;
+            }
             rtcCommitGeometry(geom);
             rtcAttachGeometryByID(scene_, geom, geom_id);
             rtcReleaseGeometry(geom);
@@ -692,6 +729,10 @@ void Scene::commit() {
         geom_to_instance_.push_back(static_cast<uint32_t>(&inst - instances_.data()));
         for (size_t i = 0; i < mesh.indices.size(); ++i) {
             Vec3 p = load3(&mesh.positions[3 * mesh.indices[i]]);
+            for (const Transform& step : inst.motion) {
+                lo = vmin(lo, step.point(p));
+                hi = vmax(hi, step.point(p));
+            }
             if (!inst.identity) p = inst.to_world.point(p);
             lo = vmin(lo, p);
             hi = vmax(hi, p);
@@ -704,6 +745,7 @@ void Scene::commit() {
     }
     rtcCommitScene(scene_);
     if (!embree_error_.empty()) throw std::runtime_error(embree_error_);
+    has_motion_ = has_motion_ || camera_.has_motion();
     radius_ = instances_.empty() ? 1.0f : std::max(1e-3f, 0.5f * length(hi - lo));
     if (!std::isfinite(radius_)) radius_ = 1.0f;
     center_ = instances_.empty() || !is_finite(lo + hi) ? Vec3(0.0f) : (lo + hi) * 0.5f;
@@ -729,6 +771,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
     rtcIntersect1(scene_, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     fill_hit(ray, rh, hit);
+    hit->time = ray.time;
     return true;
 }
 
@@ -750,10 +793,15 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
         ns = cn[0] * w + cn[1] * u + cn[2] * v;
     }
     if (!inst.identity) {
-        p = inst.to_world.point(p);
-        float sign = inst.to_world.determinant3() < 0.0f ? -1.0f : 1.0f;
-        ng = inst.to_world.normal(ng) * sign;
-        ns = inst.to_world.normal(ns) * sign;
+        if (__builtin_expect(inst.motion.empty(), 1)) {
+            p = inst.to_world.point(p);
+            float sign = inst.to_world.determinant3() < 0.0f ? -1.0f : 1.0f;
+            ng = inst.to_world.normal(ng) * sign;
+            ns = inst.to_world.normal(ns) * sign;
+        } else {
+            WorldFrame w = moving_to_world(inst.geometry, rh.ray.time, p, ng, ns);
+            p = w.p, ng = w.ng, ns = w.ns;
+        }
     }
     ng = normalize(ng);
     ns = normalize(ns);
@@ -820,7 +868,7 @@ Vec3 Scene::apply_normal_map(const Material& mat, const Mesh& mesh, const Instan
     return dot(n, ng) < 0.0f ? ns : n;  // never below the surface (as fill_hit's own rule)
 }
 
-bool Scene::occluded(const Vec3& origin, const Vec3& dir, float tmax) const {
+bool Scene::occluded(const Vec3& origin, const Vec3& dir, float tmax, float time) const {
     if (!embree_accepts(origin, dir, 0.0f, tmax)) return true;  // see embree_accepts()
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -831,7 +879,7 @@ bool Scene::occluded(const Vec3& origin, const Vec3& dir, float tmax) const {
     r.tfar = tmax;
     r.mask = 0xFFFFFFFFu;
     r.flags = 0;
-    r.time = 0.0f;
+    r.time = time;
     rtcOccluded1(scene_, &ctx, &r);
     return r.tfar < 0.0f;
 }

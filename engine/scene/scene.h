@@ -26,6 +26,7 @@ struct SurfaceHit {
     int32_t light = -1;   // index into Scene::lights() when the triangle emits, else -1
     bool holdout = false; // the instance is a holdout (Object > Visibility > Holdout)
     SurfaceAttribs attr;  // UV and object colour, for textured materials
+    float time = kShutterCentre;  // the time of the ray that found it (rays leaving it keep it)
 };
 
 struct SceneStats {
@@ -88,9 +89,12 @@ public:
     // Object Info: colour (and its alpha), random in [0, 1) and pass index of the object.
     // holdout: camera rays that meet the instance (directly or through transparent surfaces) end
     // there as a hole in the film (alpha 0, no colour); other rays see it as usual (Cycles).
+    // motion: transform motion blur, the instance's matrices at evenly spaced times over the shutter
+    // (none, or at least two; all equal counts as none). Throws std::invalid_argument for a singular
+    // step, or a moving emitter (triangle lights are in world space: not supported).
     void add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color = Color(1.0f),
                       float random = 0.0f, float pass_index = 0.0f, float object_alpha = 1.0f,
-                      bool holdout = false);
+                      bool holdout = false, const std::vector<Transform>& motion = {});
     bool has_holdout() const { return has_holdout_; }
     uint32_t add_light(const LightDesc& desc);  // throws std::invalid_argument for unusable lights
     void set_world(const Color& radiance);
@@ -130,7 +134,9 @@ public:
 
     // --- queries (thread-safe after commit) --------------------------------------------------------
     bool intersect(const Ray& ray, SurfaceHit* hit) const;
-    bool occluded(const Vec3& origin, const Vec3& dir, float tmax) const;
+    bool occluded(const Vec3& origin, const Vec3& dir, float tmax, float time = kShutterCentre) const;
+    // Something moves during the shutter (an instance or the camera): camera rays draw a time.
+    bool has_motion() const { return has_motion_; }
     // Lights that are not geometry (area, point/spot disks) struck before `ray.tmax`; adds their
     // MIS-weighted contribution through the callback.
     template <class F>
@@ -233,6 +239,8 @@ private:
         Transform to_object;   // inverse of to_world (Object texture coordinates)
         float random = 0.0f, pass_index = 0.0f, alpha = 1.0f;
         bool holdout = false;
+        std::vector<Transform> motion;  // transform motion blur steps, empty when it does not move
+        RTCGeometry geometry = nullptr; // the Embree instance of a moving one, for its transform at a time
     };
     // Runs a material's program at a hit (the context it built into *ctx_out when given).
     ShaderResult run_program(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
@@ -270,7 +278,7 @@ private:
     std::vector<std::shared_ptr<const Texture>> textures_;
     std::vector<Mesh> meshes_;
     std::vector<Instance> instances_;
-    bool has_holdout_ = false;
+    bool has_holdout_ = false, has_motion_ = false;
     std::vector<uint32_t> geom_to_instance_;       // top-level geometry id -> instance
     std::vector<std::vector<int32_t>> emissive_local_;  // per mesh: triangle -> local emitter index
     std::vector<std::unique_ptr<Light>> lights_;

@@ -2,6 +2,7 @@
 // pdf reported by sample(), pdf() and intersect(), and Cycles' units.
 #include <gtest/gtest.h>
 
+#include "scene/area_spread.h"
 #include "scene/lights.h"
 #include "stats.h"
 
@@ -41,6 +42,16 @@ std::vector<Case> cases() {
         area.size_y = 0.8f;
         add("area_" + shape, area, {0, 0, 0});
     }
+    // Spread: a rectangle samples only the part of itself that can reach the point (30 degrees: a
+    // small part off its centre; 100 degrees: clipped on one side), a disk all of itself.
+    area.shape = "RECTANGLE";
+    area.spread = 30.0f * kPi / 180.0f;
+    add("area_RECTANGLE_spread30", area, {0.6f, 0.1f, 0.0f});
+    area.spread = 100.0f * kPi / 180.0f;
+    add("area_RECTANGLE_spread100", area, {0.9f, -0.3f, 0.0f});
+    area.shape = "DISK";
+    area.spread = 40.0f * kPi / 180.0f;
+    add("area_DISK_spread40", area, {0.4f, 0.0f, 0.0f});
     LightDesc point;
     point.type = "POINT";
     point.power = 50.0f;
@@ -149,4 +160,25 @@ TEST(Lights, CyclesUnits) {
     LightSample us = su->sample({0, 0, 0}, {0.3f, 0.3f});
     float omc = 1.0f - std::cos(5.0f * kPi / 180.0f);
     EXPECT_NEAR(us.L.x, 3.0f / (2 * kPi * omc), 1e-2f);
+}
+
+// Cycles' spread normalisation keeps the light's power: the attenuation weighted by cos sin over the
+// hemisphere integrates to the Lambertian light's 1/2 at every spread (and spread 180 is no cone).
+TEST(Lights, AreaSpreadKeepsThePower) {
+    for (float degrees : {1.0f, 10.0f, 30.0f, 90.0f, 150.0f, 179.0f}) {
+        AreaSpread s = AreaSpread::from_angle(degrees * kPi / 180.0f);
+        ASSERT_TRUE(s.active());
+        const int n = 200000;
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i) {
+            double x = (i + 0.5) * 0.5 * kPi / n;
+            sum += s.attenuation(float(std::cos(x))) * std::cos(x) * std::sin(x) * 0.5 * kPi / n;
+        }
+        EXPECT_NEAR(sum, 0.5, 2e-3) << degrees << " degrees";
+        // Nothing beyond half the spread.
+        float h = 0.5f * std::max(degrees, 1.0f) * kPi / 180.0f;
+        EXPECT_EQ(s.attenuation(std::cos(std::min(h * 1.01f, 0.5f * kPi - 1e-3f))), 0.0f) << degrees;
+        EXPECT_GT(s.attenuation(std::cos(h * 0.99f)), 0.0f) << degrees;
+    }
+    EXPECT_FALSE(AreaSpread::from_angle(kPi).active());
 }

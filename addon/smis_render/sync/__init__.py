@@ -8,7 +8,7 @@ the engine never sees a Blender object.
 import time
 from dataclasses import dataclass, field
 
-from . import camera, instances, materials, world
+from . import camera, instances, materials, motion, world
 from .camera import CameraError
 from .instances import Cancelled
 
@@ -39,17 +39,26 @@ def export_depsgraph(native, depsgraph, reporter, engine=None, view_camera=None,
         scene.set_fast_build(True)  # the viewport rebuilds after every edit
     bl_scene = depsgraph.scene
 
+    # Motion blur (final renders only): the scene evaluated at the shutter's times first, then
+    # exported at its frame.
+    moving = motion.collect(engine, depsgraph, reporter.warning) if view_camera is None else None
     try:
-        cam = view_camera or camera.export_camera(engine, depsgraph, reporter.warning)
-        scene.set_camera(cam)
-    except (CameraError, ValueError) as exc:
-        raise ExportError(str(exc)) from exc
+        try:
+            cam = view_camera or camera.export_camera(engine, depsgraph, reporter.warning)
+            if moving is not None:
+                cam = dict(cam, **moving.camera_fields())
+            scene.set_camera(cam)
+        except (CameraError, ValueError) as exc:
+            raise ExportError(str(exc)) from exc
 
-    scene.set_world(world.export_world(world.evaluated_world(depsgraph), reporter.warning))
+        scene.set_world(world.export_world(world.evaluated_world(depsgraph), reporter.warning))
 
-    test_break = engine.break_requested if engine is not None else None
-    mats = materials.MaterialCache(scene, reporter)
-    counts = instances.export_instances(depsgraph, scene, mats, reporter, test_break, cache)
+        test_break = engine.break_requested if engine is not None else None
+        mats = materials.MaterialCache(scene, reporter)
+        counts = instances.export_instances(depsgraph, scene, mats, reporter, test_break, cache, moving)
+    finally:
+        if moving is not None:
+            moving.restore()
 
     if counts.instances == 0 and counts.lights == 0:
         reporter.warning("The scene is empty (no renderable objects or lights); "

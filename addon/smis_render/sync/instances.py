@@ -199,13 +199,15 @@ def is_holdout(inst, view_layer):
         return bool(getattr(owner, "is_holdout", False))
 
 
-def export_instances(depsgraph, scene, materials, reporter, test_break=None, cache=None):
+def export_instances(depsgraph, scene, materials, reporter, test_break=None, cache=None, motion=None):
     """Add all geometry and lights of the depsgraph to the engine scene; `cache`
     (GeometryCache) reuses meshes exported before and records which engine mesh and
-    instances each object became."""
+    instances each object became; `motion` (sync.motion.Motion) the matrices of the instances
+    that move over the shutter."""
     counts = ExportCounts()
     prototypes = {}   # prototype key -> engine mesh id, or None for empty geometry
     singular, broken = [], []  # objects skipped (the rest of the scene still renders)
+    unblurred = []  # moving objects the engine refused to blur (emitters), rendered unblurred
     for kind, inst, obj in walk_instances(depsgraph, reporter, test_break):
         if kind == 'LIGHT':
             if lights.export_light(scene, obj, instance_matrix(inst), reporter):
@@ -226,10 +228,17 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
         if mesh_id is not None:
             # Object Info: Cycles' random is the instance's random_id over 2^32, the pass index
             # the object's.
+            steps = motion.of(inst) if motion is not None else None
+            args = (mesh_id, instance_matrix(inst), obj.color[:], (inst.random_id & 0xFFFFFFFF) / 4294967295.0,
+                    float(obj.pass_index), is_holdout(inst, depsgraph.view_layer))
             try:
-                scene.add_instance(mesh_id, instance_matrix(inst), obj.color[:],
-                                   (inst.random_id & 0xFFFFFFFF) / 4294967295.0, float(obj.pass_index),
-                                   is_holdout(inst, depsgraph.view_layer))
+                try:
+                    scene.add_instance(*args, motion=steps)
+                except ValueError as exc:
+                    if steps is None:
+                        raise
+                    scene.add_instance(*args)
+                    unblurred.append("'%s' (%s)" % (obj.name, exc))
             except ValueError:
                 # A zero scale (a common way to hide an object in an animation) or a non-finite
                 # transform: Cycles renders nothing of the object either.
@@ -240,6 +249,9 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
                 cache.record_instance(obj, mesh_id)
     _warn_skipped(reporter, singular, "with a zero-scale, singular or non-finite transform")
     _warn_skipped(reporter, broken, "whose geometry could not be exported")
+    if unblurred:
+        reporter.warning("Rendered without motion blur: " + ", ".join(unblurred[:10])
+                         + (" and %d more" % (len(unblurred) - 10) if len(unblurred) > 10 else ""))
     return counts
 
 

@@ -44,6 +44,7 @@ def light_dict(light, matrix, visible_camera=True):
     if light.type == 'AREA':
         d["shape"] = light.shape
         d["size"] = float(light.size)
+        d["spread"] = float(light.spread)
         # SQUARE and DISK use `size` on both axes; Blender keeps a stale size_y.
         square = light.shape in {'SQUARE', 'DISK'}
         d["size_y"] = float(light.size if square else light.size_y)

@@ -1,0 +1,141 @@
+"""Transform motion blur against Cycles 3.4 rendered in the test (issue 18): a keyframed cube that
+moves and turns during the shutter, the shutter opening at the frame (Cycles' Start position) or
+centred on it, a rising shutter curve, and a camera panning past a still scene. Without motion blur
+(or with a flat shutter) the same frames differ from Cycles' at least twice the bound (the check has
+power)."""
+import bpy  # noqa: F401
+import numpy as np
+
+from conftest import EMPTY_SCENE_AND_MATERIALS, block_mean, matched_settings, render, render_both
+
+SCENE = EMPTY_SCENE_AND_MATERIALS + matched_settings(64, 48, 128, max_bounces=3) + """
+cam.location = (0.0, -8.0, 2.5)
+cam.rotation_euler = (math.radians(75), 0.0, 0.0)
+scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.5
+bpy.ops.mesh.primitive_plane_add(size=30.0)
+bpy.context.active_object.data.materials.append(material("Floor", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1)))
+bpy.ops.mesh.primitive_cube_add(size=1.2, location=(-1.5, 0.0, 0.8))
+cube = bpy.context.active_object
+cube.data.materials.append(material("Cube", "ShaderNodeBsdfDiffuse", Color=(0.8, 0.3, 0.1, 1)))
+bpy.ops.object.light_add(type='AREA', location=(1.0, -2.0, 5.0))
+bpy.context.active_object.data.energy = 600.0
+bpy.context.active_object.data.size = 2.0
+
+def keyframes(obj, frames):
+    '''frames: {frame: (location, z rotation in degrees)}, linear in between.'''
+    for frame, (location, angle) in frames.items():
+        obj.location = location
+        obj.rotation_euler.z = math.radians(angle)
+        obj.keyframe_insert("location", frame=frame)
+        obj.keyframe_insert("rotation_euler", frame=frame)
+    for curve in obj.animation_data.action.fcurves:
+        for key in curve.keyframe_points:
+            key.interpolation = 'LINEAR'
+
+scene.render.use_motion_blur = True
+"""
+
+# The issue asks for 2%; both engines converge to 0.1-0.2% of each other here.
+BOUND = 0.01
+
+MOVING_CUBE = """
+keyframes(cube, {1: ((-1.5, 0.0, 0.8), 0.0), 2: ((1.5, 0.0, 0.8), 60.0)})
+"""
+
+
+def _error(ours, cycles):
+    """Mean relative error over 8x8-pixel blocks."""
+    a, b = (block_mean(img[..., :3], 8).mean(-1) for img in (ours, cycles))
+    return float(np.abs(a - b).mean() / b.mean())
+
+
+def _compare(setup, what, frame=1):
+    ours, cycles = render_both(SCENE + setup, frame=frame)
+    still = render(setup=SCENE + setup + "scene.render.use_motion_blur = False\n", frame=frame)
+    assert still.returncode == 0, still.output[-3000:]
+    err, err_still = _error(ours, cycles), _error(still.image, cycles)
+    print("%s: mean relative error against Cycles (8x8 blocks) %.4f; without motion blur %.4f"
+          % (what, err, err_still))
+    assert err < BOUND, err
+    assert err_still > 2 * BOUND, err_still
+    return ours
+
+
+def test_moving_cube_matches_cycles():
+    """The shutter opens at the frame and lasts a whole frame: the cube sweeps from x = -1.5 to 1.5
+    while turning 60 degrees (three motion steps, the rotation slerped as Cycles does)."""
+    _compare(MOVING_CUBE + "scene.render.motion_blur_shutter = 1.0\nscene.cycles.motion_blur_position = 'START'\n",
+             "moving cube, shutter 1 from the frame")
+
+
+def test_shutter_centred_on_the_frame_matches_cycles():
+    """Centred on the frame (the default position): the shutter spans frames 1.5-2.5, across the
+    last keyframe, where the cube stops (the steps at 1.5 and 2.5 and the frame's, as Cycles takes them)."""
+    _compare(MOVING_CUBE + "scene.render.motion_blur_shutter = 1.0\n", "moving cube, shutter 1 centred", frame=2)
+
+
+def test_camera_motion_matches_cycles():
+    """The camera pans 1.5 units sideways over the shutter; everything else stands still."""
+    _compare("keyframes(cam, {1: ((-0.75, -8.0, 2.5), 0.0), 2: ((0.75, -8.0, 2.5), 0.0)})\n"
+             "scene.render.motion_blur_shutter = 1.0\nscene.cycles.motion_blur_position = 'START'\n",
+             "panning camera")
+
+
+def test_motion_blur_off_per_object_leaves_it_sharp():
+    """Object > Motion Blur off (obj.cycles.use_motion_blur) renders the cube at the frame in both."""
+    setup = SCENE + MOVING_CUBE + ("scene.render.motion_blur_shutter = 1.0\nscene.cycles.motion_blur_position = 'START'\n"
+                                   "cube.cycles.use_motion_blur = False\n")
+    ours, cycles = render_both(setup)
+    blurred = render(setup=setup.replace("cube.cycles.use_motion_blur = False", ""))
+    assert blurred.returncode == 0, blurred.output[-3000:]
+    err, err_blurred = _error(ours, cycles), _error(blurred.image, cycles)
+    print("cube with its motion blur off: mean relative error against Cycles (8x8 blocks) %.4f; blurred %.4f"
+          % (err, err_blurred))
+    assert err < BOUND and err_blurred > 2 * BOUND, (err, err_blurred)
+
+
+def test_shutter_curve_matches_cycles():
+    """A rising shutter curve (0 at opening, 1 at closing): later times weigh more, drawn by the
+    curve's inverse CDF as Cycles' shutter table does; the flat shutter's image differs from it."""
+    shutter = MOVING_CUBE + "scene.render.motion_blur_shutter = 1.0\nscene.cycles.motion_blur_position = 'START'\n"
+    curve = ("points = scene.render.motion_blur_shutter_curve.curves[0].points\n"
+             "points[0].location = (0.0, 0.0)\npoints[-1].location = (1.0, 1.0)\n"
+             "for p in list(points)[1:-1]:\n    points.remove(p)\n"
+             "scene.render.motion_blur_shutter_curve.update()\n")
+    ours, cycles = render_both(SCENE + shutter + curve)
+    flat = render(setup=SCENE + shutter)
+    assert flat.returncode == 0, flat.output[-3000:]
+    err, err_flat = _error(ours, cycles), _error(flat.image, cycles)
+    print("moving cube, rising shutter curve: mean relative error against Cycles (8x8 blocks) %.4f; "
+          "with a flat shutter %.4f" % (err, err_flat))
+    assert err < BOUND and err_flat > 2 * BOUND, (err, err_flat)
+
+
+def test_what_is_not_blurred_is_named():
+    """A moving emitter renders without motion blur and a deforming mesh with its transform's blur
+    only, each named in a warning; the render still succeeds."""
+    setup = SCENE + MOVING_CUBE + """
+scene.render.motion_blur_shutter = 1.0
+glow = bpy.data.materials.new("Glow")
+glow.use_nodes = True
+glow.node_tree.nodes["Principled BSDF"].inputs["Emission"].default_value = (1.0, 1.0, 1.0, 1.0)
+glow.node_tree.nodes["Principled BSDF"].inputs["Emission Strength"].default_value = 2.0
+cube.data.materials[0] = glow
+bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0.0, 1.5, 1.5))
+sheet = bpy.context.active_object
+sheet.name = "Sheet"
+sheet.shape_key_add(name="Basis")
+bend = sheet.shape_key_add(name="Bend")
+bend.data[0].co.z += 1.0
+bend.value = 0.0
+bend.keyframe_insert("value", frame=1)
+bend.value = 1.0
+bend.keyframe_insert("value", frame=2)
+"""
+    run = render(setup=setup)
+    assert run.returncode == 0, run.output[-3000:]
+    assert run.image[..., :3].mean() > 0.0
+    warnings = [line for line in run.output.splitlines() if "motion blur" in line.lower()]
+    print("\n".join(warnings))
+    assert any("'Cube'" in w and "emissive" in w for w in warnings), run.output[-3000:]
+    assert any("'Sheet'" in w and "Deformation" in w for w in warnings), run.output[-3000:]
