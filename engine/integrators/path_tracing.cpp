@@ -34,14 +34,20 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
     if (sp.bsdf.is_delta() || selection.empty()) return ds;
     uint32_t li = static_cast<uint32_t>(selection.sample(u_select));
     float pmf = selection.pmf(li);
-    LightSample ls = scene.light(li).sample(sp.hit.p, u);
+    const Light& light = scene.light(li);
+    // A light hidden from some ray types lights only the other lobes (Cycles' light visibility);
+    // their mixture is also the BSDF density its MIS weight counts.
+    ds.hidden = ~light.visibility & kRayBounceTypes;
+    Bsdf lit_storage;
+    const Bsdf& lit = direct_bsdf(sp, ds, &lit_storage);
+    if (lit.empty() || lit.is_delta()) return ds;
+    LightSample ls = light.sample(sp.hit.p, u);
     if (!ls.valid()) {
         // A light seen from behind is simply dark; only numerical failures count as rejected.
         if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;
         return ds;
     }
     const ShadowRay shadow = shadow_ray(sp, ls.wi, ls.dist);
-    const Light& light = scene.light(li);
     Color tr(1.0f);
     if (light.cast_shadow) {  // Cycles' Cast Shadow off: no shadow ray at all
         if (!scene.has_media()) {
@@ -53,7 +59,7 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
     }
     float light_pdf = pmf * ls.pdf;
     const float n = float(light_samples);
-    float w = ls.delta || !light.use_mis ? 1.0f : mis_weight(settings.mis, n * light_pdf, float(bsdf_samples) * sp.bsdf.pdf(sp.wo, ls.wi));
+    float w = ls.delta || !light.use_mis ? 1.0f : mis_weight(settings.mis, n * light_pdf, float(bsdf_samples) * lit.pdf(sp.wo, ls.wi));
     ds.wi = ls.wi;
     ds.light = li;
     ds.weighted = ls.L * tr * (w / (n * light_pdf));
@@ -103,7 +109,8 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         if constexpr (kMedia) {
             RayMedia media;
             found = intersect_through(scene, ray, state.medium, &hit, &media);
-            L += beta * emission_along(scene, settings, ray, found, hit, state, &media, &sray);
+            L += clamp_contribution(settings, beta * emission_along(scene, settings, ray, found, hit, state, &media, &sray),
+                                    state.depth <= 1);
             // Single scattering at this bounce (Cycles' volume bounces = 0: no path continues from
             // a scattering vertex, so only its next-event estimate counts).
             if (state.depth <= settings.max_bounces)
@@ -117,16 +124,18 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
             found = scene.intersect(ray, &hit);
             if (state.depth == 0 && settings.aux_passes && !settings.aux_shading)  // the Z pass alone
                 counters.camera_depth = found ? scene.camera().view_depth(hit.p) : kBackgroundDepth;
-            L += beta * emission_along(scene, settings, ray, found, hit, state, nullptr, &sray);
+            L += clamp_contribution(settings, beta * emission_along(scene, settings, ray, found, hit, state, nullptr, &sray),
+                                    state.depth <= 1);
             if (add_transparency(settings, state, found, hit, beta, counters)) break;
         }
-        // The ray leaving the last allowed bounce only collects emission (Cycles' max_bounces).
-        if (!found || state.depth > settings.max_bounces) break;
+        // The ray leaving the last allowed bounce only collects emission (Cycles' bounce limits).
+        if (!found || beyond_bounce_limits(settings, state)) break;
         if (programs) {
             sray.depth = state.depth;
             sray.length = hit.t;
         }
         ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
+        drop_caustic_lobes(settings, state, sp);
         if (sp.bsdf.empty()) break;
 
         bool resample = false;
@@ -136,10 +145,11 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         }
         state.light_pdf_scale = resample ? resampled_light_pdf_scale(settings) : 1.0f;
         if (resample) {
-            L += beta * ris_direct(scene, settings, sp, rng);
+            L += clamp_contribution(settings, beta * ris_direct(scene, settings, sp, rng), state.depth == 0);
         } else {
             DirectSample ds = sample_direct(scene, settings, sp, rng, counters, state.medium);
-            if (ds.valid) L += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
+            if (ds.valid)
+                L += clamp_contribution(settings, beta * direct_eval(sp, ds) * ds.weighted, state.depth == 0);
         }
 
         BsdfSample bs = sample_bsdf(sp, rng);
@@ -151,11 +161,12 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         if (bs.transmission) eta_scale *= sqr(bs.eta);
         if (programs) next_shader_ray(sp.bsdf, bs, &sray);
         update_transparent_background(settings, state, sp.bsdf, bs);
+        advance_ray_type(state, sp.bsdf, bs);
         if constexpr (kMedia) state.medium = medium_towards(scene, sp, bs.wi, state.medium);
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;
         state.prev_p = hit.p;
-        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf};
+        ray = bounce_ray(sp, bs, state);
         if (!russian_roulette(state.depth, beta, eta_scale * state.rr_scale, rng) || is_black(beta)) break;
     }
     return L;

@@ -5,12 +5,16 @@
 #include "core/features.h"
 #include "core/math.h"
 #include "core/sampling.h"
+#include "scene/ray_visibility.h"
 
 namespace smis {
 
 struct Ray {
     Vec3 o, d;
     float tmin = 0.0f, tmax = kInf;
+    // The Embree mask: which objects the ray sees (ray_visibility.h; camera rays kRayCamera, bounce
+    // rays ray_mask() of their path flags). Queries that are no ray of a path see everything.
+    uint32_t visibility = kRayAllVisibility;
 };
 
 struct CameraDesc {

@@ -88,9 +88,11 @@ public:
     // Object Info: colour (and its alpha), random in [0, 1) and pass index of the object.
     // holdout: camera rays that meet the instance (directly or through transparent surfaces) end
     // there as a hole in the film (alpha 0, no colour); other rays see it as usual (Cycles).
+    // visibility: the ray types that see the instance (ray_visibility.h bits; Cycles' Ray
+    // Visibility); its emissive triangles light only what their rays could reach.
     void add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color = Color(1.0f),
                       float random = 0.0f, float pass_index = 0.0f, float object_alpha = 1.0f,
-                      bool holdout = false);
+                      bool holdout = false, uint32_t visibility = kRayAllVisibility);
     bool has_holdout() const { return has_holdout_; }
     uint32_t add_light(const LightDesc& desc);  // throws std::invalid_argument for unusable lights
     void set_world(const Color& radiance);
@@ -129,8 +131,10 @@ public:
     bool replace_lights(const std::vector<LightDesc>& lights, const WorldDesc& world);
 
     // --- queries (thread-safe after commit) --------------------------------------------------------
+    // The closest surface that ray.visibility sees.
     bool intersect(const Ray& ray, SurfaceHit* hit) const;
-    bool occluded(const Vec3& origin, const Vec3& dir, float tmax) const;
+    // A shadow ray by default: objects with Ray Visibility > Shadow off do not block it.
+    bool occluded(const Vec3& origin, const Vec3& dir, float tmax, uint32_t visibility = kRayShadow) const;
     // Lights that are not geometry (area, point/spot disks) struck before `ray.tmax`; adds their
     // MIS-weighted contribution through the callback.
     template <class F>
@@ -233,6 +237,7 @@ private:
         Transform to_object;   // inverse of to_world (Object texture coordinates)
         float random = 0.0f, pass_index = 0.0f, alpha = 1.0f;
         bool holdout = false;
+        uint32_t visibility = kRayAllVisibility;  // the Embree mask of its geometry
     };
     // Runs a material's program at a hit (the context it built into *ctx_out when given).
     ShaderResult run_program(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
@@ -242,7 +247,7 @@ private:
     float program_keep(uint32_t instance, uint32_t prim, float bu, float bv, const Vec3& dir) const;
     Vec3 apply_normal_map(const Material& mat, const Mesh& mesh, const Instance& inst, uint32_t prim,
                           const Vec3& ns, const Vec3& ng, Point2 uv) const;
-    void build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id);
+    void build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id, uint32_t visibility = kRayAllVisibility);
     Mesh make_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt, const float* corner_normals,
                    const int32_t* material_index, const std::vector<uint32_t>& slot_materials,
                    const float* corner_uvs) const;

@@ -12,6 +12,7 @@ import numpy as np
 
 from . import lights
 from .mesh import mesh_buffers
+from .visibility import instance_ray_visibility
 
 # Geometry reaches the engine as Mesh data only. In Blender 3.4 curves, text, NURBS
 # surfaces and metaballs are evaluated to a geometry set: the depsgraph yields the
@@ -229,7 +230,7 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
             try:
                 scene.add_instance(mesh_id, instance_matrix(inst), obj.color[:],
                                    (inst.random_id & 0xFFFFFFFF) / 4294967295.0, float(obj.pass_index),
-                                   is_holdout(inst, depsgraph.view_layer))
+                                   is_holdout(inst, depsgraph.view_layer), instance_ray_visibility(inst))
             except ValueError:
                 # A zero scale (a common way to hide an object in an animation) or a non-finite
                 # transform: Cycles renders nothing of the object either.
