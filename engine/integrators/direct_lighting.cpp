@@ -10,7 +10,7 @@ CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, con
     if (!e.ls.valid()) return e;
     // A light hidden from some ray types lights only the other lobes (Cycles' light visibility).
     const uint32_t hidden = ~light.visibility & kRayBounceTypes;
-    Color f = hidden ? lobes_not_of(sp.bsdf, hidden).eval(sp.wo, e.ls.wi) : sp.bsdf.eval(sp.wo, e.ls.wi);
+    Color f = hidden ? hidden_light_eval(sp.bsdf, hidden, sp.wo, e.ls.wi) : sp.bsdf.eval(sp.wo, e.ls.wi);
     e.g = f * e.ls.L / e.ls.pdf;
     // Colours are non-negative, so the luminance is positive wherever g is not black.
     e.target = luminance(e.g);
@@ -63,7 +63,7 @@ Color visible_reservoir_contribution(const Scene& scene, const RenderSettings& s
     if (!e.ls.delta && scene.light(r.y.light).use_mis) {  // Multiple Importance off: unweighted
         float light_pdf = resampled_light_pdf_scale(settings) * scene.light_pmf(r.y.light) * e.ls.pdf;
         const uint32_t hidden = ~scene.light(r.y.light).visibility & kRayBounceTypes;
-        const float bsdf_pdf = hidden ? lobes_not_of(sp.bsdf, hidden).pdf(sp.wo, e.ls.wi) : sp.bsdf.pdf(sp.wo, e.ls.wi);
+        const float bsdf_pdf = hidden ? hidden_light_pdf(sp.bsdf, hidden, sp.wo, e.ls.wi) : sp.bsdf.pdf(sp.wo, e.ls.wi);
         w_light = mis_weight(settings.mis, light_pdf, bsdf_pdf);
     }
     return e.g * (w_light * r.W);

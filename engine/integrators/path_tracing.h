@@ -133,6 +133,16 @@ inline bool beyond_bounce_limits(const RenderSettings& s, const PathState& st) {
            st.glossy_bounces > s.max_glossy_bounces || st.transmission_bounces > s.max_transmission_bounces ||
            st.transparent_bounces > s.max_transparent_bounces;
 }
+// Whether the scene or the settings use what PathState's ray types serve: an object or light hidden
+// from some rays (Scene::has_ray_visibility), per-type bounce limits below max_bounces, clamping or
+// a caustics toggle off. Without, a path that keeps every ray type renders the same image, and the
+// path tracer takes its loop without them (trace_path).
+inline bool uses_light_path_rules(const Scene& scene, const RenderSettings& s) {
+    const int limit = std::min({s.max_diffuse_bounces, s.max_glossy_bounces, s.max_transmission_bounces,
+                                s.max_transparent_bounces});
+    return scene.has_ray_visibility() || limit < s.max_bounces || s.clamp_direct > 0.0f || s.clamp_indirect > 0.0f ||
+           !s.caustics_reflective || !s.caustics_refractive;
+}
 // Cycles' Clamp Direct / Clamp Indirect (0 = off): a contribution whose mean |RGB| exceeds the
 // limit is scaled down to it (Cycles compares the sum with 3 x the setting). Direct: light samples
 // at the first vertex and emission found by the camera ray or by the first vertex's bounce (path
@@ -185,26 +195,20 @@ struct DirectSample {
     uint32_t light = 0;    // which light (spectral rendering looks up its spectrum)
     bool valid = false;
     // The ray types the light is hidden from (Light::visibility): the lobes of those classes take
-    // no part in the sample (direct_bsdf), as in Cycles.
+    // no part in the sample (direct_eval), as in Cycles.
     uint32_t hidden = 0;
 };
-// The BSDF a light sample lights: the vertex's, without the lobes the light is hidden from.
-inline const Bsdf& direct_bsdf(const ShadingPoint& sp, const DirectSample& ds, Bsdf* storage) {
-    if (!ds.hidden) return sp.bsdf;
-    *storage = lobes_not_of(sp.bsdf, ds.hidden);
-    return *storage;
-}
+// The lobes a light hidden from the ray types `hidden` lights (Cycles: its samples leave out the
+// closures of those classes): their value and their mixture density towards wi, and whether any
+// non-Dirac lobe is left. Out of line: the common case (a light every ray sees) never builds them.
+[[gnu::noinline]] Color hidden_light_eval(const Bsdf& bsdf, uint32_t hidden, const Vec3& wo, const Vec3& wi);
+[[gnu::noinline]] float hidden_light_pdf(const Bsdf& bsdf, uint32_t hidden, const Vec3& wo, const Vec3& wi);
+[[gnu::noinline]] bool hidden_light_lights_nothing(const Bsdf& bsdf, uint32_t hidden);
 // The shading point with only the lobes the light sample lights (for the spectral evaluation).
-inline ShadingPoint lit_lobes(const ShadingPoint& sp, const DirectSample& ds) {
-    ShadingPoint lit = sp;
-    lit.bsdf = lobes_not_of(sp.bsdf, ds.hidden);
-    return lit;
-}
+[[gnu::noinline]] ShadingPoint lit_lobes(const ShadingPoint& sp, const DirectSample& ds);
 // bsdf.eval towards the light sample, over the lobes it lights.
 inline Color direct_eval(const ShadingPoint& sp, const DirectSample& ds) {
-    if (!ds.hidden) return sp.bsdf.eval(sp.wo, ds.wi);
-    Bsdf lit;
-    return direct_bsdf(sp, ds, &lit).eval(sp.wo, ds.wi);
+    return ds.hidden ? hidden_light_eval(sp.bsdf, ds.hidden, sp.wo, ds.wi) : sp.bsdf.eval(sp.wo, ds.wi);
 }
 // Cycles' caustics toggles at a vertex the state's ray found (lobe_is_caustic).
 inline void drop_caustic_lobes(const RenderSettings& s, const PathState& st, ShadingPoint& sp) {

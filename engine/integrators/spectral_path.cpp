@@ -256,7 +256,8 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
         if (sm.dispersive) sp.bsdf = dispersed_bsdf(sp, sm, p.lambda_c());
 
         DirectSample ds = sample_direct(scene, settings, sp, rng, counters);
-        if (ds.valid && eval_spectral(ds.hidden ? lit_lobes(sp, ds) : sp, sm, p, ds.wi, f)) {
+        if (ds.valid && (ds.hidden ? eval_spectral(lit_lobes(sp, ds), sm, p, ds.wi, f)
+                                   : eval_spectral(sp, sm, p, ds.wi, f))) {
             float lum = luminance(ds.weighted);
             if (lum > 0.0f) L += clamp_contribution(settings, p.emission(spectral_.emitter(ds.light), lum, f), state.depth == 0);
         }

@@ -375,6 +375,7 @@ void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& 
     inst.alpha = std::isfinite(object_alpha) ? object_alpha : 1.0f;
     inst.holdout = holdout;
     inst.visibility = visibility;
+    hidden_objects_ = hidden_objects_ || visibility != kRayAllVisibility;
     has_holdout_ = has_holdout_ || holdout;
     instances_.push_back(inst);
     meshes_[mesh].users++;
@@ -454,6 +455,9 @@ void Scene::finish_lights() {
         else if (!l.is_delta() && !dynamic_cast<const TriangleLight*>(&l)) hittable_lights_.push_back(i);
     }
     light_selection_ = DiscreteDistribution(power);
+    hidden_lights_ = false;
+    for (const auto& l : lights_)
+        hidden_lights_ = hidden_lights_ || l->visibility != kRayAllVisibility || !l->visible_to_camera || !l->use_mis;
     stats_.lights = lights_.size();
     // sample_direct() returns at once on an empty light table: no shadow rays at all.
     set_skipped("NEE (no lights)", lights_.empty());

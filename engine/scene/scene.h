@@ -94,6 +94,9 @@ public:
                       float random = 0.0f, float pass_index = 0.0f, float object_alpha = 1.0f,
                       bool holdout = false, uint32_t visibility = kRayAllVisibility);
     bool has_holdout() const { return has_holdout_; }
+    // Some object or light is hidden from some ray type (Ray Visibility, a lamp or the World hidden
+    // from the camera, a lamp's Multiple Importance off): paths must track their rays' types.
+    bool has_ray_visibility() const { return hidden_objects_ || hidden_lights_; }
     uint32_t add_light(const LightDesc& desc);  // throws std::invalid_argument for unusable lights
     void set_world(const Color& radiance);
     // A World program that folded to a constant becomes the uniform WorldLight; any other the
@@ -276,6 +279,7 @@ private:
     std::vector<Mesh> meshes_;
     std::vector<Instance> instances_;
     bool has_holdout_ = false;
+    bool hidden_objects_ = false, hidden_lights_ = false;  // has_ray_visibility()
     std::vector<uint32_t> geom_to_instance_;       // top-level geometry id -> instance
     std::vector<std::vector<int32_t>> emissive_local_;  // per mesh: triangle -> local emitter index
     std::vector<std::unique_ptr<Light>> lights_;

@@ -89,10 +89,16 @@ class GeometryCache:
         data = obj.data.original if obj.data is not None else None
         return obj.original.name_full, data.name_full if data is not None else ""
 
-    def record_instance(self, obj, mesh_id):
+    @staticmethod
+    def instance_key(key, obj, visibility):
+        """What an instance of `key` was added with beyond its matrix: a new object colour or Ray
+        Visibility needs a new scene (the viewport updates matrices and meshes only)."""
+        return key, tuple(obj.color[:3]), tuple(sorted(visibility.items())) if visibility else None
+
+    def record_instance(self, obj, mesh_id, visibility=None):
         key = self.identity(obj)
         self.mesh_ids[key] = mesh_id
-        self.instance_keys.append((key, tuple(obj.color[:3])))
+        self.instance_keys.append(self.instance_key(key, obj, visibility))
 
     def start_export(self):
         self.mesh_ids, self.instance_keys = {}, []
@@ -227,10 +233,11 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
         if mesh_id is not None:
             # Object Info: Cycles' random is the instance's random_id over 2^32, the pass index
             # the object's.
+            visibility = instance_ray_visibility(inst)
             try:
                 scene.add_instance(mesh_id, instance_matrix(inst), obj.color[:],
                                    (inst.random_id & 0xFFFFFFFF) / 4294967295.0, float(obj.pass_index),
-                                   is_holdout(inst, depsgraph.view_layer), instance_ray_visibility(inst))
+                                   is_holdout(inst, depsgraph.view_layer), visibility)
             except ValueError:
                 # A zero scale (a common way to hide an object in an animation) or a non-finite
                 # transform: Cycles renders nothing of the object either.
@@ -238,7 +245,7 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
                 continue
             counts.instances += 1
             if cache is not None:
-                cache.record_instance(obj, mesh_id)
+                cache.record_instance(obj, mesh_id, visibility)
     _warn_skipped(reporter, singular, "with a zero-scale, singular or non-finite transform")
     _warn_skipped(reporter, broken, "whose geometry could not be exported")
     return counts
