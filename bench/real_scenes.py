@@ -67,7 +67,13 @@ def run_scene(blend, samples, max_size, bounces_cap=8):
               "r.resolution_y = max(8, int(r.resolution_y * r.resolution_percentage / 100.0 * f))",
               "r.resolution_percentage = 100"]
     row = {"scene": os.path.relpath(blend, os.path.dirname(os.path.dirname(blend)))}
-    smis = render_smis(blend, {"samples": samples, "max_bounces": bounces_cap, "seed": 1}, prelude=shrink)
+    # Our Light Paths set as the unbiased Cycles reference has them: unset, ours would take the file's
+    # own Cycles settings (per-type limits, clamps, caustics) where the file stores them.
+    unbiased = {"diffuse_bounces": bounces_cap, "glossy_bounces": bounces_cap, "transmission_bounces": bounces_cap,
+                "transparent_bounces": bounces_cap, "clamp_direct": 0.0, "clamp_indirect": 0.0,
+                "caustics_reflective": True, "caustics_refractive": True}
+    smis = render_smis(blend, {"samples": samples, "max_bounces": bounces_cap, "seed": 1, **unbiased},
+                       prelude=shrink)
     cycles = render_cycles(blend, samples, seed=1, max_bounces=bounces_cap, prelude=shrink)
     ours, ref = load_exr(smis.path), load_exr(cycles.path)
     warnings = sorted(set(_WARNING.findall(smis.output)))

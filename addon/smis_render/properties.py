@@ -18,6 +18,55 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
                     "0 renders direct lighting only",
         default=8, min=0, soft_max=64,
     )
+    # Cycles' Light Paths > Max Bounces per type, Clamping and Caustics (light_path_settings). Unlike
+    # Cycles' defaults (diffuse and glossy 4, indirect clamp 10), ours leave the image unbiased:
+    # only Max Bounces limits paths, nothing is clamped, caustics are on.
+    diffuse_bounces: IntProperty(
+        name="Diffuse",
+        description="Maximum number of diffuse reflection bounces, as Cycles' (bounded by Max Bounces); "
+                    "a lower limit darkens indirect diffuse light",
+        default=1024, min=0, soft_max=64,
+    )
+    glossy_bounces: IntProperty(
+        name="Glossy",
+        description="Maximum number of glossy reflection bounces, as Cycles' (bounded by Max Bounces)",
+        default=1024, min=0, soft_max=64,
+    )
+    transmission_bounces: IntProperty(
+        name="Transmission",
+        description="Maximum number of transmission bounces, as Cycles' (bounded by Max Bounces)",
+        default=1024, min=0, soft_max=64,
+    )
+    transparent_bounces: IntProperty(
+        name="Transparent",
+        description="Maximum number of passes through coloured transparency (Transparent BSDF) as Cycles'; "
+                    "grey alpha cut-outs are decided in the ray query and count none",
+        default=1024, min=0, soft_max=64,
+    )
+    clamp_direct: FloatProperty(
+        name="Direct Light",
+        description="Cycles' Clamp Direct: the largest value (sum of RGB) a sample's direct light may add, "
+                    "0 = off. Clamping removes fireflies but biases (darkens) the image",
+        default=0.0, min=0.0, soft_max=100.0,
+    )
+    clamp_indirect: FloatProperty(
+        name="Indirect Light",
+        description="Cycles' Clamp Indirect: the largest value (sum of RGB) a sample's indirect light may "
+                    "add, 0 = off. Clamping removes fireflies but biases (darkens) the image",
+        default=0.0, min=0.0, soft_max=100.0,
+    )
+    caustics_reflective: BoolProperty(
+        name="Reflective Caustics",
+        description="Cycles' Reflective Caustics: off, surfaces reached by diffuse bounces leave out their "
+                    "glossy reflection; less noise, but the image is biased (darker)",
+        default=True,
+    )
+    caustics_refractive: BoolProperty(
+        name="Refractive Caustics",
+        description="Cycles' Refractive Caustics: off, surfaces reached by diffuse bounces leave out their "
+                    "refraction; less noise, but the image is biased (darker)",
+        default=True,
+    )
     viewport_samples: IntProperty(
         name="Viewport Samples",
         description="Samples per pixel of the interactive viewport (Rendered shading); it refines "
@@ -336,6 +385,47 @@ def _cycles_scene_setting(scene, name, default):
     return stored.get(name, default) if hasattr(stored, "get") else default
 
 
+# Light Paths settings: ours (scene.smis) -> Cycles' name in scene.cycles.
+LIGHT_PATH_SETTINGS = (
+    ("diffuse_bounces", "diffuse_bounces"),
+    ("glossy_bounces", "glossy_bounces"),
+    ("transmission_bounces", "transmission_bounces"),
+    ("transparent_bounces", "transparent_max_bounces"),
+    ("clamp_direct", "sample_clamp_direct"),
+    ("clamp_indirect", "sample_clamp_indirect"),
+    ("caustics_reflective", "caustics_reflective"),
+    ("caustics_refractive", "caustics_refractive"),
+)
+
+
+def light_path_source(scene, ours, cycles_name):
+    """Where a Light Paths setting comes from: (owner, property name). Ours once set; else the
+    scene's Cycles setting when the scene sets it (a scene made for Cycles renders with its limits,
+    clamps and caustics); else ours, whose defaults leave the image unbiased."""
+    settings = scene.smis
+    if settings.is_property_set(ours):
+        return settings, ours
+    cycles = getattr(scene, "cycles", None)
+    if cycles is not None and hasattr(cycles, cycles_name):
+        if cycles.is_property_set(cycles_name):
+            return cycles, cycles_name
+    else:  # without the Cycles add-on its settings are the scene's "cycles" ID properties
+        stored = scene.get("cycles")
+        if hasattr(stored, "get") and stored.get(cycles_name) is not None:
+            return stored, cycles_name
+    return settings, ours
+
+
+def light_path_settings(scene):
+    """The engine's per-type bounce limits, clamps and caustics toggles for the scene."""
+    out = {}
+    for ours, cycles_name in LIGHT_PATH_SETTINGS:
+        owner, name = light_path_source(scene, ours, cycles_name)
+        value = getattr(owner, name) if isinstance(owner, bpy.types.bpy_struct) else owner[name]
+        out[ours] = type(getattr(scene.smis, ours))(value)
+    return out
+
+
 def film_transparent_glass(scene):
     """Cycles' Film > Transparent Glass as the engine takes it: the roughness threshold under which
     glass lets the World through as alpha, or -1 when off (it needs Film > Transparent)."""
@@ -359,6 +449,7 @@ def session_settings(scene):
     return {
         "samples": s.samples,
         "max_bounces": s.max_bounces,
+        **light_path_settings(scene),
         # Blender's Film > Transparent (a scene.render setting: Cycles' own Film panel shows it)
         "film_transparent": bool(scene.render.film_transparent),
         "film_transparent_glass": film_transparent_glass(scene),

@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import native, passes
+from . import native, passes, properties
 from .sync.reports import recent_warnings
 
 ENGINE = 'SMIS'
@@ -80,6 +80,48 @@ class SMIS_RENDER_PT_light_paths(SMISButtonsPanel, bpy.types.Panel):
         col.prop(settings, "integrator")
         col.prop(settings, "max_bounces")
         col.prop(settings, "mis_heuristic")
+
+
+def _light_path_props(layout, scene, names, heading=None):
+    """Each setting from where the render takes it (properties.light_path_source): a Cycles
+    setting the scene sets is shown, and edited, as Cycles' own."""
+    col = layout.column(align=True, heading=heading) if heading else layout.column(align=True)
+    for ours, cycles_name in properties.LIGHT_PATH_SETTINGS:
+        if ours not in names:
+            continue
+        owner, name = properties.light_path_source(scene, ours, cycles_name)
+        if isinstance(owner, bpy.types.bpy_struct):
+            col.prop(owner, name, text=scene.smis.bl_rna.properties[ours].name)
+        else:
+            col.label(text="%s: %s (Cycles)" % (scene.smis.bl_rna.properties[ours].name, owner[name]))
+
+
+class SMIS_RENDER_PT_max_bounces(SMISButtonsPanel, bpy.types.Panel):
+    """Cycles' per-type bounce limits (Max Bounces is in the parent panel)."""
+    bl_label = "Max Bounces per Type"
+    bl_parent_id = "SMIS_RENDER_PT_light_paths"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        _light_path_props(layout, context.scene,
+                          {"diffuse_bounces", "glossy_bounces", "transmission_bounces", "transparent_bounces"})
+
+
+class SMIS_RENDER_PT_clamping(SMISButtonsPanel, bpy.types.Panel):
+    """Cycles' Clamping and Caustics: off by default, since both bias the image."""
+    bl_label = "Clamping and Caustics"
+    bl_parent_id = "SMIS_RENDER_PT_light_paths"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        _light_path_props(layout, context.scene, {"clamp_direct", "clamp_indirect"}, heading="Clamp")
+        _light_path_props(layout, context.scene, {"caustics_reflective", "caustics_refractive"}, heading="Caustics")
 
 
 class SMIS_RENDER_PT_path_space_filtering(SMISButtonsPanel, bpy.types.Panel):
@@ -391,6 +433,8 @@ def _wrap(text, width):
 classes = (
     SMIS_RENDER_PT_sampling,
     SMIS_RENDER_PT_light_paths,
+    SMIS_RENDER_PT_max_bounces,
+    SMIS_RENDER_PT_clamping,
     SMIS_RENDER_PT_path_space_filtering,
     SMIS_RENDER_PT_volumes,
     SMIS_RENDER_PT_direct_light,

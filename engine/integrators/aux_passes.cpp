@@ -41,7 +41,9 @@ AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng) {
         BsdfSample bs = sample_bsdf(sp, rng);
         if (!bs.valid()) break;
         throughput *= bs.value / bs.pdf;
-        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time};
+        // Dirac bounces only: a glossy reflection or a transmission (ray_visibility.h).
+        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time,
+                  ray_mask(bs.transmission ? kRayTransmission : kRayGlossy)};
         if (!scene.intersect(ray, &hit)) break;
         sp = make_shading_point(scene, hit, ray.d);
     }

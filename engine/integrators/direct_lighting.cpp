@@ -5,9 +5,12 @@ namespace smis {
 CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, const LightCandidate& x) {
     CandidateEval e;
     e.light = x.light;
-    e.ls = scene.light(x.light).sample(sp.hit.p, x.u);
+    const Light& light = scene.light(x.light);
+    e.ls = light.sample(sp.hit.p, x.u);
     if (!e.ls.valid()) return e;
-    Color f = sp.bsdf.eval(sp.wo, e.ls.wi);
+    // A light hidden from some ray types lights only the other lobes (Cycles' light visibility).
+    const uint32_t hidden = ~light.visibility & kRayBounceTypes;
+    Color f = hidden ? hidden_light_eval(sp.bsdf, hidden, sp.wo, e.ls.wi) : sp.bsdf.eval(sp.wo, e.ls.wi);
     e.g = f * e.ls.L / e.ls.pdf;
     // Colours are non-negative, so the luminance is positive wherever g is not black.
     e.target = luminance(e.g);
@@ -59,7 +62,9 @@ Color visible_reservoir_contribution(const Scene& scene, const RenderSettings& s
     float w_light = 1.0f;
     if (!e.ls.delta && scene.light(r.y.light).use_mis) {  // Multiple Importance off: unweighted
         float light_pdf = resampled_light_pdf_scale(settings) * scene.light_pmf(r.y.light) * e.ls.pdf;
-        w_light = mis_weight(settings.mis, light_pdf, sp.bsdf.pdf(sp.wo, e.ls.wi));
+        const uint32_t hidden = ~scene.light(r.y.light).visibility & kRayBounceTypes;
+        const float bsdf_pdf = hidden ? hidden_light_pdf(sp.bsdf, hidden, sp.wo, e.ls.wi) : sp.bsdf.pdf(sp.wo, e.ls.wi);
+        w_light = mis_weight(settings.mis, light_pdf, bsdf_pdf);
     }
     return e.g * (w_light * r.W);
 }

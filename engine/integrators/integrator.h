@@ -30,6 +30,16 @@ enum class RestirMis {
 struct RenderSettings {
     uint32_t samples = 64;
     int max_bounces = 8;          // Cycles' meaning: 0 = direct lighting only
+    // Cycles' Light Paths > Max Bounces per type (beyond_bounce_limits): diffuse, glossy and
+    // transmission bounces, and passes through Transparent lobes (grey cut-outs are decided in the
+    // BVH and spend none). The defaults leave only max_bounces in force, as an unbiased render wants.
+    int max_diffuse_bounces = 1024, max_glossy_bounces = 1024, max_transmission_bounces = 1024,
+        max_transparent_bounces = 1024;
+    // Cycles' Clamp Direct / Clamp Indirect (clamp_contribution): 0 = off. Clamping biases (darkens).
+    float clamp_direct = 0.0f, clamp_indirect = 0.0f;
+    // Cycles' Reflective / Refractive Caustics: off, a surface reached by a diffuse ray leaves out its
+    // glossy reflection / refraction lobes (lobe_is_caustic). Off biases (darkens) the image.
+    bool caustics_reflective = true, caustics_refractive = true;
     uint32_t seed = 0;
     bool stratified = true;       // stratified prefix of every pixel sample's stream (core/stratified.h)
     MisHeuristic mis = MisHeuristic::Power;

@@ -138,17 +138,26 @@ struct PrivateSuffix {
 // multi-sample MIS, so this sample carries 1/own_samples of the BSDF technique's per-pixel part.
 // With `dirac_z1_per_pixel` (the unbiased variant), a Dirac lobe sampled at z1 goes to the per-pixel
 // part instead of L_out (see the comment where it is taken).
-SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, int depth,
-                          const BsdfSample& bs, const Color& beta, float eta_scale, int light_samples,
+// A connection from a technique's x1 to a gathered z stands for a bounce ray of x1: the objects any
+// bounce ray sees block it (an approximation where objects are hidden from some ray types only:
+// the gathering pixel's lobe would decide the type).
+constexpr uint32_t kConnectionVisibility = kRayBounceTypes;
+
+SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                          const PathState& prefix, const BsdfSample& bs, const Color& beta, float eta_scale, int light_samples,
                           int own_samples, bool dirac_z1_per_pixel, Rng& rng, LocalCounters& counters) {
     SuffixSample out;
     if (!bs.valid()) {
         ++counters.samples_rejected;
         return out;
     }
-    PathState st1{depth + 1, bs.delta, bs.pdf, sp.hit.p};
+    PathState st1{prefix.depth + 1, bs.delta, bs.pdf, sp.hit.p};
     st1.light_pdf_scale = float(light_samples) / float(own_samples);
-    Ray r1{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, sp.hit.time};
+    st1.ray_flags = prefix.ray_flags;
+    st1.diffuse_bounces = prefix.diffuse_bounces, st1.glossy_bounces = prefix.glossy_bounces;
+    st1.transmission_bounces = prefix.transmission_bounces, st1.transparent_bounces = prefix.transparent_bounces;
+    advance_ray_type(st1, sp.bsdf, bs);
+    const Ray r1 = bounce_ray(sp, bs, st1);
     const Color path_weight = beta * bs.value / bs.pdf;
     const Color bsdf_weight = path_weight / float(own_samples);
     if (bs.delta) {
@@ -159,26 +168,31 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
     SurfaceHit h1;
     bool found1 = scene.intersect(r1, &h1);
     out.fixed = bsdf_weight * emission_along(scene, settings, r1, found1, h1, st1);
-    if (!found1 || st1.depth > settings.max_bounces) return out;
+    if (!found1 || beyond_bounce_limits(settings, st1)) return out;
 
     // z1: shade it once, keeping its NEE and BSDF estimators apart for re-evaluation.
     ShadingPoint sp1 = make_shading_point(scene, h1, r1.d);
+    drop_caustic_lobes(settings, st1, sp1);
     if (sp1.bsdf.empty()) return out;
     DirectSample ds1 = sample_direct(scene, settings, sp1, rng, counters);
     if (ds1.valid) {
         out.nee_dir = ds1.wi;
         out.nee_weighted = ds1.weighted;
-        out.L_out += sp1.bsdf.eval(sp1.wo, ds1.wi) * ds1.weighted;
+        out.L_out += direct_eval(sp1, ds1) * ds1.weighted;
     }
     BsdfSample bs1 = sample_bsdf(sp1, rng);
     if (bs1.valid()) {
-        PathState st2{st1.depth + 1, bs1.delta, bs1.pdf, h1.p};
+        PathState st2 = st1;
+        ++st2.depth;
+        st2.prev_delta = bs1.delta, st2.prev_pdf = bs1.pdf, st2.prev_p = h1.p;
+        st2.light_pdf_scale = 1.0f;
+        st2.transparent_background = false;
+        advance_ray_type(st2, sp1.bsdf, bs1);
         // Russian roulette in the suffix sees the whole path's throughput, as in PATH: a suffix
         // traced as if it started with throughput 1 would survive longer, costing more per path.
         float eta2 = eta_scale * (bs.transmission ? sqr(bs.eta) : 1.0f) * (bs1.transmission ? sqr(bs1.eta) : 1.0f);
         st2.rr_scale = max_component(path_weight * bs1.value / bs1.pdf) * eta2;
-        Color L_in = trace_path(scene, settings, Ray{spawn_origin(sp1, bs1.wi), bs1.wi, 0.0f, kInf, sp1.hit.time}, st2,
-                                rng, counters);
+        Color L_in = trace_path(scene, settings, bounce_ray(sp1, bs1, st2), st2, rng, counters);
         out.next_dir = bs1.wi;
         out.next_weighted = bs1.delta ? Color(0.0f) : L_in / bs1.pdf;
         const Color scattered = bs1.value / bs1.pdf * L_in;
@@ -224,7 +238,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         bool found = scene.intersect(ray, &hit);
         rec.fixed += beta * emission_along(scene, settings, ray, found, hit, st);
         if (add_transparency(settings, st, found, hit, beta, counters)) return rec;
-        if (!found || st.depth > settings.max_bounces) return rec;
+        if (!found || beyond_bounce_limits(settings, st)) return rec;
         prefix_length += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
         if (sp.bsdf.empty()) return rec;
@@ -234,10 +248,11 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
             beta *= bs.value / bs.pdf;
             if (bs.transmission) eta_scale *= sqr(bs.eta);
             update_transparent_background(settings, st, sp.bsdf, bs);
+            advance_ray_type(st, sp.bsdf, bs);
             st.prev_delta = true;
             st.prev_pdf = bs.pdf;
             st.prev_p = hit.p;
-            ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time};
+            ray = bounce_ray(sp, bs, st);
             if (!russian_roulette(st.depth, beta, eta_scale, rng) || is_black(beta)) return rec;
             continue;
         }
@@ -265,7 +280,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         const int own_samples = 1 + extra_paths;
         auto add_light_sample = [&] {
             DirectSample ds = sample_direct(scene, settings, sp, rng, counters, -1, light_samples, own_samples);
-            if (ds.valid) rec.fixed += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
+            if (ds.valid) rec.fixed += beta * direct_eval(sp, ds) * ds.weighted;
         };
         add_light_sample();
         BsdfSample bs = sample_bsdf(sp, rng);
@@ -274,7 +289,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
             add_light_sample();
         }
         SuffixSample own =
-            trace_suffix(scene, settings, sp, st.depth, bs, beta, eta_scale, light_samples, own_samples,
+            trace_suffix(scene, settings, sp, st, bs, beta, eta_scale, light_samples, own_samples,
                          dirac_z1_per_pixel, rng, counters);
         rec.fixed += own.fixed;
         if (own.has_suffix) {
@@ -286,7 +301,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         // little to share (see iteration()).
         for (int m = 0; m < extra_paths; ++m) {
             if (strata) set_extra_bsdf_sample_prefix(&rng, strata->key, strata->extra_bsdf + uint32_t(m));
-            SuffixSample e = trace_suffix(scene, settings, sp, st.depth, sample_bsdf(sp, rng), beta, eta_scale,
+            SuffixSample e = trace_suffix(scene, settings, sp, st, sample_bsdf(sp, rng), beta, eta_scale,
                                           light_samples, own_samples, dirac_z1_per_pixel, rng, counters);
             rec.fixed += e.fixed;
             if (!e.has_suffix) continue;
@@ -624,7 +639,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 float pj = techniques[jj].area_density(z, z_ng);
                 if (pj > 0.0f && jj != sampled_by) {
                     const ShadowRay s = shadow_ray_between(t.p, t.ng, z);
-                    const bool occluded = scene.occluded(s.o, s.d, s.tmax);
+                    const bool occluded = scene.occluded(s.o, s.d, s.tmax, kShutterCentre, kConnectionVisibility);
                     ++visibility_rays;
                     if (occluded) pj = 0.0f;
                     if (visible && jj < size_t(n_members)) visible[jj] = occluded ? 0 : 1;
@@ -686,7 +701,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                         int8_t& v = visible[ii * size_t(n_members) + size_t(jj)];
                         if (v < 0) {
                             const ShadowRay s = shadow_ray_between(q.p, q.ng, smp.z);
-                            v = scene.occluded(s.o, s.d, s.tmax) ? 0 : 1;
+                            v = scene.occluded(s.o, s.d, s.tmax, kShutterCentre, kConnectionVisibility) ? 0 : 1;
                             ++visibility_rays;
                         }
                         if (v == 0) continue;

@@ -44,14 +44,18 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
     if (sp.bsdf.is_delta() || selection.empty()) return ds;
     uint32_t li = static_cast<uint32_t>(selection.sample(u_select));
     float pmf = selection.pmf(li);
-    LightSample ls = scene.light(li).sample(sp.hit.p, u);
+    const Light& light = scene.light(li);
+    // A light hidden from some ray types lights only the other lobes (Cycles' light visibility);
+    // their mixture is also the BSDF density its MIS weight counts.
+    ds.hidden = ~light.visibility & kRayBounceTypes;
+    if (ds.hidden && hidden_light_lights_nothing(sp.bsdf, ds.hidden)) return ds;
+    LightSample ls = light.sample(sp.hit.p, u);
     if (!ls.valid()) {
         // A light seen from behind is simply dark; only numerical failures count as rejected.
         if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;
         return ds;
     }
     const ShadowRay shadow = shadow_ray(sp, ls.wi, ls.dist);
-    const Light& light = scene.light(li);
     Color tr(1.0f);
     if (light.cast_shadow) {  // Cycles' Cast Shadow off: no shadow ray at all
         if (!scene.has_media()) {
@@ -64,12 +68,33 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
     }
     float light_pdf = pmf * ls.pdf;
     const float n = float(light_samples);
-    float w = ls.delta || !light.use_mis ? 1.0f : mis_weight(settings.mis, n * light_pdf, float(bsdf_samples) * sp.bsdf.pdf(sp.wo, ls.wi));
+    float w = ls.delta || !light.use_mis ? 1.0f : mis_weight(settings.mis, n * light_pdf,
+                         float(bsdf_samples) * (ds.hidden ? hidden_light_pdf(sp.bsdf, ds.hidden, sp.wo, ls.wi)
+                                                          : sp.bsdf.pdf(sp.wo, ls.wi)));
     ds.wi = ls.wi;
     ds.light = li;
     ds.weighted = ls.L * tr * (w / (n * light_pdf));
     ds.valid = true;
     return ds;
+}
+
+Color hidden_light_eval(const Bsdf& bsdf, uint32_t hidden, const Vec3& wo, const Vec3& wi) {
+    return lobes_not_of(bsdf, hidden).eval(wo, wi);
+}
+
+float hidden_light_pdf(const Bsdf& bsdf, uint32_t hidden, const Vec3& wo, const Vec3& wi) {
+    return lobes_not_of(bsdf, hidden).pdf(wo, wi);
+}
+
+bool hidden_light_lights_nothing(const Bsdf& bsdf, uint32_t hidden) {
+    const Bsdf lit = lobes_not_of(bsdf, hidden);
+    return lit.empty() || lit.is_delta();
+}
+
+ShadingPoint lit_lobes(const ShadingPoint& sp, const DirectSample& ds) {
+    ShadingPoint lit = sp;
+    lit.bsdf = lobes_not_of(sp.bsdf, ds.hidden);
+    return lit;
 }
 
 void next_shader_ray(const Bsdf& bsdf, const BsdfSample& bs, ShaderRay* ray) {
@@ -99,10 +124,14 @@ float russian_roulette_survival(int depth, float max_beta, float eta_scale, Rng&
 namespace {
 
 // The path tracer; kMedia adds transmittance, medium tracking and single scattering, and is only
-// instantiated for scenes with media, so the surface-only loop is unchanged for the others.
-template <bool kMedia>
+// instantiated for scenes with media, so the surface-only loop is unchanged for the others. kRules
+// adds Cycles' ray types, per-type bounce limits, clamping and caustics toggles, only for scenes
+// that hide something from some rays or settings that use them (uses_light_path_rules): without,
+// every ray sees every object and light, so the types cannot change what a ray finds.
+template <bool kMedia, bool kRules>
 Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,
                       LocalCounters& counters) {
+    auto clamped = [&](const Color& c, bool direct) { return kRules ? clamp_contribution(settings, c, direct) : c; };
     Color L(0.0f), beta(1.0f);
     float eta_scale = 1.0f;
     ShaderRay sray;  // what the Light Path node reports for the next hit (scenes with programs)
@@ -114,7 +143,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         if constexpr (kMedia) {
             RayMedia media;
             found = intersect_through(scene, ray, state.medium, &hit, &media);
-            L += beta * emission_along(scene, settings, ray, found, hit, state, &media, &sray);
+            L += clamped(beta * emission_along(scene, settings, ray, found, hit, state, &media, &sray), state.depth <= 1);
             // Single scattering at this bounce (Cycles' volume bounces = 0: no path continues from
             // a scattering vertex, so only its next-event estimate counts).
             if (state.depth <= settings.max_bounces)
@@ -128,16 +157,17 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
             found = scene.intersect(ray, &hit);
             if (state.depth == 0 && settings.aux_passes && !settings.aux_shading)  // the Z pass alone
                 counters.camera_depth = found ? scene.camera().view_depth(hit.p) : kBackgroundDepth;
-            L += beta * emission_along(scene, settings, ray, found, hit, state, nullptr, &sray);
+            L += clamped(beta * emission_along(scene, settings, ray, found, hit, state, nullptr, &sray), state.depth <= 1);
             if (add_transparency(settings, state, found, hit, beta, counters)) break;
         }
-        // The ray leaving the last allowed bounce only collects emission (Cycles' max_bounces).
-        if (!found || state.depth > settings.max_bounces) break;
+        // The ray leaving the last allowed bounce only collects emission (Cycles' bounce limits).
+        if (!found || (kRules ? beyond_bounce_limits(settings, state) : state.depth > settings.max_bounces)) break;
         if (programs) {
             sray.depth = state.depth;
             sray.length = hit.t;
         }
         ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
+        if constexpr (kRules) drop_caustic_lobes(settings, state, sp);
         if (sp.bsdf.empty()) break;
 
         bool resample = false;
@@ -147,10 +177,11 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         }
         state.light_pdf_scale = resample ? resampled_light_pdf_scale(settings) : 1.0f;
         if (resample) {
-            L += beta * ris_direct(scene, settings, sp, rng);
+            L += clamped(beta * ris_direct(scene, settings, sp, rng), state.depth == 0);
         } else {
             DirectSample ds = sample_direct(scene, settings, sp, rng, counters, state.medium);
-            if (ds.valid) L += beta * sp.bsdf.eval(sp.wo, ds.wi) * ds.weighted;
+            if (ds.valid)
+                L += clamped(beta * direct_eval(sp, ds) * ds.weighted, state.depth == 0);
         }
 
         BsdfSample bs = sample_bsdf(sp, rng);
@@ -162,11 +193,12 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         if (bs.transmission) eta_scale *= sqr(bs.eta);
         if (programs) next_shader_ray(sp.bsdf, bs, &sray);
         update_transparent_background(settings, state, sp.bsdf, bs);
+        if constexpr (kRules) advance_ray_type(state, sp.bsdf, bs);
         if constexpr (kMedia) state.medium = medium_towards(scene, sp, bs.wi, state.medium);
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;
         state.prev_p = hit.p;
-        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time};
+        ray = kRules ? bounce_ray(sp, bs, state) : Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time};
         if (!russian_roulette(state.depth, beta, eta_scale * state.rr_scale, rng) || is_black(beta)) break;
     }
     return L;
@@ -176,8 +208,11 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
 
 Color trace_path(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,
                  LocalCounters& counters) {
-    return scene.has_media() ? trace_path_impl<true>(scene, settings, ray, state, rng, counters)
-                             : trace_path_impl<false>(scene, settings, ray, state, rng, counters);
+    if (uses_light_path_rules(scene, settings))
+        return scene.has_media() ? trace_path_impl<true, true>(scene, settings, ray, state, rng, counters)
+                                 : trace_path_impl<false, true>(scene, settings, ray, state, rng, counters);
+    return scene.has_media() ? trace_path_impl<true, false>(scene, settings, ray, state, rng, counters)
+                             : trace_path_impl<false, false>(scene, settings, ray, state, rng, counters);
 }
 
 }  // namespace smis

@@ -4,6 +4,7 @@
 #pragma once
 #include "integrators/integrator.h"
 #include "shading/normals.h"
+#include "scene/lobe_ray_types.h"
 
 namespace smis {
 
@@ -85,7 +86,7 @@ inline bool reaches_mesh_light(const Scene& scene, const ShadowRay& s, const Lig
     const float len = s.tmax / (1.0f - 1e-4f);
     if (!(ls.edge_distance <= 1e-3f * len)) return true;
     SurfaceHit hit;
-    return !scene.intersect(Ray{s.o, s.d, s.tmax, len * (1.0f + 2e-4f), s.time}, &hit) || hit.light >= 0;
+    return !scene.intersect(Ray{s.o, s.d, s.tmax, len * (1.0f + 2e-4f), s.time, kRayShadow}, &hit) || hit.light >= 0;
 }
 
 // The MIS state carried from one vertex to the next.
@@ -115,7 +116,59 @@ struct PathState {
     // throughput there counts as transparency (alpha = 1 - its mean, Film::resolve); a holdout
     // object it meets is such a hole whatever the film (add_transparency). Any other bounce clears it.
     bool transparent_background = false;
+    // Cycles' path flags of the ray this state starts with (ray_visibility.h): kRayCamera, or the
+    // last bounce's type (a Transparent lobe keeps the flags), and the bounces of each type so far
+    // for the per-type limits (RenderSettings::max_diffuse_bounces ...).
+    uint32_t ray_flags = kRayCamera;
+    uint16_t diffuse_bounces = 0, glossy_bounces = 0, transmission_bounces = 0, transparent_bounces = 0;
 };
+// After the vertex scattered along `bs`: the next ray's flags and the per-type counts, labelled as
+// Cycles labels the event (path_state_next): a Dirac or glossy reflection is glossy, a
+// transmission of any lobe counts as transmission (and is diffuse or glossy for light visibility).
+inline void advance_ray_type(PathState& st, const Bsdf& bsdf, const BsdfSample& bs) {
+    const RayLabel label = bs.lobe >= 0 ? lobe_label(bsdf.lobe(bs.lobe)) : RayLabel::Diffuse;
+    if (label == RayLabel::Transparent) {
+        ++st.transparent_bounces;
+        return;
+    }
+    const uint32_t kind = !bs.delta && label == RayLabel::Diffuse ? kRayDiffuse : kRayGlossy;
+    if (bs.transmission) ++st.transmission_bounces;
+    else if (kind == kRayDiffuse) ++st.diffuse_bounces;
+    else ++st.glossy_bounces;
+    st.ray_flags = bs.transmission ? kind | kRayTransmission : kind;
+}
+// The ray leaving sp along bs, seen by the objects visible to its type (after advance_ray_type).
+inline Ray bounce_ray(const ShadingPoint& sp, const BsdfSample& bs, const PathState& st) {
+    return Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, sp.hit.time, ray_mask(st.ray_flags)};
+}
+// Cycles' bounce limits: the vertex the state's ray finds is shaded (light samples, a new bounce)
+// only while the path has made at most max_bounces bounces in all and at most the per-type limit
+// of each type; beyond, its ray only collects emission.
+inline bool beyond_bounce_limits(const RenderSettings& s, const PathState& st) {
+    return st.depth > s.max_bounces || st.diffuse_bounces > s.max_diffuse_bounces ||
+           st.glossy_bounces > s.max_glossy_bounces || st.transmission_bounces > s.max_transmission_bounces ||
+           st.transparent_bounces > s.max_transparent_bounces;
+}
+// Whether the scene or the settings use what PathState's ray types serve: an object or light hidden
+// from some rays (Scene::has_ray_visibility), per-type bounce limits below max_bounces, clamping or
+// a caustics toggle off. Without, a path that keeps every ray type renders the same image, and the
+// path tracer takes its loop without them (trace_path).
+inline bool uses_light_path_rules(const Scene& scene, const RenderSettings& s) {
+    const int limit = std::min({s.max_diffuse_bounces, s.max_glossy_bounces, s.max_transmission_bounces,
+                                s.max_transparent_bounces});
+    return scene.has_ray_visibility() || limit < s.max_bounces || s.clamp_direct > 0.0f || s.clamp_indirect > 0.0f ||
+           !s.caustics_reflective || !s.caustics_refractive;
+}
+// Cycles' Clamp Direct / Clamp Indirect (0 = off): a contribution whose mean |RGB| exceeds the
+// limit is scaled down to it (Cycles compares the sum with 3 x the setting). Direct: light samples
+// at the first vertex and emission found by the camera ray or by the first vertex's bounce (path
+// depth <= 1, Cycles' bounce - 1 <= 0); everything else is indirect.
+inline Color clamp_contribution(const RenderSettings& s, const Color& c, bool direct) {
+    const float limit = direct ? s.clamp_direct : s.clamp_indirect;
+    if (!(limit > 0.0f)) return c;
+    const float sum = std::fabs(c.x) + std::fabs(c.y) + std::fabs(c.z);
+    return sum > 3.0f * limit ? c * (3.0f * limit / sum) : c;
+}
 // The state of a camera path starting at `origin`.
 inline PathState camera_path_state(const Vec3& origin) {
     PathState st;
@@ -157,7 +210,28 @@ struct DirectSample {
     Color weighted{0.0f};  // Le * w_light / pdf_light: multiply by bsdf.eval(wo, wi) for the contribution
     uint32_t light = 0;    // which light (spectral rendering looks up its spectrum)
     bool valid = false;
+    // The ray types the light is hidden from (Light::visibility): the lobes of those classes take
+    // no part in the sample (direct_eval), as in Cycles.
+    uint32_t hidden = 0;
 };
+// The lobes a light hidden from the ray types `hidden` lights (Cycles: its samples leave out the
+// closures of those classes): their value and their mixture density towards wi, and whether any
+// non-Dirac lobe is left. Out of line: the common case (a light every ray sees) never builds them.
+[[gnu::noinline]] Color hidden_light_eval(const Bsdf& bsdf, uint32_t hidden, const Vec3& wo, const Vec3& wi);
+[[gnu::noinline]] float hidden_light_pdf(const Bsdf& bsdf, uint32_t hidden, const Vec3& wo, const Vec3& wi);
+[[gnu::noinline]] bool hidden_light_lights_nothing(const Bsdf& bsdf, uint32_t hidden);
+// The shading point with only the lobes the light sample lights (for the spectral evaluation).
+[[gnu::noinline]] ShadingPoint lit_lobes(const ShadingPoint& sp, const DirectSample& ds);
+// bsdf.eval towards the light sample, over the lobes it lights.
+inline Color direct_eval(const ShadingPoint& sp, const DirectSample& ds) {
+    return ds.hidden ? hidden_light_eval(sp.bsdf, ds.hidden, sp.wo, ds.wi) : sp.bsdf.eval(sp.wo, ds.wi);
+}
+// Cycles' caustics toggles at a vertex the state's ray found (lobe_is_caustic).
+inline void drop_caustic_lobes(const RenderSettings& s, const PathState& st, ShadingPoint& sp) {
+    if (!(st.ray_flags & kRayDiffuse) || (s.caustics_reflective && s.caustics_refractive)) return;
+    const bool reflective_off = !s.caustics_reflective, refractive_off = !s.caustics_refractive;
+    sp.bsdf = sp.bsdf.only([&](const Lobe& l) { return !lobe_is_caustic(l, reflective_off, refractive_off); });
+}
 // With media (Scene::has_media()), `medium` is the medium the path arrived in and the shadow ray
 // carries transmittance; without, it is ignored and the shadow ray is a plain occlusion test.
 // `light_samples` and `bsdf_samples`: how many light and BSDF samples the vertex takes (Veach's
@@ -185,7 +259,10 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
     to_hit.tmax = found ? hit.t : kInf;
     // Area, point and spot lights are not in the BVH (as in Cycles): test them separately.
     scene.for_each_light_hit(to_hit, [&](uint32_t i, const LightHit& h) {
-        if (state.depth == 0 ? !scene.light(i).visible_to_camera : !scene.light(i).use_mis) return;
+        const Light& light = scene.light(i);
+        if ((state.ray_flags & kRayCamera) ? !light.visible_to_camera
+                                           : !light.use_mis || light_hidden_from(light.visibility, state.ray_flags))
+            return;
         Color Le = h.L * weight(scene.light_pmf(i), h.pdf);
         add(i, media ? Le * media_transmittance(*media, scene, h.t) : Le);
     });
@@ -198,7 +275,9 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
         k.depth = state.depth;
         k.length = 0.0f;  // Cycles' background shader data
         for (uint32_t i : scene.infinite_lights())
-            if ((state.depth > 0 || scene.light(i).visible_to_camera) && scene.light(i).use_mis &&
+            if (((state.ray_flags & kRayCamera) ? scene.light(i).visible_to_camera
+                                                : !light_hidden_from(scene.light(i).visibility, state.ray_flags)) &&
+                scene.light(i).use_mis &&
                 !(settings.film_transparent && state.transparent_background && scene.light(i).is_background()) &&
                 scene.light(i).intersect_as(to_hit, k, &h))
                 add(i, far(h.L * weight(scene.light_pmf(i), h.pdf)));

@@ -44,7 +44,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
         bool found = scene.intersect(ray, &hit);
         px.fixed += beta * emission_along(scene, settings, ray, found, hit, st);
         if (add_transparency(settings, st, found, hit, beta, counters)) return;
-        if (!found || st.depth > settings.max_bounces) return;
+        if (!found || beyond_bounce_limits(settings, st)) return;
         px.distance += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
         if (sp.bsdf.empty()) return;
@@ -63,11 +63,12 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
         beta *= bs.value / bs.pdf;
         if (bs.transmission) eta_scale *= sqr(bs.eta);
         update_transparent_background(settings, st, sp.bsdf, bs);
+        advance_ray_type(st, sp.bsdf, bs);
         st.prev_delta = bs.delta;
         st.light_pdf_scale = first ? resampled_light_pdf_scale(settings) : 1.0f;
         st.prev_pdf = bs.pdf;
         st.prev_p = hit.p;
-        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time};
+        ray = bounce_ray(sp, bs, st);
         if (!russian_roulette(st.depth, beta, eta_scale, rng) || is_black(beta)) return;
         if (first) {
             // The rest of the path, with NEE from here on.

@@ -234,7 +234,7 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
     Color transparent_beta(1.0f);
     auto add_emission = [&](uint32_t light, const Color& weighted) {
         float lum = luminance(weighted);
-        if (lum > 0.0f) L += p.emission(spectral_.emitter(light), lum);
+        if (lum > 0.0f) L += clamp_contribution(settings, p.emission(spectral_.emitter(light), lum), state.depth <= 1);
     };
     ShaderRay sray;  // what the Light Path node reports for the next hit (scenes with programs)
     sray.camera = state.depth == 0;
@@ -244,20 +244,22 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
         bool found = scene.intersect(ray, &hit);
         for_each_emission_along(scene, settings, ray, found, hit, state, add_emission);
         if (add_transparency(settings, state, found, hit, transparent_beta, counters)) break;
-        if (!found || state.depth > settings.max_bounces) break;
+        if (!found || beyond_bounce_limits(settings, state)) break;
         if (programs) {
             sray.depth = state.depth;
             sray.length = hit.t;
         }
         ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
+        drop_caustic_lobes(settings, state, sp);
         if (sp.bsdf.empty()) break;
         const SpectralMaterial& sm = spectral_.material(hit.material);
         if (sm.dispersive) sp.bsdf = dispersed_bsdf(sp, sm, p.lambda_c());
 
         DirectSample ds = sample_direct(scene, settings, sp, rng, counters);
-        if (ds.valid && eval_spectral(sp, sm, p, ds.wi, f)) {
+        if (ds.valid && (ds.hidden ? eval_spectral(lit_lobes(sp, ds), sm, p, ds.wi, f)
+                                   : eval_spectral(sp, sm, p, ds.wi, f))) {
             float lum = luminance(ds.weighted);
-            if (lum > 0.0f) L += p.emission(spectral_.emitter(ds.light), lum, f);
+            if (lum > 0.0f) L += clamp_contribution(settings, p.emission(spectral_.emitter(ds.light), lum, f), state.depth == 0);
         }
 
         BsdfSample bs = sample_bsdf(sp, rng);
@@ -276,10 +278,11 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
         if (programs) next_shader_ray(sp.bsdf, bs, &sray);
         update_transparent_background(settings, state, sp.bsdf, bs);
         if (state.transparent_background) transparent_beta *= bs.value / bs.pdf;
+        advance_ray_type(state, sp.bsdf, bs);
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;
         state.prev_p = hit.p;
-        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time};
+        ray = bounce_ray(sp, bs, state);
         float survival = russian_roulette_survival(state.depth, p.max_beta(), eta_scale, rng);
         if (survival == 0.0f) break;
         transparent_beta = transparent_beta / survival;

@@ -90,7 +90,7 @@ Color shadow_transmittance(const Scene& scene, const Vec3& origin, const Vec3& d
     Color tau(0.0f);
     SurfaceHit hit;
     int32_t end;
-    bool blocked = walk(scene, Ray{origin, dir, 0.0f, tmax}, medium, &hit, &end, [&](float t0, float t1, int32_t m) {
+    bool blocked = walk(scene, Ray{origin, dir, 0.0f, tmax, kShutterCentre, kRayShadow}, medium, &hit, &end, [&](float t0, float t1, int32_t m) {
         if (m >= 0 && t1 > t0) tau += optical_depth(scene.medium(m).sigma_t(), t1 - t0);
     });
     return blocked ? Color(0.0f) : RayMedia::transmittance_from_tau(tau);
@@ -157,6 +157,7 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
         const Light& light = scene.light(li);
         const bool rectangle = light.rectangle(nullptr);
         if (skip_rectangles && rectangle) continue;
+        if (!(light.visibility & kRayVolumeScatter)) continue;  // Ray Visibility > Volume Scatter off
         const float len = s.t1 - s.t0;
         const Vec3 o = ray.o + ray.d * s.t0;
         EquiangularFrame eq;

@@ -124,10 +124,37 @@ E parse_enum(const py::dict& d, const char* key, E fallback, const std::map<std:
     throw py::value_error(std::string(key) + " must be one of " + valid + ", not '" + name + "'");
 }
 
+// Cycles' Ray Visibility as the engine's bits (scene/ray_visibility.h): a dict of booleans camera,
+// diffuse, glossy, transmission, shadow, volume_scatter (absent: visible).
+uint32_t parse_visibility(const py::dict& d) {
+    static const std::pair<const char*, uint32_t> kinds[] = {
+        {"camera", kRayCamera},     {"diffuse", kRayDiffuse}, {"glossy", kRayGlossy},
+        {"transmission", kRayTransmission}, {"shadow", kRayShadow}, {"volume_scatter", kRayVolumeScatter}};
+    uint32_t bits = kRayAllVisibility;
+    for (const auto& [key, bit] : kinds)
+        if (!get<bool>(d, key, true)) bits &= ~bit;
+    return bits;
+}
+
+// A per-type bounce limit: a non-negative count.
+int bounce_limit(const py::dict& d, const char* key, int fallback) {
+    const int n = get<int>(d, key, fallback);
+    if (n < 0) throw py::value_error(std::string(key) + " must be 0 or more, not " + std::to_string(n));
+    return n;
+}
+
 RenderSettings parse_settings(const py::dict& d) {
     RenderSettings s;
     s.samples = get<uint32_t>(d, "samples", s.samples);
     s.max_bounces = get<int>(d, "max_bounces", s.max_bounces);
+    s.max_diffuse_bounces = bounce_limit(d, "diffuse_bounces", s.max_diffuse_bounces);
+    s.max_glossy_bounces = bounce_limit(d, "glossy_bounces", s.max_glossy_bounces);
+    s.max_transmission_bounces = bounce_limit(d, "transmission_bounces", s.max_transmission_bounces);
+    s.max_transparent_bounces = bounce_limit(d, "transparent_bounces", s.max_transparent_bounces);
+    s.clamp_direct = get<float>(d, "clamp_direct", s.clamp_direct);
+    s.clamp_indirect = get<float>(d, "clamp_indirect", s.clamp_indirect);
+    s.caustics_reflective = get<bool>(d, "caustics_reflective", s.caustics_reflective);
+    s.caustics_refractive = get<bool>(d, "caustics_refractive", s.caustics_refractive);
     s.seed = get<uint32_t>(d, "seed", s.seed);
     s.stratified = get<bool>(d, "stratified", s.stratified);
     auto mis = get<std::string>(d, "mis_heuristic", "POWER");
@@ -414,6 +441,7 @@ LightDesc parse_light(const py::dict& d) {
     l.spread = get<float>(d, "spread", l.spread);
     l.visible_to_camera = get<bool>(d, "visible_camera", true);
     l.cast_shadow = get<bool>(d, "cast_shadow", true);
+    if (d.contains("visibility")) l.visibility = parse_visibility(d["visibility"].cast<py::dict>());
     l.use_mis = get<bool>(d, "use_mis", true);
     l.spectrum = get<std::string>(d, "spectrum", l.spectrum);
     l.temperature = get<float>(d, "temperature", l.temperature);
@@ -517,19 +545,22 @@ PYBIND11_MODULE(_smis, m) {
         .def("mesh_dropped", &Scene::mesh_dropped)
         .def("add_instance",
              [](Scene& s, uint32_t mesh, MatrixArray matrix, std::vector<float> color, float random, float pass_index,
-                bool holdout, const py::object& motion) {
+                bool holdout, const py::object& visibility, const py::object& motion) {
                  if (color.size() < 3) throw py::value_error("color needs three components");
                  float alpha = color.size() > 3 ? color[3] : 1.0f;
+                 const uint32_t bits = visibility.is_none() ? kRayAllVisibility : parse_visibility(visibility.cast<py::dict>());
                  std::vector<Transform> steps = to_motion(motion);
                  value_errors([&] {
                      s.add_instance(mesh, to_transform(matrix), {color[0], color[1], color[2]}, random, pass_index, alpha,
-                                    holdout, steps);
+                                    holdout, bits, steps);
                  });
              },
              py::arg("mesh"), py::arg("matrix"), py::arg("color") = std::vector<float>{1.0f, 1.0f, 1.0f},
              py::arg("random") = 0.0f, py::arg("pass_index") = 0.0f, py::arg("holdout") = false,
-             py::arg("motion") = py::none(),
-             "motion: transform motion blur, the matrices at evenly spaced times over the shutter (n x 4 x 4)")
+             py::arg("visibility") = py::none(), py::arg("motion") = py::none(),
+             "visibility: Cycles' Ray Visibility as a dict of booleans (camera, diffuse, glossy, transmission, "
+             "shadow, volume_scatter; absent keys visible); motion: transform motion blur, the matrices at "
+             "evenly spaced times over the shutter (n x 4 x 4)")
         .def("set_mesh_texspace",
              [](Scene& s, uint32_t mesh, std::vector<float> location, std::vector<float> size) {
                  if (location.size() != 3 || size.size() != 3) throw py::value_error("texture space needs 3 + 3 values");

@@ -28,6 +28,19 @@ public:
     }
     void add(const Lobe& lobe);
     int lobe_count() const { return count_; }
+    // The same mixture without the lobes for which keep(lobe) is false (frame and bump state kept):
+    // the lobes a light sample may light, or a surface keeps with caustics off (lobe_ray_types.h).
+    template <class Keep>
+    Bsdf only(Keep&& keep) const {
+        Bsdf kept = *this;
+        kept.count_ = kept.delta_count_ = 0;
+        for (int i = 0; i < count_; ++i) {
+            if (!keep(lobes_[i])) continue;
+            kept.lobes_[kept.count_++] = lobes_[i];
+            if (lobe_is_delta(lobes_[i])) ++kept.delta_count_;
+        }
+        return kept;
+    }
     const Lobe& lobe(int i) const { return lobes_[i]; }
     bool empty() const { return count_ == 0; }
     // True when every lobe is a Dirac: NEE is pointless there. Counted in add(), since every

@@ -124,6 +124,7 @@ Ray Camera::generate_ray(float fx, float fy, Point2 u_lens, float time) const {
     // Blender clips planes perpendicular to the view axis, so ray distances grow with the obliqueness.
     ray.tmin = desc_.clip_start / d.z;
     ray.tmax = desc_.clip_end / d.z;
+    ray.visibility = kRayCamera;
     return ray;
 }
 

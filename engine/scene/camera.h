@@ -7,6 +7,7 @@
 #include "core/math.h"
 #include "core/sampling.h"
 #include "scene/motion.h"
+#include "scene/ray_visibility.h"
 
 namespace smis {
 
@@ -14,6 +15,9 @@ struct Ray {
     Vec3 o, d;
     float tmin = 0.0f, tmax = kInf;
     float time = kShutterCentre;  // in the shutter interval, 0 = open, 1 = close (motion blur)
+    // The Embree mask: which objects the ray sees (ray_visibility.h; camera rays kRayCamera, bounce
+    // rays ray_mask() of their path flags). Queries that are no ray of a path see everything.
+    uint32_t visibility = kRayAllVisibility;
 };
 
 struct CameraDesc {

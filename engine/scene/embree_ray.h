@@ -13,7 +13,7 @@ inline RTCRayHit embree_ray_hit(const Ray& ray) {
     rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
     rh.ray.tnear = ray.tmin;
     rh.ray.tfar = ray.tmax;
-    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.mask = ray.visibility;
     rh.ray.flags = 0;
     rh.ray.time = ray.time;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;

@@ -327,6 +327,7 @@ std::unique_ptr<Light> make_light(const LightDesc& d) {
     light->visible_to_camera = d.visible_to_camera;
     light->cast_shadow = d.cast_shadow;
     light->use_mis = d.use_mis;
+    light->visibility = d.visibility;
     return light;
 }
 

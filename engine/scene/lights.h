@@ -72,6 +72,10 @@ public:
     // unweighted; rays that meet it (camera rays aside) see nothing.
     bool cast_shadow = true;
     bool use_mis = true;
+    // Cycles' Ray Visibility of the light object (or of a mesh light's object): bounce rays of a
+    // type it is hidden from do not see it and light samples leave out the lobes of that type
+    // (light_hidden_from, lobe_ray_types); kRayVolumeScatter off: it does not light media.
+    uint32_t visibility = kRayAllVisibility;
 };
 
 // Blender light description, in Blender's units (converted as Cycles converts them).
@@ -86,6 +90,7 @@ struct LightDesc {
     float spread = kPi;  // AREA: the emission cone's full angle (radians; pi = Lambertian, no cone)
     bool visible_to_camera = true;
     bool cast_shadow = true, use_mis = true;  // Light > Cast Shadow, Multiple Importance (Cycles)
+    uint32_t visibility = kRayAllVisibility;  // Object > Visibility > Ray Visibility (Light::visibility)
     // Spectral rendering only: the emitted spectrum (RGB = the colour upsampled, BLACKBODY at
     // `temperature` K, or a CIE illuminant D65, A, F2, F10, F11), see spectral/spectra.h.
     std::string spectrum = "RGB";

@@ -374,7 +374,8 @@ std::shared_ptr<const Texture> Scene::texture(uint32_t id) const {
 }
 
 void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color, float random,
-                         float pass_index, float object_alpha, bool holdout, const std::vector<Transform>& motion) {
+                         float pass_index, float object_alpha, bool holdout, uint32_t visibility,
+                         const std::vector<Transform>& motion) {
     if (committed_) throw std::logic_error("scene already committed");
     if (mesh >= meshes_.size()) throw std::invalid_argument("instance of an unknown mesh");
     if (!to_world.is_finite() || !invertible_in_float(to_world))
@@ -395,6 +396,8 @@ void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& 
     inst.pass_index = std::isfinite(pass_index) ? pass_index : 0.0f;
     inst.alpha = std::isfinite(object_alpha) ? object_alpha : 1.0f;
     inst.holdout = holdout;
+    inst.visibility = visibility;
+    hidden_objects_ = hidden_objects_ || visibility != kRayAllVisibility;
     has_holdout_ = has_holdout_ || holdout;
     if (moves) inst.motion = motion;
     instances_.push_back(inst);
@@ -475,6 +478,9 @@ void Scene::finish_lights() {
         else if (!l.is_delta() && !dynamic_cast<const TriangleLight*>(&l)) hittable_lights_.push_back(i);
     }
     light_selection_ = DiscreteDistribution(power);
+    hidden_lights_ = false;
+    for (const auto& l : lights_)
+        hidden_lights_ = hidden_lights_ || l->visibility != kRayAllVisibility || !l->visible_to_camera || !l->use_mis;
     stats_.lights = lights_.size();
     // sample_direct() returns at once on an empty light table: no shadow rays at all.
     set_skipped("NEE (no lights)", lights_.empty());
@@ -548,8 +554,9 @@ void Scene::set_camera(const CameraDesc& desc) {
     has_camera_ = true;
 }
 
-void Scene::build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id) {
+void Scene::build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id, uint32_t visibility) {
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetGeometryMask(geom, visibility);
     size_t nv = (mesh.positions.size() - 4) / 3, nt = mesh.indices.size() / 3;
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.positions.data(), 0,
                                3 * sizeof(float), nv);
@@ -640,6 +647,7 @@ void Scene::add_triangle_lights(Instance& inst) {
             light->set_shader(this, inst_id, uint32_t(t), mesh.materials[t], centroid);
             source = centroid;
         }
+        light->visibility = inst.visibility;
         lights_.push_back(std::move(light));
         emitter_sources_.push_back({mat.spectral.emission_spectrum, mat.spectral.emission_temperature, source});
         stats_.emissive_triangles++;
@@ -704,7 +712,7 @@ void Scene::commit() {
                             std::swap(a.corners[(t + 1) * a.dims + k], a.corners[(t + 2) * a.dims + k]);
                 }
             inst.identity = true;
-            build_mesh_geometry(scene_, mesh, geom_id);
+            build_mesh_geometry(scene_, mesh, geom_id, inst.visibility);
         } else {
             RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
             rtcSetGeometryInstancedScene(geom, mesh.prototype);
@@ -721,6 +729,7 @@ void Scene::commit() {
                 inst.geometry = geom;  // the scene keeps it alive
                 has_motion_ = true;
             }
+            rtcSetGeometryMask(geom, inst.visibility);
             rtcCommitGeometry(geom);
             rtcAttachGeometryByID(scene_, geom, geom_id);
             rtcReleaseGeometry(geom);
@@ -868,7 +877,7 @@ Vec3 Scene::apply_normal_map(const Material& mat, const Mesh& mesh, const Instan
     return dot(n, ng) < 0.0f ? ns : n;  // never below the surface (as fill_hit's own rule)
 }
 
-bool Scene::occluded(const Vec3& origin, const Vec3& dir, float tmax, float time) const {
+bool Scene::occluded(const Vec3& origin, const Vec3& dir, float tmax, float time, uint32_t visibility) const {
     if (!embree_accepts(origin, dir, 0.0f, tmax)) return true;  // see embree_accepts()
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -877,7 +886,7 @@ bool Scene::occluded(const Vec3& origin, const Vec3& dir, float tmax, float time
     r.dir_x = dir.x, r.dir_y = dir.y, r.dir_z = dir.z;
     r.tnear = 0.0f;
     r.tfar = tmax;
-    r.mask = 0xFFFFFFFFu;
+    r.mask = visibility;
     r.flags = 0;
     r.time = time;
     rtcOccluded1(scene_, &ctx, &r);

@@ -89,13 +89,19 @@ public:
     // Object Info: colour (and its alpha), random in [0, 1) and pass index of the object.
     // holdout: camera rays that meet the instance (directly or through transparent surfaces) end
     // there as a hole in the film (alpha 0, no colour); other rays see it as usual (Cycles).
+    // visibility: the ray types that see the instance (ray_visibility.h bits; Cycles' Ray
+    // Visibility); its emissive triangles light only what their rays could reach.
     // motion: transform motion blur, the instance's matrices at evenly spaced times over the shutter
     // (none, or at least two; all equal counts as none). Throws std::invalid_argument for a singular
     // step, or a moving emitter (triangle lights are in world space: not supported).
     void add_instance(uint32_t mesh, const Transform& to_world, const Color& object_color = Color(1.0f),
                       float random = 0.0f, float pass_index = 0.0f, float object_alpha = 1.0f,
-                      bool holdout = false, const std::vector<Transform>& motion = {});
+                      bool holdout = false, uint32_t visibility = kRayAllVisibility,
+                      const std::vector<Transform>& motion = {});
     bool has_holdout() const { return has_holdout_; }
+    // Some object or light is hidden from some ray type (Ray Visibility, a lamp or the World hidden
+    // from the camera, a lamp's Multiple Importance off): paths must track their rays' types.
+    bool has_ray_visibility() const { return hidden_objects_ || hidden_lights_; }
     uint32_t add_light(const LightDesc& desc);  // throws std::invalid_argument for unusable lights
     void set_world(const Color& radiance);
     // A World program that folded to a constant becomes the uniform WorldLight; any other the
@@ -133,8 +139,11 @@ public:
     bool replace_lights(const std::vector<LightDesc>& lights, const WorldDesc& world);
 
     // --- queries (thread-safe after commit) --------------------------------------------------------
+    // The closest surface that ray.visibility sees.
     bool intersect(const Ray& ray, SurfaceHit* hit) const;
-    bool occluded(const Vec3& origin, const Vec3& dir, float tmax, float time = kShutterCentre) const;
+    // A shadow ray by default: objects with Ray Visibility > Shadow off do not block it.
+    bool occluded(const Vec3& origin, const Vec3& dir, float tmax, float time = kShutterCentre,
+                  uint32_t visibility = kRayShadow) const;
     // Something moves during the shutter (an instance or the camera): camera rays draw a time.
     bool has_motion() const { return has_motion_; }
     // Lights that are not geometry (area, point/spot disks) struck before `ray.tmax`; adds their
@@ -241,6 +250,7 @@ private:
         bool holdout = false;
         std::vector<Transform> motion;  // transform motion blur steps, empty when it does not move
         RTCGeometry geometry = nullptr; // the Embree instance of a moving one, for its transform at a time
+        uint32_t visibility = kRayAllVisibility;  // the Embree mask of its geometry
     };
     // Runs a material's program at a hit (the context it built into *ctx_out when given).
     ShaderResult run_program(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
@@ -250,7 +260,7 @@ private:
     float program_keep(uint32_t instance, uint32_t prim, float bu, float bv, const Vec3& dir) const;
     Vec3 apply_normal_map(const Material& mat, const Mesh& mesh, const Instance& inst, uint32_t prim,
                           const Vec3& ns, const Vec3& ng, Point2 uv) const;
-    void build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id);
+    void build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id, uint32_t visibility = kRayAllVisibility);
     Mesh make_mesh(const float* vertices, size_t nv, const int32_t* triangles, size_t nt, const float* corner_normals,
                    const int32_t* material_index, const std::vector<uint32_t>& slot_materials,
                    const float* corner_uvs) const;
@@ -279,6 +289,7 @@ private:
     std::vector<Mesh> meshes_;
     std::vector<Instance> instances_;
     bool has_holdout_ = false, has_motion_ = false;
+    bool hidden_objects_ = false, hidden_lights_ = false;  // has_ray_visibility()
     std::vector<uint32_t> geom_to_instance_;       // top-level geometry id -> instance
     std::vector<std::vector<int32_t>> emissive_local_;  // per mesh: triangle -> local emitter index
     std::vector<std::unique_ptr<Light>> lights_;

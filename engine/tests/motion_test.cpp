@@ -79,7 +79,7 @@ void add_moving_cube(Scene& s, uint32_t material, const std::vector<Transform>& 
     const int32_t t[] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
                          2, 3, 7, 2, 7, 6, 1, 2, 6, 1, 6, 5, 3, 0, 4, 3, 4, 7};
     uint32_t mesh = s.add_mesh(v, 8, t, 12, nullptr, nullptr, {material});
-    s.add_instance(mesh, motion[motion.size() / 2], Color(1.0f), 0.0f, 0.0f, 1.0f, false, motion);
+    s.add_instance(mesh, motion[motion.size() / 2], Color(1.0f), 0.0f, 0.0f, 1.0f, false, kRayAllVisibility, motion);
 }
 
 TEST(Motion, EmbreeInstancesMoveAsTheInterpolationSays) {
@@ -134,10 +134,10 @@ TEST(Motion, BadStepsAndMovingEmittersAreRefused) {
     uint32_t glowing = s.add_mesh(v, 3, t, 1, nullptr, nullptr, {lamp});
     Transform zero;
     zero.m[0][0] = 0.0f;
-    EXPECT_THROW(s.add_instance(plain, Transform(), Color(1.0f), 0, 0, 1, false, {Transform(), zero}),
+    EXPECT_THROW(s.add_instance(plain, Transform(), Color(1.0f), 0, 0, 1, false, kRayAllVisibility, {Transform(), zero}),
                  std::invalid_argument);
-    EXPECT_THROW(s.add_instance(plain, Transform(), Color(1.0f), 0, 0, 1, false, {Transform()}), std::invalid_argument);
-    EXPECT_THROW(s.add_instance(glowing, Transform(), Color(1.0f), 0, 0, 1, false, {Transform(), rotation_z(5.0f)}),
+    EXPECT_THROW(s.add_instance(plain, Transform(), Color(1.0f), 0, 0, 1, false, kRayAllVisibility, {Transform()}), std::invalid_argument);
+    EXPECT_THROW(s.add_instance(glowing, Transform(), Color(1.0f), 0, 0, 1, false, kRayAllVisibility, {Transform(), rotation_z(5.0f)}),
                  std::invalid_argument);
     CameraDesc c = testing::camera_at(Vec3(0.0f, 0.0f, 10.0f), 8, 8);
     c.motion = {c.to_world, zero};

@@ -12,6 +12,7 @@ import numpy as np
 
 from . import lights
 from .mesh import mesh_buffers
+from .visibility import instance_ray_visibility
 
 # Geometry reaches the engine as Mesh data only. In Blender 3.4 curves, text, NURBS
 # surfaces and metaballs are evaluated to a geometry set: the depsgraph yields the
@@ -88,10 +89,16 @@ class GeometryCache:
         data = obj.data.original if obj.data is not None else None
         return obj.original.name_full, data.name_full if data is not None else ""
 
-    def record_instance(self, obj, mesh_id):
+    @staticmethod
+    def instance_key(key, obj, visibility):
+        """What an instance of `key` was added with beyond its matrix: a new object colour or Ray
+        Visibility needs a new scene (the viewport updates matrices and meshes only)."""
+        return key, tuple(obj.color[:3]), tuple(sorted(visibility.items())) if visibility else None
+
+    def record_instance(self, obj, mesh_id, visibility=None):
         key = self.identity(obj)
         self.mesh_ids[key] = mesh_id
-        self.instance_keys.append((key, tuple(obj.color[:3])))
+        self.instance_keys.append(self.instance_key(key, obj, visibility))
 
     def start_export(self):
         self.mesh_ids, self.instance_keys = {}, []
@@ -229,8 +236,9 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
             # Object Info: Cycles' random is the instance's random_id over 2^32, the pass index
             # the object's.
             steps = motion.of(inst) if motion is not None else None
+            visibility = instance_ray_visibility(inst)
             args = (mesh_id, instance_matrix(inst), obj.color[:], (inst.random_id & 0xFFFFFFFF) / 4294967295.0,
-                    float(obj.pass_index), is_holdout(inst, depsgraph.view_layer))
+                    float(obj.pass_index), is_holdout(inst, depsgraph.view_layer), visibility)
             try:
                 try:
                     scene.add_instance(*args, motion=steps)
@@ -246,7 +254,7 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
                 continue
             counts.instances += 1
             if cache is not None:
-                cache.record_instance(obj, mesh_id)
+                cache.record_instance(obj, mesh_id, visibility)
     _warn_skipped(reporter, singular, "with a zero-scale, singular or non-finite transform")
     _warn_skipped(reporter, broken, "whose geometry could not be exported")
     if unblurred:

@@ -8,6 +8,7 @@ engine converts them with Cycles' formulas.
 import math
 
 from ..spectral_properties import light_spectral
+from .visibility import ray_visibility
 
 
 def _matrix(m):
@@ -73,8 +74,12 @@ def usable_light_dict(obj, matrix, reporter):
     if light.type not in {'POINT', 'SPOT', 'SUN', 'AREA'}:
         reporter.warning("Light '%s': type %s is not supported, skipped" % (obj.name, light.type))
         return None
-    # Object > Visibility > Camera: whether the lamp itself shows in camera rays.
+    # Object > Visibility > Camera: whether the lamp itself shows in camera rays; the other ray
+    # types: which bounce rays see it and which lobes its light samples light (Cycles).
     d = light_dict(light, matrix, getattr(obj, "visible_camera", True))
+    visibility = ray_visibility(obj)
+    if visibility is not None:
+        d["visibility"] = visibility
     why = problem(d)
     if why is not None:
         reporter.warning("Light '%s' skipped: %s" % (obj.name, why))

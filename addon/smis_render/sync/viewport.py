@@ -18,6 +18,7 @@ from mathutils import Matrix
 from . import export_depsgraph, world as sync_world
 from .instances import GeometryCache, instance_matrix, mesh_of, walk_instances
 from .lights import usable_light_dict
+from .visibility import instance_ray_visibility
 
 
 ORTHO_BACKOFF = 1e4
@@ -123,7 +124,7 @@ class ViewportSync:
             key = self.cache.identity(obj)
             if key not in self.cache.mesh_ids:
                 continue  # empty geometry, never added to the engine
-            keys.append((key, tuple(obj.color[:3])))  # a new object colour needs a new scene
+            keys.append(self.cache.instance_key(key, obj, instance_ray_visibility(inst)))
             matrices.append(instance_matrix(inst))
             if key[0] in changed_geometry:
                 edited.setdefault(key, obj)

@@ -1,0 +1,50 @@
+// Which of Cycles' closure classes a lobe belongs to, for the settings that act on closures by
+// class: a light's Ray Visibility (surface_shader.h: a light hidden from diffuse rays is not
+// sampled for diffuse closures) and the caustics toggles (svm/closure.h: with Reflective or
+// Refractive Caustics off, a surface reached by a diffuse ray builds no glossy reflection or no
+// refraction closures).
+#pragma once
+#include "scene/bsdf.h"
+#include "scene/ray_visibility.h"
+
+namespace smis {
+
+// kRayDiffuse, kRayGlossy and / or kRayTransmission as Cycles' CLOSURE_IS_BSDF_DIFFUSE / _GLOSSY /
+// _TRANSMISSION classify the closure (Translucent is both diffuse and transmission; glass and
+// refraction are transmission, their reflection included; the Transparent BSDF is none).
+inline uint32_t lobe_ray_types(const Lobe& lobe) {
+    switch (lobe.kind) {
+        case LobeKind::Translucent: return kRayDiffuse | kRayTransmission;
+        case LobeKind::Dielectric:
+        case LobeKind::Refraction: return kRayTransmission;
+        case LobeKind::Transparent: return 0;
+        default: return lobe_label(lobe) == RayLabel::Diffuse ? kRayDiffuse : kRayGlossy;
+    }
+}
+
+// The lobes of `bsdf` whose class shares no bit with `hidden` (the types a light is hidden from).
+inline Bsdf lobes_not_of(const Bsdf& bsdf, uint32_t hidden) {
+    return bsdf.only([&](const Lobe& l) { return !(lobe_ray_types(l) & hidden); });
+}
+
+// Cycles' caustics toggles: the closures a surface reached by a diffuse ray leaves out when
+// Reflective Caustics are off (Glossy BSDF, Principled specular and clearcoat) or Refractive
+// Caustics are off (Refraction BSDF, Principled and Glass refraction). Glass and Principled
+// transmission are one lobe here (reflection and refraction by the Fresnel term): it is left out
+// when both toggles are off and kept when only one is (a difference to Cycles, README).
+inline bool lobe_is_caustic(const Lobe& lobe, bool reflective_off, bool refractive_off) {
+    switch (lobe.kind) {
+        case LobeKind::Microfacet:
+        case LobeKind::Beckmann:
+        case LobeKind::MultiGgx:
+        case LobeKind::GgxMultiple:
+        case LobeKind::AnisoGgx:
+        case LobeKind::AnisoBeckmann:
+        case LobeKind::Clearcoat: return reflective_off;
+        case LobeKind::Refraction: return refractive_off;
+        case LobeKind::Dielectric: return reflective_off && refractive_off;
+        default: return false;
+    }
+}
+
+}  // namespace smis
