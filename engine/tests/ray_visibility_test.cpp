@@ -44,7 +44,7 @@ TEST(RayVisibility, RaysSkipObjectsHiddenFromTheirType) {
 
     auto hits = [&](float x, uint32_t mask) {
         SurfaceHit h;
-        return s.intersect(Ray{Vec3(x, 0.0f, 0.0f), Vec3(0.0f, 0.0f, 1.0f), 0.0f, kInf, mask}, &h);
+        return s.intersect(Ray{Vec3(x, 0.0f, 0.0f), Vec3(0.0f, 0.0f, 1.0f), 0.0f, kInf, kShutterCentre, mask}, &h);
     };
     const uint32_t all = kRayAllVisibility;
     EXPECT_TRUE(hits(0.0f, kRayCamera));
@@ -52,7 +52,7 @@ TEST(RayVisibility, RaysSkipObjectsHiddenFromTheirType) {
     EXPECT_TRUE(hits(0.0f, all));
     EXPECT_TRUE(s.occluded(Vec3(10.0f, 0.0f, 0.0f), Vec3(0.0f, 0.0f, 1.0f), kInf));
     EXPECT_FALSE(s.occluded(Vec3(0.0f, 0.0f, 0.0f), Vec3(0.0f, 0.0f, 1.0f), kInf));  // hidden from shadow rays
-    EXPECT_TRUE(s.occluded(Vec3(0.0f, 0.0f, 0.0f), Vec3(0.0f, 0.0f, 1.0f), kInf, ray_mask(kRayDiffuse)));
+    EXPECT_TRUE(s.occluded(Vec3(0.0f, 0.0f, 0.0f), Vec3(0.0f, 0.0f, 1.0f), kInf, kShutterCentre, ray_mask(kRayDiffuse)));
 
     EXPECT_FALSE(hits(5.0f, kRayCamera));
     EXPECT_FALSE(hits(5.0f, ray_mask(kRayGlossy)));
