@@ -241,6 +241,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         if (!found || beyond_bounce_limits(settings, st)) return rec;
         prefix_length += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
+        if (holdout_ends_path(st, sp, beta, counters)) return rec;
         if (sp.bsdf.empty()) return rec;
         if (sp.bsdf.is_delta()) {  // still in the prefix: follow the Dirac bounce
             BsdfSample bs = sample_bsdf(sp, rng);

@@ -31,7 +31,8 @@ ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const
 // Out of line: the constant materials' path through make_shading_point stays as small as it was.
 [[gnu::noinline]] Bsdf program_shading(const Scene& scene, const SurfaceHit& hit, ShadingPoint& sp,
                                        const ShaderRay* ray) {
-    return scene.program_bsdf(hit.material, hit.attr, sp.wo, sp.backfacing, ray ? *ray : ShaderRay{}, &sp.ns);
+    return scene.program_bsdf(hit.material, hit.attr, sp.wo, sp.backfacing, ray ? *ray : ShaderRay{}, &sp.ns,
+                              &sp.holdout);
 }
 
 DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
@@ -167,6 +168,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
             sray.length = hit.t;
         }
         ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
+        if (holdout_ends_path(state, sp, beta, counters)) break;
         if constexpr (kRules) drop_caustic_lobes(settings, state, sp);
         if (sp.bsdf.empty()) break;
 

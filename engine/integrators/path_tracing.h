@@ -14,6 +14,7 @@ struct ShadingPoint {
     Vec3 wo;          // towards the previous vertex
     Vec3 ng, ns;      // geometric and shading normals, flipped to the side of wo
     bool backfacing;  // the ray arrived from the back of the triangle (inside a closed glass object)
+    Color holdout{0.0f};  // the Holdout closures' weight (node-tree materials)
     Bsdf bsdf;
 };
 // `ray` describes the ray that found the hit, for materials whose nodes read the Light Path
@@ -184,6 +185,15 @@ inline bool add_transparency(const RenderSettings& settings, const PathState& st
     if (!st.transparent_background || (found ? !hit.holdout : !settings.film_transparent)) return false;
     c.sample_transparency += average(beta);
     return found;
+}
+// Cycles' Holdout closure (integrate_surface_holdout): on a camera path that so far only passed
+// through transparent surfaces, the holdout weight times the throughput becomes the sample's
+// transparency (a hole in the film, whatever Film Transparent says); the surface's other closures
+// still scatter, and a full holdout ends the path. Other paths see the closure as black.
+inline bool holdout_ends_path(const PathState& st, const ShadingPoint& sp, const Color& beta, LocalCounters& c) {
+    if (!st.transparent_background || !(max_component(sp.holdout) > 0.0f)) return false;
+    c.sample_transparency += average(sp.holdout * beta);
+    return min_component(sp.holdout) >= 1.0f;
 }
 // After a bounce: only a Transparent lobe keeps the background transparent (Cycles clears the flag
 // on every reflection and on every transmission but LABEL_TRANSMIT_TRANSPARENT), and, with

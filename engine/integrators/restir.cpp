@@ -47,6 +47,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
         if (!found || beyond_bounce_limits(settings, st)) return;
         px.distance += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
+        if (holdout_ends_path(st, sp, beta, counters)) return;
         if (sp.bsdf.empty()) return;
         const bool first = !sp.bsdf.is_delta();
         if (first) {

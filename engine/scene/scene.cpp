@@ -136,7 +136,7 @@ Scene::~Scene() {
 // Non-finite parameters would poison every pixel that sees the material: clamp them to safe values.
 // Throws std::invalid_argument for inconsistent inputs or unknown spectral names.
 void Scene::sanitize(Material& material) {
-    if (material.program && material.program->is_constant()) {
+    if (material.program && material.program->is_constant() && !material.program->may_hold_out()) {
         // Every closure input folded: the material is its closure list, as before programs existed.
         ShaderResult res = material.program->eval_constant();
         material.program.reset();
@@ -188,6 +188,8 @@ uint32_t Scene::add_material(Material material) {
     sanitize(material);
     varying_materials_ = varying_materials_ || !material.inputs.empty() || material.program;
     programs_ = programs_ || material.program;
+    // A Holdout closure cuts the film like a holdout object (the film keeps transparency).
+    has_holdout_ = has_holdout_ || (material.program && material.program->may_hold_out());
     materials_.push_back(std::move(material));
     return static_cast<uint32_t>(materials_.size() - 1);
 }
@@ -206,6 +208,7 @@ bool Scene::replace_material(uint32_t id, Material material) {
     materials_[id] = std::move(material);
     varying_materials_ = varying_materials_ || !materials_[id].inputs.empty() || materials_[id].program;
     programs_ = programs_ || materials_[id].program;
+    has_holdout_ = has_holdout_ || (materials_[id].program && materials_[id].program->may_hold_out());
     update_skipped();
     if (emissive) rebuild_lights();  // the triangle lights carry the emission
     else update_spectral_content();

@@ -144,6 +144,8 @@ public:
     // A shadow ray by default: objects with Ray Visibility > Shadow off do not block it.
     bool occluded(const Vec3& origin, const Vec3& dir, float tmax, float time = kShutterCentre,
                   uint32_t visibility = kRayShadow) const;
+    // A visibility mask in the time's place would convert silently: pass the time first.
+    bool occluded(const Vec3& origin, const Vec3& dir, float tmax, uint32_t visibility) const = delete;
     // Something moves during the shutter (an instance or the camera): camera rays draw a time.
     bool has_motion() const { return has_motion_; }
     // Lights that are not geometry (area, point/spot disks) struck before `ray.tmax`; adds their
@@ -162,8 +164,10 @@ public:
     bool attribute(const ShaderContext& ctx, int32_t id, float* out) const;
     // The shading of a hit on a material with a program: BSDF (shading normal from the program),
     // emission. `ray` describes the ray that found the hit (Light Path node).
+    // *holdout_out (when given): the Holdout closures' weight, on the same footing as the lobes
+    // (divided by the cut-out's keep probability).
     Bsdf program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, bool backfacing,
-                      const ShaderRay& ray, Vec3* ns_out) const;
+                      const ShaderRay& ray, Vec3* ns_out, Color* holdout_out = nullptr) const;
     // Emitted radiance at a hit towards wo: constant, textured or from the material's program.
     Color emission_at(const SurfaceHit& hit, const Vec3& wo) const {
         const Material& m = materials_[hit.material];

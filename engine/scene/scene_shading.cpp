@@ -145,13 +145,17 @@ static Frame tangent_frame(const Vec3& n, const Vec3& tangent, float turns) {
 }
 
 Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, bool backfacing,
-                         const ShaderRay& ray, Vec3* ns_out) const {
+                         const ShaderRay& ray, Vec3* ns_out, Color* holdout_out) const {
     ShaderContext ctx;
     ShaderResult res = run_program(material, at, wo, ray, &ctx);
     // Every closure's normal is repaired, the interpolated one too (Cycles' svm_node_closure_bsdf).
     Vec3 ns = shading::ensure_valid_reflection(ctx.Ng, ctx.I, res.has_normal ? res.normal : ctx.N);
     if (!is_finite(ns) || !(dot(ns, ctx.Ng) > 0.0f)) ns = ctx.N;
     *ns_out = ns;
+    if (holdout_out) {
+        const float keep = transparency_keep(res);
+        *holdout_out = keep > 1e-6f ? vmax(res.holdout, Color(0.0f)) / keep : Color(0.0f);
+    }
     Frame frame = res.has_tangent ? tangent_frame(ns, res.tangent, res.tangent_rotation) : Frame(ns);
     Bsdf bsdf = materials_[material].program_bsdf(res, frame, ctx.Ng, backfacing);
     if (!(ns == ctx.N)) bsdf.set_bump_base(ctx.N);

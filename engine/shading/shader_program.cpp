@@ -364,7 +364,7 @@ void ShaderProgram::analyse() {
     straight.index = uint8_t(std::min<size_t>(templates_.size(), 255));
     templates_.push_back(straight);
     bool varying_closure = false;
-    may_emit_ = may_be_transparent_ = false;
+    may_emit_ = may_be_transparent_ = may_hold_out_ = false;
     // Whether a float (varies1) or a colour (varies3) input is written per hit.
     auto varies1 = [&](uint16_t reg) { return reg != kNoReg && varying[reg]; };
     auto varies3 = [&](uint16_t reg) { return reg != kNoReg && (varying[reg] || varying[reg + 1] || varying[reg + 2]); };
@@ -389,6 +389,7 @@ void ShaderProgram::analyse() {
             may_be_transparent_ = may_be_transparent_ || !opaque;
         }
         if (op.code == Op::Transparent) may_be_transparent_ = may_be_transparent_ || !weight_zero;
+        if (op.code == Op::Holdout) may_hold_out_ = may_hold_out_ || !weight_zero;
     }
     // Values that vary but feed no closure (a texture into nothing, or into an input that folded) make
     // no difference per hit: the program is constant, and those ops are never run.

@@ -93,6 +93,9 @@ public:
     // strength folded to 0 does not count).
     bool may_emit() const { return may_emit_; }
     bool may_be_transparent() const { return may_be_transparent_; }
+    // A Holdout closure with a weight that is not 0: the material stays a program even when its
+    // closures fold (the holdout weight is per hit, not a lobe).
+    bool may_hold_out() const { return may_hold_out_; }
     size_t op_count() const { return ops_.size(); }
     size_t varying_op_count() const { return needs_hit_ ? varying_.size() : 0; }
     size_t register_count() const { return registers_.size(); }
@@ -115,7 +118,7 @@ private:
     std::vector<std::shared_ptr<const Texture>> textures_;
     std::vector<std::shared_ptr<const NishitaSky>> skies_;  // the Nishita Sky Textures' tables (op.i[1])
     std::vector<Lobe> templates_;
-    bool may_emit_ = false, may_be_transparent_ = false;
+    bool may_emit_ = false, may_be_transparent_ = false, may_hold_out_ = false;
     bool needs_hit_ = false;  // some closure reads a value that varies over the surface
 };
 

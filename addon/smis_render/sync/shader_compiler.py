@@ -947,7 +947,6 @@ def _emission(c, node, ctx, weight):
 
 
 def _holdout(c, node, ctx, weight):
-    c.warn_node(node, "(Holdout) is not supported yet; it renders black")
     c.op("holdout", [weight])
 
 
