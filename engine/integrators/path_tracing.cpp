@@ -14,7 +14,7 @@ ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const
     sp.ns = sp.backfacing ? -hit.ns : hit.ns;
     const Material& m = scene.material(hit.material);
     if (m.program) sp.bsdf = program_shading(scene, hit, sp, ray);
-    else if (hit.ns == hit.ng) sp.bsdf = m.make_bsdf(Frame(sp.ns), sp.ng, sp.backfacing, hit.attr);
+    else if (hit.ns == hit.ng) m.make_bsdf_into(&sp.bsdf, Frame(sp.ns), sp.ng, sp.backfacing, hit.attr);
     else smooth_constant_shading(m, hit, sp);
     return sp;
 }
@@ -24,7 +24,7 @@ ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const
 [[gnu::noinline]] void smooth_constant_shading(const Material& m, const SurfaceHit& hit, ShadingPoint& sp) {
     const Vec3 interpolated = sp.ns;
     sp.ns = closure_normal(interpolated, sp.ng, sp.wo);
-    sp.bsdf = m.make_bsdf(Frame(sp.ns), sp.ng, sp.backfacing, hit.attr);
+    m.make_bsdf_into(&sp.bsdf, Frame(sp.ns), sp.ng, sp.backfacing, hit.attr);
     note_turned_normal(sp.bsdf, sp.ns, interpolated);
 }
 

@@ -26,6 +26,16 @@ public:
         : frame_(shading), ng_(ng), count_(lobes.count_), delta_count_(lobes.delta_count_) {
         for (int i = 0; i < count_; ++i) lobes_[i] = lobes.lobes_[i];
     }
+    // The same into an existing Bsdf: every hit of a constant material does this, and assigning a
+    // constructed temporary copied all kMaxLobes lobes, not count_.
+    void assign(const Frame& shading, const Vec3& ng, const Bsdf& lobes) {
+        frame_ = shading;
+        ng_ = ng;
+        count_ = lobes.count_;
+        delta_count_ = lobes.delta_count_;
+        bumped_ = false;
+        for (int i = 0; i < count_; ++i) lobes_[i] = lobes.lobes_[i];
+    }
     void add(const Lobe& lobe);
     int lobe_count() const { return count_; }
     // The same mixture without the lobes for which keep(lobe) is false (frame and bump state kept):

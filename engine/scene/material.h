@@ -95,6 +95,12 @@ struct Material {
         if (!kWithTextures || prepared_) return Bsdf(frame, ng, backfacing ? back_ : front_);
         return build_bsdf(frame, ng, backfacing, attr);
     }
+    // make_bsdf() into *out, copying only the lobes a prepared material has.
+    void make_bsdf_into(Bsdf* out, const Frame& frame, const Vec3& ng, bool backfacing,
+                        const SurfaceAttribs& attr = {}) const {
+        if (!kWithTextures || prepared_) out->assign(frame, ng, backfacing ? back_ : front_);
+        else *out = build_bsdf(frame, ng, backfacing, attr);
+    }
 
     // Called once the lobes are final (Scene::add_material): when no lobe varies per hit, the two
     // lobe lists (front and back side) are built here once, so that make_bsdf() at every vertex of
