@@ -87,9 +87,9 @@ Bsdf bsdf_at(const Scene& scene, uint32_t material, const Vec3& ns, const Vec3& 
         Vec3 program_ns;
         return scene.program_bsdf(material, attr, wo, backfacing, ShaderRay{}, &program_ns);
     }
-    const Vec3 closure_ns = closure_normal(ns, ng, wo);
-    Bsdf bsdf = m.make_bsdf(Frame(closure_ns), ng, backfacing, attr);
-    note_turned_normal(bsdf, closure_ns, ns);
+    Bsdf bsdf;
+    Vec3 closure_ns;
+    constant_bsdf_on_closure_normal(m, ns, ng, wo, backfacing, attr, &bsdf, &closure_ns);
     return bsdf;
 }
 

@@ -2,6 +2,7 @@
 
 #include "integrators/volume.h"
 #include "integrators/direct_lighting.h"
+#include "shading/normals.h"
 
 namespace smis {
 
@@ -15,17 +16,16 @@ ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const
     const Material& m = scene.material(hit.material);
     if (m.program) sp.bsdf = program_shading(scene, hit, sp, ray);
     else if (hit.ns == hit.ng) m.make_bsdf_into(&sp.bsdf, Frame(sp.ns), sp.ng, sp.backfacing, hit.attr);
-    else smooth_constant_shading(m, hit, sp);
+    else constant_bsdf_on_closure_normal(m, sp.ns, sp.ng, sp.wo, sp.backfacing, hit.attr, &sp.bsdf, &sp.ns);
     return sp;
 }
 
-// Out of line, like program_shading: flat-shaded hits (ns == ng, whose mirror of wo about ng is
-// always above the surface) keep the short path.
-[[gnu::noinline]] void smooth_constant_shading(const Material& m, const SurfaceHit& hit, ShadingPoint& sp) {
-    const Vec3 interpolated = sp.ns;
-    sp.ns = closure_normal(interpolated, sp.ng, sp.wo);
-    m.make_bsdf_into(&sp.bsdf, Frame(sp.ns), sp.ng, sp.backfacing, hit.attr);
-    note_turned_normal(sp.bsdf, sp.ns, interpolated);
+[[gnu::noinline]] void constant_bsdf_on_closure_normal(const Material& m, Vec3 interpolated_ns, const Vec3& ng,
+                                                       const Vec3& wo, bool backfacing, const SurfaceAttribs& attr,
+                                                       Bsdf* bsdf, Vec3* closure_ns) {
+    *closure_ns = shading::ensure_valid_reflection(ng, wo, interpolated_ns);
+    m.make_bsdf_into(bsdf, Frame(*closure_ns), ng, backfacing, attr);
+    if (!(*closure_ns == interpolated_ns)) bsdf->set_bump_base(interpolated_ns);
 }
 
 // Out of line: the constant materials' path through make_shading_point stays as small as it was.

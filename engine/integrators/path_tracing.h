@@ -3,7 +3,6 @@
 // emission found along a ray with its MIS weight, and tracing the rest of a path.
 #pragma once
 #include "integrators/integrator.h"
-#include "shading/normals.h"
 #include "scene/lobe_ray_types.h"
 
 namespace smis {
@@ -21,20 +20,16 @@ struct ShadingPoint {
 // (null: a camera ray).
 ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const Vec3& ray_dir,
                                 const ShaderRay* ray = nullptr);
-// The normal Cycles 3.4 gives a closure: the interpolated shading normal (flipped to wo's side)
-// turned towards ng just far enough that wo's mirror direction stays above the surface
-// (svm_node_closure_bsdf applies it to every closure, not only to Bump and Normal Map outputs):
-// near a smooth mesh's sharp rims the interpolated normal can face away from the viewer.
-inline Vec3 closure_normal(const Vec3& interpolated_ns, const Vec3& ng, const Vec3& wo) {
-    return shading::ensure_valid_reflection(ng, wo, interpolated_ns);
-}
-// A turned normal also brings the bump shadowing term of diffuse lobes, as any closure normal
-// that differs from N does in Cycles.
-inline void note_turned_normal(Bsdf& bsdf, const Vec3& closure_ns, const Vec3& interpolated_ns) {
-    if (!(closure_ns == interpolated_ns)) bsdf.set_bump_base(interpolated_ns);
-}
 Bsdf program_shading(const Scene& scene, const SurfaceHit& hit, ShadingPoint& sp, const ShaderRay* ray);
-void smooth_constant_shading(const Material& m, const SurfaceHit& hit, ShadingPoint& sp);
+// A constant material's BSDF into *bsdf on the normal Cycles 3.4 gives a closure (*closure_ns):
+// the interpolated shading normal (flipped to wo's side) turned towards ng just far enough that wo's
+// mirror direction stays above the surface (svm_node_closure_bsdf applies it to every closure, not
+// only to Bump and Normal Map outputs: near a smooth mesh's sharp rims the interpolated normal can
+// face away from the viewer). A turned normal also brings the bump shadowing term of diffuse lobes,
+// as any closure normal that differs from N does in Cycles. Out of line: flat-shaded hits, whose
+// mirror of wo about ng is always above the surface, keep make_shading_point's short path.
+void constant_bsdf_on_closure_normal(const Material& m, Vec3 interpolated_ns, const Vec3& ng, const Vec3& wo,
+                                     bool backfacing, const SurfaceAttribs& attr, Bsdf* bsdf, Vec3* closure_ns);
 // The Light Path state after the vertex scattered along `bs` (Cycles' path flags and depths).
 void next_shader_ray(const Bsdf& bsdf, const BsdfSample& bs, ShaderRay* ray);
 // Origin for a ray leaving the shading point in direction d (offset to the correct side).
