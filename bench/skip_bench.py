@@ -133,8 +133,10 @@ def build_baseline(rev, jobs=None):
 
 
 def current_scripts():
-    """A user-scripts folder whose add-on is this checkout (independent of what is installed)."""
-    scripts = os.path.join("/tmp", "smis_skip_current")
+    """A user-scripts folder whose add-on is this checkout (independent of what is installed). One
+    folder per checkout, so runs from two worktrees at once do not measure each other's build."""
+    checkout = hashlib.sha1(os.path.realpath(ROOT).encode()).hexdigest()[:10]
+    scripts = os.path.join("/tmp", "smis_skip_current_" + checkout)
     os.makedirs(os.path.join(scripts, "addons"), exist_ok=True)
     link = os.path.join(scripts, "addons", "smis_render")
     if os.path.islink(link):
