@@ -261,6 +261,13 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
                     "0 traces one for every crossing",
         default=0, min=0, soft_max=1024,
     )
+    plane_surface_samples: IntProperty(
+        name="Surface Samples per Plane Set",
+        description="Path-tracer samples per pixel that one plane set serves (surfaces, other lights, "
+                    "secondary rays), so surfaces converge at the path tracer's pace; 0 chooses it from "
+                    "the plane set's gathering cost",
+        default=0, min=0, soft_max=64,
+    )
     # Many-light direct illumination (integrator PATH), at the camera path's first non-specular vertex.
     direct_light: EnumProperty(
         name="Direct Light",
@@ -475,6 +482,7 @@ def session_settings(scene):
         "photon_planes": s.photon_planes,
         "smis_planes": s.smis_planes,
         "plane_shadow_rays": s.plane_shadow_rays,
+        "plane_surface_samples": s.plane_surface_samples,
         "direct_light": s.direct_light,
         "ris_candidates": s.ris_candidates,
         "restir_neighbors": s.restir_neighbors,

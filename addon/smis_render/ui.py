@@ -165,6 +165,7 @@ class SMIS_RENDER_PT_volumes(SMISButtonsPanel, bpy.types.Panel):
         if settings.volume_estimator.startswith("PLANES_"):
             col.prop(settings, "photon_planes")
             col.prop(settings, "plane_shadow_rays")
+            col.prop(settings, "plane_surface_samples")
         if settings.volume_estimator.startswith("PLANES_SMIS"):
             col.prop(settings, "smis_planes")
 

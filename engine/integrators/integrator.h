@@ -101,6 +101,11 @@ struct RenderSettings {
     // each with probability q = min(1, K c / sum c) by its unshadowed contribution c and divided by q
     // (Russian roulette on visibility: unbiased); 0 traces every crossing's shadow ray.
     uint32_t plane_shadow_rays = 0;
+    // Path-tracer samples per pixel that one plane set serves: each iteration gathers the planes along
+    // one camera ray per pixel and averages this many path samples for everything else (surfaces,
+    // other lights, secondary rays), so surfaces are not held to the plane iterations' count.
+    // 0: chosen per scene from the plane set's gathering cost (photon_planes.cpp).
+    uint32_t plane_surface_samples = 0;
     // Benchmarks of the volume estimators: render only the camera rays' single scattering (PATH:
     // from every light; photon planes: from the rectangular lights they cover).
     bool camera_volume_only = false;

@@ -136,7 +136,130 @@ struct PlaneWeights {
     }
 };
 
+// What gathering along camera rays counted (the integrator's statistics).
+struct GatherCounts {
+    uint64_t parallel = 0, nonfinite = 0, gathered = 0, shadow_rays = 0;
+};
+
+// One iteration's plane set with what its estimator needs.
+struct PlaneGather {
+    const Scene& scene;
+    const PhotonPlaneSet& set;
+    const PlaneLights& lights;
+    const PlaneWeights& weight;
+    const std::vector<Color>& scale;  // Le pi A / (pmf N) per light
+    uint32_t shadow_ray_budget;       // RenderSettings::plane_shadow_rays
+
+    // The single scattering from the planes' lights along a camera ray that starts in `medium`, up
+    // to its first opaque surface: the header's estimator summed over the ray's crossings.
+    Color operator()(const Ray& ray, int32_t medium, Rng& rng, GatherCounts* n) const {
+        thread_local std::vector<PlaneHit> hits;
+        Color L(0.0f);
+        SurfaceHit first;
+        RayMedia media;
+        intersect_through(scene, ray, medium, &first, &media);
+        for (int i = 0; i < media.count; ++i) {
+            const RayMedia::Segment& seg = media.seg[i];
+            const Medium& med = scene.medium(seg.medium);
+            if (!med.scatters()) continue;
+            set.gather(Ray{ray.o, ray.d, seg.t0, seg.t1, ray.time}, &hits, &n->parallel);
+            n->gathered += hits.size();
+            // Each crossing's contribution before its shadow ray's transmittance: T_cam sigma_s
+            // and the plane's weight, kept apart so that the traced crossing's product is formed
+            // in the order it had before the roulette existed.
+            struct Unshadowed {
+                Color cam;
+                float weight;
+                float size;  // the contribution's largest channel
+            };
+            thread_local std::vector<Unshadowed> unshadowed;
+            unshadowed.resize(hits.size());
+            float total = 0.0f;
+            for (size_t k = 0; k < hits.size(); ++k) {
+                const PlaneHit& hit = hits[k];
+                const PhotonPlane& p = set.plane(hit.plane);
+                const PlaneLight& l = lights.lights[p.light];
+                float dist = hit.b * p.sweep_length;
+                Unshadowed& u = unshadowed[k];
+                u.weight = weight(l, p, hit, ray.d) * med.phase.eval(-ray.d, -p.w_l) *
+                           std::exp(l.flight_rate * dist);
+                u.cam = media.transmittance(scene, hit.t) * med.sigma_s;
+                u.size = max_component(u.cam * scale[p.light] * u.weight);
+                if (!std::isfinite(u.size)) {
+                    ++n->nonfinite;
+                    u.size = 0.0f;
+                }
+                total += u.size;
+            }
+            const float budget = float(shadow_ray_budget);
+            for (size_t k = 0; k < hits.size(); ++k) {
+                const Unshadowed& u = unshadowed[k];
+                if (!(u.size > 0.0f)) continue;
+                float q = 1.0f;
+                if (budget > 0.0f) {  // Russian roulette on visibility, by the unshadowed contribution
+                    q = std::min(1.0f, budget * u.size / total);
+                    if (!(rng.next_float() < q)) continue;
+                }
+                const PlaneHit& hit = hits[k];
+                const PhotonPlane& p = set.plane(hit.plane);
+                Vec3 xs = ray.o + ray.d * hit.t;
+                float dist = hit.b * p.sweep_length;
+                Color tr = shadow_transmittance(scene, xs, -p.w_l, dist * (1.0f - 1e-4f), seg.medium);
+                ++n->shadow_rays;
+                if (is_black(tr)) continue;
+                Color c = u.cam * tr * scale[p.light] * u.weight;
+                if (!is_finite(c)) {
+                    ++n->nonfinite;
+                    continue;
+                }
+                L += q < 1.0f ? c / q : c;
+            }
+        }
+        return L;
+    }
+};
+
+// The camera ray crossings a plane set gives per pixel, estimated on a grid of pixel centres (a
+// fixed sample of the image, so that the choice it feeds is the same whatever the thread count).
+double crossings_per_camera_ray(const RenderContext& ctx, const PhotonPlaneSet& set) {
+    constexpr int kGrid = 16;
+    const Scene& scene = ctx.scene;
+    const int w = ctx.film.width(), h = ctx.film.height();
+    std::vector<PlaneHit> hits;
+    uint64_t crossings = 0, parallel = 0;
+    for (int j = 0; j < kGrid; ++j)
+        for (int i = 0; i < kGrid; ++i) {
+            Rng rng;
+            const Ray ray = camera_ray(ctx, (2 * i + 1) * w / (2 * kGrid), (2 * j + 1) * h / (2 * kGrid), 0, &rng);
+            SurfaceHit first;
+            RayMedia media;
+            intersect_through(scene, ray, scene.camera_medium(), &first, &media);
+            for (int k = 0; k < media.count; ++k) {
+                if (!scene.medium(media.seg[k].medium).scatters()) continue;
+                set.gather(Ray{ray.o, ray.d, media.seg[k].t0, media.seg[k].t1, ray.time}, &hits, &parallel);
+                crossings += hits.size();
+            }
+        }
+    return double(crossings) / (kGrid * kGrid);
+}
+
 }  // namespace
+
+uint32_t PhotonPlanesIntegrator::surface_samples(const RenderContext& ctx, const PhotonPlaneSet& set) {
+    if (ctx.settings.plane_surface_samples > 0) {
+        surface_samples_ = ctx.settings.plane_surface_samples;
+    } else if (surface_samples_ == 0) {
+        // A crossing (its weight, transmittance and shadow ray) costs about kCrossingCost path
+        // samples (measured on volume_planes: an iteration of 390 crossings per camera ray cost what
+        // about 200 path samples cost). M gives the two parts equal time: a path sample's variance
+        // (surfaces, fireflies of area lights) is the larger where measured, so M below the time
+        // ratio left the surfaces noisier (volume_planes, 8 s: relMSE 0.028 at M = 14, 0.014 at 64).
+        constexpr double kCrossingCost = 0.5;
+        const double ratio = crossings_per_camera_ray(ctx, set) * kCrossingCost;
+        surface_samples_ = uint32_t(std::clamp(std::lround(ratio), 1l, 64l));
+    }
+    return surface_samples_;
+}
 
 void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     const Scene& scene = ctx.scene;
@@ -167,92 +290,40 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     }
     PhotonPlaneSet set(scene.device(), std::move(planes));
     build_seconds_ += seconds_since(t0);
+    const PlaneGather gather{scene, set, lights, plane_weight, plane_scale, settings.plane_shadow_rays};
+    const uint32_t M = use_planes && !settings.camera_volume_only ? surface_samples(ctx, set) : 1;
 
     t0 = Clock::now();
     std::vector<Color> image(size_t(w) * h);
     std::vector<float> gathered_at(ctx.film.has_aux() ? image.size() : 0);  // the diagnostic pass
     std::vector<float> transparency(ctx.film.has_transparency() ? image.size() : 0);
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
-        Rng rng;
-        Ray ray = camera_ray(ctx, x, y, s, &rng);
-        local.sample_transparency = 0.0f;
-        PathState camera = camera_path_state(ray.o);
-        camera.medium = scene.camera_medium();
-        camera.planes_on_camera_ray = use_planes;
-        Color L = settings.camera_volume_only ? Color(0.0f) : trace_path(scene, settings, ray, camera, rng, local);
-        if (use_planes) {
-            thread_local std::vector<PlaneHit> hits;
-            uint64_t parallel = 0, nonfinite = 0, gathered = 0, shadow_rays = 0;
-            SurfaceHit first;
-            RayMedia media;
-            intersect_through(scene, ray, camera.medium, &first, &media);
-            for (int i = 0; i < media.count; ++i) {
-                const RayMedia::Segment& seg = media.seg[i];
-                const Medium& med = scene.medium(seg.medium);
-                if (!med.scatters()) continue;
-                set.gather(Ray{ray.o, ray.d, seg.t0, seg.t1, ray.time}, &hits, &parallel);
-                gathered += hits.size();
-                // Each crossing's contribution before its shadow ray's transmittance: T_cam sigma_s
-                // and the plane's weight, kept apart so that the traced crossing's product is formed
-                // in the order it had before the roulette existed.
-                struct Unshadowed {
-                    Color cam;
-                    float weight;
-                    float size;  // the contribution's largest channel
-                };
-                thread_local std::vector<Unshadowed> unshadowed;
-                unshadowed.resize(hits.size());
-                float total = 0.0f;
-                for (size_t k = 0; k < hits.size(); ++k) {
-                    const PlaneHit& hit = hits[k];
-                    const PhotonPlane& p = set.plane(hit.plane);
-                    const PlaneLight& l = lights.lights[p.light];
-                    float dist = hit.b * p.sweep_length;
-                    Unshadowed& u = unshadowed[k];
-                    u.weight = plane_weight(l, p, hit, ray.d) * med.phase.eval(-ray.d, -p.w_l) *
-                               std::exp(l.flight_rate * dist);
-                    u.cam = media.transmittance(scene, hit.t) * med.sigma_s;
-                    u.size = max_component(u.cam * plane_scale[p.light] * u.weight);
-                    if (!std::isfinite(u.size)) {
-                        ++nonfinite;
-                        u.size = 0.0f;
-                    }
-                    total += u.size;
-                }
-                const float budget = float(settings.plane_shadow_rays);
-                for (size_t k = 0; k < hits.size(); ++k) {
-                    const Unshadowed& u = unshadowed[k];
-                    if (!(u.size > 0.0f)) continue;
-                    float q = 1.0f;
-                    if (budget > 0.0f) {  // Russian roulette on visibility, by the unshadowed contribution
-                        q = std::min(1.0f, budget * u.size / total);
-                        if (!(rng.next_float() < q)) continue;
-                    }
-                    const PlaneHit& hit = hits[k];
-                    const PhotonPlane& p = set.plane(hit.plane);
-                    Vec3 xs = ray.o + ray.d * hit.t;
-                    float dist = hit.b * p.sweep_length;
-                    Color tr = shadow_transmittance(scene, xs, -p.w_l, dist * (1.0f - 1e-4f), seg.medium);
-                    ++shadow_rays;
-                    if (is_black(tr)) continue;
-                    Color c = u.cam * tr * plane_scale[p.light] * u.weight;
-                    if (!is_finite(c)) {
-                        ++nonfinite;
-                        continue;
-                    }
-                    L += q < 1.0f ? c / q : c;
-                }
-            }
-            plane_hits_ += gathered;
-            shadow_rays_ += shadow_rays;
-            if (!gathered_at.empty()) gathered_at[size_t(y) * w + x] = float(gathered);
-            parallel_rejected_ += parallel;
-            nonfinite_rejected_ += nonfinite;
-            local.samples_rejected += parallel + nonfinite;
+        // M path samples (pixel samples s M ... s M + M - 1) for all but the planes' part; the first
+        // one's camera ray also gathers the planes, whose estimate is not divided by M.
+        Color surfaces(0.0f), planes_L(0.0f);
+        float transparent = 0.0f;
+        for (uint32_t m = 0; m < M; ++m) {
+            Rng rng;
+            Ray ray = camera_ray(ctx, x, y, s * M + m, &rng);
+            local.sample_transparency = 0.0f;
+            PathState camera = camera_path_state(ray.o);
+            camera.medium = scene.camera_medium();
+            camera.planes_on_camera_ray = use_planes;
+            if (!settings.camera_volume_only) surfaces += guard_sample(trace_path(scene, settings, ray, camera, rng, local), local);
+            transparent += local.sample_transparency;
+            ++local.paths;
+            if (m > 0 || !use_planes) continue;
+            GatherCounts n;
+            planes_L = gather(ray, camera.medium, rng, &n);
+            plane_hits_ += n.gathered;
+            shadow_rays_ += n.shadow_rays;
+            if (!gathered_at.empty()) gathered_at[size_t(y) * w + x] = float(n.gathered);
+            parallel_rejected_ += n.parallel;
+            nonfinite_rejected_ += n.nonfinite;
+            local.samples_rejected += n.parallel + n.nonfinite;
         }
-        ++local.paths;
-        image[size_t(y) * w + x] = guard_sample(L, local);
-        if (!transparency.empty()) transparency[size_t(y) * w + x] = local.sample_transparency;
+        image[size_t(y) * w + x] = guard_sample(surfaces / float(M) + planes_L, local);
+        if (!transparency.empty()) transparency[size_t(y) * w + x] = transparent / float(M);
     });
     if (ctx.should_stop()) return;  // a partial iteration never reaches the film
     for (int y = 0; y < h; ++y)
@@ -275,6 +346,7 @@ std::map<std::string, double> PhotonPlanesIntegrator::stats() const {
             {"shadow_rays", double(shadow_rays_.load())},
             {"parallel_rejected", double(parallel_rejected_.load())},
             {"nonfinite_rejected", double(nonfinite_rejected_.load())},
+            {"surface_samples", double(surface_samples_)},
             {"build_seconds", build_seconds_},
             {"render_seconds", render_seconds_}};
 }

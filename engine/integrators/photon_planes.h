@@ -9,6 +9,8 @@
 
 namespace smis {
 
+class PhotonPlaneSet;
+
 enum class PlaneWeighting {
     Unweighted,  // eq. 22: one orientation, 1/|(s x w_l) . w_e| singularity
     Cmis,        // eq. 26: Deng et al.'s closed-form weighting over all orientations
@@ -28,7 +30,11 @@ public:
 
 private:
     void iteration(RenderContext& ctx, uint32_t s) override;
+    // M: path samples per pixel that one plane set serves (RenderSettings::plane_surface_samples, or
+    // chosen once per render from the first plane set).
+    uint32_t surface_samples(const RenderContext& ctx, const PhotonPlaneSet& set);
     PlaneWeighting weighting_;
+    uint32_t surface_samples_ = 0;
     // Measurements, summed over iterations.
     double build_seconds_ = 0, render_seconds_ = 0;
     uint64_t iterations_ = 0, planes_ = 0;

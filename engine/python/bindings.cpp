@@ -185,6 +185,7 @@ RenderSettings parse_settings(const py::dict& d) {
     s.photon_planes = get<uint32_t>(d, "photon_planes", s.photon_planes);
     s.smis_planes = get<int>(d, "smis_planes", s.smis_planes);
     s.plane_shadow_rays = get<uint32_t>(d, "plane_shadow_rays", s.plane_shadow_rays);
+    s.plane_surface_samples = get<uint32_t>(d, "plane_surface_samples", s.plane_surface_samples);
     s.camera_volume_only = get<bool>(d, "camera_volume_only", s.camera_volume_only);
     s.direct_light = parse_enum<DirectLightStrategy>(
         d, "direct_light", s.direct_light,

@@ -73,6 +73,10 @@ void RenderSession::render_loop() {
                                             std::chrono::duration<double>(settings_.time_limit))
                         : std::chrono::steady_clock::time_point::max();
     RenderContext ctx{*scene_, settings_, film_, filter_, counters_, cancel_, deadline};
+    // The first pass ignores the time limit (only cancelling stops it): a limit shorter than one
+    // sample (or one iteration of a multi-stage integrator) gives that sample, not an empty image.
+    RenderContext first_pass{*scene_, settings_, film_, filter_, counters_, cancel_,
+                             std::chrono::steady_clock::time_point::max()};
     int threads = settings_.threads > 0 ? settings_.threads : tbb::info::default_concurrency();
     try {
         tbb::task_arena arena(threads);
@@ -80,10 +84,11 @@ void RenderSession::render_loop() {
         // integrator's pass size so progress and cancellation stay responsive. Pass boundaries do
         // not change the image.
         uint32_t s = 0, step = 1;
-        while (s < settings_.samples && !ctx.should_stop()) {
+        while (s < settings_.samples && (s == 0 || !ctx.should_stop())) {
             uint32_t e = std::min(settings_.samples, s + step);
-            arena.execute([&] { integrator_->render_pass(ctx, s, e); });
-            if (ctx.should_stop()) break;
+            RenderContext& pass = s == 0 ? first_pass : ctx;
+            arena.execute([&] { integrator_->render_pass(pass, s, e); });
+            if (pass.should_stop()) break;
             s = e;
             samples_done_.store(s);
             step = std::min<uint32_t>(step * 2, integrator_->max_pass_samples());
