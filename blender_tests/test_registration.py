@@ -68,3 +68,17 @@ def test_last_render_warnings_stay_listed_in_the_render_properties():
     finally:
         cube.data.materials.clear()
         bpy.data.materials.remove(mat)
+
+
+def test_an_unknown_render_setting_is_an_error():
+    """Every key the add-on sends is one the engine reads; a misspelt or retired key is a ValueError
+    naming it, not a setting silently left at its default."""
+    import numpy as np
+    import pytest
+    from smis_render import _smis, properties
+    s = _smis.Scene()
+    s.set_camera({"matrix": np.eye(4), "width": 4, "height": 4, "lens": 20.0})
+    s.commit()
+    _smis.RenderSession(s, properties.session_settings(bpy.context.scene))  # all known
+    with pytest.raises(ValueError, match="'sampels'"):
+        _smis.RenderSession(s, {"sampels": 4, "seed": 1})

@@ -2,6 +2,7 @@
 // add-on's sync code into engine calls. No light transport here, and the GIL is released whenever
 // native code runs for long.
 #include <map>
+#include <set>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -21,10 +22,34 @@ using namespace smis;
 
 namespace {
 
-template <class T>
-T get(const py::dict& d, const char* key, T fallback) {
-    return d.contains(key) ? d[key].cast<T>() : fallback;
+template <class T, class Dict>
+T get(const Dict& d, const char* key, T fallback) {
+    return d.contains(key) ? d[key].template cast<T>() : fallback;
 }
+
+// The render settings' dict, remembering which keys were asked for: a key the parser never asks
+// for (a misspelt or retired setting) is an error, not a silently ignored value.
+class SettingsDict {
+public:
+    explicit SettingsDict(const py::dict& d) : dict_(d) {}
+    bool contains(const char* key) const {
+        asked_.insert(key);
+        return dict_.contains(key);
+    }
+    py::object operator[](const char* key) const { return dict_[key]; }
+    void reject_unknown_keys() const {
+        std::string unknown;
+        for (const auto& item : dict_) {
+            std::string key = py::str(item.first);
+            if (!asked_.count(key)) unknown += (unknown.empty() ? "'" : ", '") + key + "'";
+        }
+        if (!unknown.empty()) throw py::value_error("unknown render setting(s) " + unknown);
+    }
+
+private:
+    const py::dict& dict_;
+    mutable std::set<std::string> asked_;
+};
 
 Color get_color(const py::dict& d, const char* key, Color fallback) {
     if (!d.contains(key)) return fallback;
@@ -113,10 +138,10 @@ const float* image_data(const py::array_t<float, py::array::c_style | py::array:
 }
 
 // An enum setting given by name; unknown names are a ValueError listing the valid ones.
-template <class E>
-E parse_enum(const py::dict& d, const char* key, E fallback, const std::map<std::string, E>& names) {
+template <class E, class Dict>
+E parse_enum(const Dict& d, const char* key, E fallback, const std::map<std::string, E>& names) {
     if (!d.contains(key)) return fallback;
-    auto name = d[key].cast<std::string>();
+    auto name = d[key].template cast<std::string>();
     auto it = names.find(name);
     if (it != names.end()) return it->second;
     std::string valid;
@@ -137,13 +162,14 @@ uint32_t parse_visibility(const py::dict& d) {
 }
 
 // A per-type bounce limit: a non-negative count.
-int bounce_limit(const py::dict& d, const char* key, int fallback) {
+int bounce_limit(const SettingsDict& d, const char* key, int fallback) {
     const int n = get<int>(d, key, fallback);
     if (n < 0) throw py::value_error(std::string(key) + " must be 0 or more, not " + std::to_string(n));
     return n;
 }
 
-RenderSettings parse_settings(const py::dict& d) {
+RenderSettings parse_settings(const py::dict& dict) {
+    const SettingsDict d(dict);
     RenderSettings s;
     s.samples = get<uint32_t>(d, "samples", s.samples);
     s.max_bounces = get<int>(d, "max_bounces", s.max_bounces);
@@ -200,6 +226,7 @@ RenderSettings parse_settings(const py::dict& d) {
     s.restir_visibility_reuse = get<bool>(d, "restir_visibility_reuse", s.restir_visibility_reuse);
     if (s.ris_candidates < 1 || s.restir_neighbors < 0 || s.restir_history_cap < 0 || !(s.restir_radius_px > 0.0f))
         throw py::value_error("ReSTIR settings: candidates >= 1, neighbours >= 0, history cap >= 0, radius > 0");
+    d.reject_unknown_keys();
     return s;
 }
 
