@@ -251,7 +251,7 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
         }
         ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
         if (holdout_ends_path(state, sp, transparent_beta, counters)) break;
-        drop_caustic_lobes(settings, state, sp);
+        light_path_lobes(settings, state, sp);
         if (sp.bsdf.empty()) break;
         const SpectralMaterial& sm = spectral_.material(hit.material);
         if (sm.dispersive) sp.bsdf = dispersed_bsdf(sp, sm, p.lambda_c());

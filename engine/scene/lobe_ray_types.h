@@ -47,4 +47,26 @@ inline bool lobe_is_caustic(const Lobe& lobe, bool reflective_off, bool refracti
     }
 }
 
+// Cycles' Filter Glossy (bsdf_blur): the microfacet closures' alpha raised to at least `alpha`
+// (GGX and Beckmann reflection, refraction and glass, multiscatter GGX, clearcoat, both axes of the
+// anisotropic ones); the other closures keep theirs. Multiscatter GGX's multiple-scattering lobe
+// keeps the energy of its own roughness (its weight was set from it with the material's colour).
+inline void blur_lobe(Lobe& lobe, float alpha) {
+    switch (lobe.kind) {
+        case LobeKind::Microfacet:
+        case LobeKind::Beckmann:
+        case LobeKind::MultiGgx:
+        case LobeKind::GgxMultiple:
+        case LobeKind::Clearcoat:
+        case LobeKind::Dielectric:
+        case LobeKind::Refraction: lobe.alpha = std::max(lobe.alpha, alpha); break;
+        case LobeKind::AnisoGgx:
+        case LobeKind::AnisoBeckmann:
+            lobe.alpha = std::max(lobe.alpha, alpha);
+            lobe.alpha_y = std::max(lobe.alpha_y, alpha);
+            break;
+        default: break;
+    }
+}
+
 }  // namespace smis
