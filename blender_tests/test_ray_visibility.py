@@ -1,5 +1,6 @@
-"""Object and light Ray Visibility, per-type bounce limits, clamping and the caustics toggles (issue 18,
-Cycles' Object > Visibility and Light Paths panels), against Cycles 3.4 rendered in the test.
+"""Object, light and World Ray Visibility, per-type bounce limits, clamping, the caustics toggles and
+Filter Glossy (issue 18, Cycles' Object > Visibility, World > Settings and Light Paths panels), against
+Cycles 3.4 rendered in the test.
 
 One small scene: a white diffuse floor and back wall, a red diffuse ball, a glossy (GGX 0.2) panel
 turned to show the ball, an area lamp and a grey world; some cases add a rough glass ball in front of
@@ -98,6 +99,14 @@ CASES = {
     "clamp_psf": (SUN, CLAMP + "scene.smis.integrator = 'PSF_SMIS'\n"),
     "no_caustics": (GLASS, "c.caustics_reflective = scene.smis.caustics_reflective = False\n"
                            "c.caustics_refractive = scene.smis.caustics_refractive = False\n"),
+    # One toggle off: the glass keeps the other closure of Cycles' pair (refraction alone with
+    # Reflective Caustics off, reflection alone with Refractive off), in RGB and in the spectral
+    # tracer (a smooth glass ball: its Dirac events).
+    "caustics_reflective_off": (GLASS, "c.caustics_reflective = scene.smis.caustics_reflective = False\n"),
+    "caustics_refractive_off": (GLASS, "c.caustics_refractive = scene.smis.caustics_refractive = False\n"),
+    "caustics_refractive_off_smooth_spectral": (
+        GLASS.replace("Roughness=0.3", "Roughness=0.0"),
+        "c.caustics_refractive = scene.smis.caustics_refractive = False\nscene.smis.spectral = 'HERO'\n"),
     # Filter Glossy, read from the scene's Cycles setting (light_path_source): the panel seen after a
     # diffuse bounce is blurred, which spreads the lamp's reflection on the floor and wall.
     "filter_glossy": ("", "c.blur_glossy = 1.0\n"),

@@ -252,6 +252,7 @@ inline void drop_caustic_lobes(const RenderSettings& s, const PathState& st, Sha
     if (!(st.ray_flags & kRayDiffuse) || (s.caustics_reflective && s.caustics_refractive)) return;
     const bool reflective_off = !s.caustics_reflective, refractive_off = !s.caustics_refractive;
     sp.bsdf = sp.bsdf.only([&](const Lobe& l) { return !lobe_is_caustic(l, reflective_off, refractive_off); });
+    sp.bsdf.change_lobes([&](Lobe& l) { glass_half_left(l, reflective_off, refractive_off); });
 }
 // Cycles' Filter Glossy (surface_shader_prepare_closures, with filter_glossy = 1 / blur_glossy): at
 // a vertex whose path's min_ray_pdf times 1 / blur_glossy is below 1, the microfacet lobes' alpha

@@ -175,3 +175,44 @@ TEST(RayVisibility, CamerasCastCameraRays) {
     Camera cam(camera_at(Vec3(0.0f), 8, 8));
     EXPECT_EQ(cam.generate_ray(4.0f, 4.0f).visibility, uint32_t(kRayCamera));
 }
+
+// Reflective or Refractive Caustics off: a glass lobe reached by a diffuse ray keeps the other half of
+// Cycles' pair of closures; a smooth one then always takes that event, valued by its Fresnel share.
+TEST(RayVisibility, OneCausticsToggleLeavesHalfTheGlass) {
+    RenderSettings rs;
+    rs.caustics_refractive = false;
+    PathState after_diffuse;
+    after_diffuse.ray_flags = kRayDiffuse;
+    ShadingPoint sp;
+    sp.bsdf = Bsdf(Frame(Vec3(0.0f, 0.0f, 1.0f)), Vec3(0.0f, 0.0f, 1.0f));
+    Lobe glass;
+    glass.kind = LobeKind::Dielectric;
+    sp.bsdf.add(glass);
+    drop_caustic_lobes(rs, after_diffuse, sp);
+    ASSERT_EQ(sp.bsdf.lobe_count(), 1);
+    EXPECT_EQ(sp.bsdf.lobe(0).glass_events, kGlassReflection);
+    const Vec3 wo = normalize(Vec3(0.3f, 0.0f, 0.8f));
+    const float F = fresnel_dielectric(wo.z, 1.5f);
+    for (float u : {0.01f, 0.5f, 0.99f}) {
+        BsdfSample s = lobe_sample(sp.bsdf.lobe(0), wo, Point2{0.5f, 0.5f}, u);
+        ASSERT_TRUE(s.valid());
+        EXPECT_FALSE(s.transmission);
+        EXPECT_NEAR(s.value.x / s.pdf, F, 1e-6f);
+    }
+    rs.caustics_refractive = true;
+    rs.caustics_reflective = false;
+    ShadingPoint refracting = sp;
+    refracting.bsdf = Bsdf(Frame(Vec3(0.0f, 0.0f, 1.0f)), Vec3(0.0f, 0.0f, 1.0f));
+    refracting.bsdf.add(glass);
+    drop_caustic_lobes(rs, after_diffuse, refracting);
+    BsdfSample t = lobe_sample(refracting.bsdf.lobe(0), wo, Point2{0.5f, 0.5f}, 0.01f);
+    ASSERT_TRUE(t.valid());
+    EXPECT_TRUE(t.transmission);
+    EXPECT_NEAR(t.value.x / t.pdf, (1.0f - F) / (1.5f * 1.5f), 1e-6f);
+    PathState camera;  // camera rays keep the whole lobe
+    ShadingPoint seen = sp;
+    seen.bsdf = Bsdf(Frame(Vec3(0.0f, 0.0f, 1.0f)), Vec3(0.0f, 0.0f, 1.0f));
+    seen.bsdf.add(glass);
+    drop_caustic_lobes(rs, camera, seen);
+    EXPECT_EQ(seen.bsdf.lobe(0).glass_events, kGlassBoth);
+}
