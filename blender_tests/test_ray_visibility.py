@@ -1,5 +1,6 @@
-"""Object and light Ray Visibility, per-type bounce limits, clamping and the caustics toggles (issue 18,
-Cycles' Object > Visibility and Light Paths panels), against Cycles 3.4 rendered in the test.
+"""Object, light and World Ray Visibility, per-type bounce limits, clamping, the caustics toggles and
+Filter Glossy (issue 18, Cycles' Object > Visibility, World > Settings and Light Paths panels), against
+Cycles 3.4 rendered in the test.
 
 One small scene: a white diffuse floor and back wall, a red diffuse ball, a glossy (GGX 0.2) panel
 turned to show the ball, an area lamp and a grey world; some cases add a rough glass ball in front of
@@ -64,6 +65,17 @@ lamp.data.angle = 0.0
 lamp.rotation_euler = (math.radians(30), 0.0, math.radians(-20))
 """
 
+# A world that lights more than the lamp, for the World's glossy and transmission flags.
+BRIGHT_WORLD = """
+scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 4.0
+lamp.data.energy = 150.0
+"""
+
+CLAMP = """
+c.sample_clamp_direct = scene.smis.clamp_direct = 0.3
+c.sample_clamp_indirect = scene.smis.clamp_indirect = 0.5
+"""
+
 # case -> (scene variant, setup code)
 CASES = {
     "ball_camera": ("", "ball.visible_camera = False\n"),
@@ -80,10 +92,30 @@ CASES = {
     # Under a sharp sun, whose light samples are the same in both engines: a clamped estimate depends
     # on the estimator (an area light sampled differently, or Russian roulette's boost of surviving
     # paths, clamps differently), so only Cycles' estimator itself would match it anywhere else.
-    "clamp": (SUN, "c.sample_clamp_direct = scene.smis.clamp_direct = 0.3\n"
-                  "c.sample_clamp_indirect = scene.smis.clamp_indirect = 0.5\n"),
+    "clamp": (SUN, CLAMP),
+    # The same through ReSTIR's resampled direct light and path-space filtering's per-pixel direct
+    # light at x1 (with a sun the only light, their light samples are the path tracer's).
+    "clamp_restir": (SUN, CLAMP + "scene.smis.direct_light = 'RESTIR'\n"),
+    "clamp_psf": (SUN, CLAMP + "scene.smis.integrator = 'PSF_SMIS'\n"),
     "no_caustics": (GLASS, "c.caustics_reflective = scene.smis.caustics_reflective = False\n"
                            "c.caustics_refractive = scene.smis.caustics_refractive = False\n"),
+    # One toggle off: the glass keeps the other closure of Cycles' pair (refraction alone with
+    # Reflective Caustics off, reflection alone with Refractive off), in RGB and in the spectral
+    # tracer (a smooth glass ball: its Dirac events).
+    "caustics_reflective_off": (GLASS, "c.caustics_reflective = scene.smis.caustics_reflective = False\n"),
+    "caustics_refractive_off": (GLASS, "c.caustics_refractive = scene.smis.caustics_refractive = False\n"),
+    "caustics_refractive_off_smooth_spectral": (
+        GLASS.replace("Roughness=0.3", "Roughness=0.0"),
+        "c.caustics_refractive = scene.smis.caustics_refractive = False\nscene.smis.spectral = 'HERO'\n"),
+    # Filter Glossy, read from the scene's Cycles setting (light_path_source): the panel seen after a
+    # diffuse bounce is blurred, which spreads the lamp's reflection on the floor and wall.
+    "filter_glossy": ("", "c.blur_glossy = 1.0\n"),
+    "filter_glossy_spectral": ("", "c.blur_glossy = 1.0\nscene.smis.spectral = 'HERO'\n"),
+    # The World's Ray Visibility beyond Camera: rays of the type see no World, and its light samples
+    # light no lobe of the class.
+    "world_diffuse": ("", "scene.world.cycles_visibility.diffuse = False\n"),
+    "world_glossy": (BRIGHT_WORLD, "scene.world.cycles_visibility.glossy = False\n"),
+    "world_transmission": (GLASS + BRIGHT_WORLD, "scene.world.cycles_visibility.transmission = False\n"),
 }
 
 
@@ -126,14 +158,18 @@ def test_light_path_source():
     scene.cycles.property_unset("diffuse_bounces")
     scene.cycles.property_unset("sample_clamp_indirect")
     d = properties.light_path_settings(scene)
+    scene.cycles.property_unset("blur_glossy")
     assert d["diffuse_bounces"] == 1024 and d["clamp_indirect"] == 0.0 and d["caustics_refractive"]
+    assert properties.light_path_settings(scene)["filter_glossy"] == 0.0  # Cycles' default is 1.0
     scene.cycles.diffuse_bounces = 2
     scene.cycles.sample_clamp_indirect = 10.0
+    scene.cycles.blur_glossy = 0.5
     d = properties.light_path_settings(scene)
-    assert d["diffuse_bounces"] == 2 and d["clamp_indirect"] == 10.0
+    assert d["diffuse_bounces"] == 2 and d["clamp_indirect"] == 10.0 and d["filter_glossy"] == 0.5
     scene.smis.diffuse_bounces = 5
     assert properties.light_path_settings(scene)["diffuse_bounces"] == 5
     for name in ("diffuse_bounces",):
         scene.smis.property_unset(name)
     scene.cycles.property_unset("diffuse_bounces")
     scene.cycles.property_unset("sample_clamp_indirect")
+    scene.cycles.property_unset("blur_glossy")

@@ -19,8 +19,8 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
         default=8, min=0, soft_max=64,
     )
     # Cycles' Light Paths > Max Bounces per type, Clamping and Caustics (light_path_settings). Unlike
-    # Cycles' defaults (diffuse and glossy 4, indirect clamp 10), ours leave the image unbiased:
-    # only Max Bounces limits paths, nothing is clamped, caustics are on.
+    # Cycles' defaults (diffuse and glossy 4, indirect clamp 10, Filter Glossy 1), ours leave the image
+    # unbiased: only Max Bounces limits paths, nothing is clamped or blurred, caustics are on.
     diffuse_bounces: IntProperty(
         name="Diffuse",
         description="Maximum number of diffuse reflection bounces, as Cycles' (bounded by Max Bounces); "
@@ -66,6 +66,13 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
         description="Cycles' Refractive Caustics: off, surfaces reached by diffuse bounces leave out their "
                     "refraction; less noise, but the image is biased (darker)",
         default=True,
+    )
+    filter_glossy: FloatProperty(
+        name="Filter Glossy",
+        description="Cycles' Filter Glossy: after diffuse or rough bounces, glossy surfaces are rendered "
+                    "rougher (by the path's smallest sampling density), 0 = off. Less noise from caustics, "
+                    "but the image is biased",
+        default=0.0, min=0.0, soft_max=10.0,
     )
     viewport_samples: IntProperty(
         name="Viewport Samples",
@@ -402,6 +409,7 @@ LIGHT_PATH_SETTINGS = (
     ("clamp_indirect", "sample_clamp_indirect"),
     ("caustics_reflective", "caustics_reflective"),
     ("caustics_refractive", "caustics_refractive"),
+    ("filter_glossy", "blur_glossy"),
 )
 
 

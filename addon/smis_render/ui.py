@@ -121,7 +121,8 @@ class SMIS_RENDER_PT_clamping(SMISButtonsPanel, bpy.types.Panel):
         layout.use_property_split = True
         layout.use_property_decorate = False
         _light_path_props(layout, context.scene, {"clamp_direct", "clamp_indirect"}, heading="Clamp")
-        _light_path_props(layout, context.scene, {"caustics_reflective", "caustics_refractive"}, heading="Caustics")
+        _light_path_props(layout, context.scene, {"filter_glossy", "caustics_reflective", "caustics_refractive"},
+                          heading="Caustics")
 
 
 class SMIS_RENDER_PT_path_space_filtering(SMISButtonsPanel, bpy.types.Panel):

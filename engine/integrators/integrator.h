@@ -40,6 +40,10 @@ struct RenderSettings {
     // Cycles' Reflective / Refractive Caustics: off, a surface reached by a diffuse ray leaves out its
     // glossy reflection / refraction lobes (lobe_is_caustic). Off biases (darkens) the image.
     bool caustics_reflective = true, caustics_refractive = true;
+    // Cycles' Filter Glossy (scene.cycles.blur_glossy; blur_glossy_lobes): 0 = off. On, a vertex
+    // reached by a path whose smallest BSDF sampling density so far is low (after a diffuse or rough
+    // bounce) raises its microfacet lobes' roughness. Biased by design (less noise from caustics).
+    float filter_glossy = 0.0f;
     uint32_t seed = 0;
     bool stratified = true;       // stratified prefix of every pixel sample's stream (core/stratified.h)
     MisHeuristic mis = MisHeuristic::Power;

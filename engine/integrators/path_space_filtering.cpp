@@ -154,12 +154,14 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
     PathState st1{prefix.depth + 1, bs.delta, bs.pdf, sp.hit.p};
     st1.light_pdf_scale = float(light_samples) / float(own_samples);
     st1.ray_flags = prefix.ray_flags;
+    st1.min_ray_pdf = prefix.min_ray_pdf;
     st1.diffuse_bounces = prefix.diffuse_bounces, st1.glossy_bounces = prefix.glossy_bounces;
     st1.transmission_bounces = prefix.transmission_bounces, st1.transparent_bounces = prefix.transparent_bounces;
     advance_ray_type(st1, sp.bsdf, bs);
     const Ray r1 = bounce_ray(sp, bs, st1);
     const Color path_weight = beta * bs.value / bs.pdf;
     const Color bsdf_weight = path_weight / float(own_samples);
+    st1.clamp_beta = path_weight;
     if (bs.delta) {
         // A Dirac lobe of a mixed BSDF: its suffix has no density to share, so the pixel keeps it.
         out.fixed = bsdf_weight * trace_path(scene, settings, r1, st1, rng, counters);
@@ -167,18 +169,20 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
     }
     SurfaceHit h1;
     bool found1 = scene.intersect(r1, &h1);
-    out.fixed = bsdf_weight * emission_along(scene, settings, r1, found1, h1, st1);
+    out.fixed = clamp_sample_share(settings, bsdf_weight * emission_along(scene, settings, r1, found1, h1, st1),
+                                   own_samples, st1.depth <= 1);
     if (!found1 || beyond_bounce_limits(settings, st1)) return out;
 
     // z1: shade it once, keeping its NEE and BSDF estimators apart for re-evaluation.
     ShadingPoint sp1 = make_shading_point(scene, h1, r1.d);
-    drop_caustic_lobes(settings, st1, sp1);
+    light_path_lobes(settings, st1, sp1);
     if (sp1.bsdf.empty()) return out;
     DirectSample ds1 = sample_direct(scene, settings, sp1, rng, counters);
     if (ds1.valid) {
         out.nee_dir = ds1.wi;
         out.nee_weighted = ds1.weighted;
-        out.L_out += direct_eval(sp1, ds1) * ds1.weighted;
+        // Clamped as this pixel's path would be (neighbours reuse it under their own throughput).
+        out.L_out += clamp_contribution(settings, direct_eval(sp1, ds1) * ds1.weighted, false, path_weight);
     }
     BsdfSample bs1 = sample_bsdf(sp1, rng);
     if (bs1.valid()) {
@@ -191,7 +195,8 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
         // Russian roulette in the suffix sees the whole path's throughput, as in PATH: a suffix
         // traced as if it started with throughput 1 would survive longer, costing more per path.
         float eta2 = eta_scale * (bs.transmission ? sqr(bs.eta) : 1.0f) * (bs1.transmission ? sqr(bs1.eta) : 1.0f);
-        st2.rr_scale = max_component(path_weight * bs1.value / bs1.pdf) * eta2;
+        st2.clamp_beta = path_weight * bs1.value / bs1.pdf;
+        st2.rr_scale = max_component(st2.clamp_beta) * eta2;
         Color L_in = trace_path(scene, settings, bounce_ray(sp1, bs1, st2), st2, rng, counters);
         out.next_dir = bs1.wi;
         out.next_weighted = bs1.delta ? Color(0.0f) : L_in / bs1.pdf;
@@ -236,7 +241,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
     for (;; ++st.depth) {
         SurfaceHit hit;
         bool found = scene.intersect(ray, &hit);
-        rec.fixed += beta * emission_along(scene, settings, ray, found, hit, st);
+        rec.fixed += clamp_contribution(settings, beta * emission_along(scene, settings, ray, found, hit, st), st.depth <= 1);
         if (add_transparency(settings, st, found, hit, beta, counters)) return rec;
         if (!found || beyond_bounce_limits(settings, st)) return rec;
         prefix_length += hit.t;
@@ -281,7 +286,9 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         const int own_samples = 1 + extra_paths;
         auto add_light_sample = [&] {
             DirectSample ds = sample_direct(scene, settings, sp, rng, counters, -1, light_samples, own_samples);
-            if (ds.valid) rec.fixed += beta * direct_eval(sp, ds) * ds.weighted;
+            if (ds.valid)
+                rec.fixed += clamp_sample_share(settings, beta * direct_eval(sp, ds) * ds.weighted, light_samples,
+                                                st.depth == 0);
         };
         add_light_sample();
         BsdfSample bs = sample_bsdf(sp, rng);

@@ -132,7 +132,9 @@ namespace {
 template <bool kMedia, bool kRules>
 Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,
                       LocalCounters& counters) {
-    auto clamped = [&](const Color& c, bool direct) { return kRules ? clamp_contribution(settings, c, direct) : c; };
+    auto clamped = [&](const Color& c, bool direct) {
+        return kRules ? clamp_contribution(settings, c, direct, state.clamp_beta) : c;
+    };
     Color L(0.0f), beta(1.0f);
     float eta_scale = 1.0f;
     ShaderRay sray;  // what the Light Path node reports for the next hit (scenes with programs)
@@ -169,7 +171,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         }
         ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
         if (holdout_ends_path(state, sp, beta, counters)) break;
-        if constexpr (kRules) drop_caustic_lobes(settings, state, sp);
+        if constexpr (kRules) light_path_lobes(settings, state, sp);
         if (sp.bsdf.empty()) break;
 
         bool resample = false;

@@ -117,6 +117,13 @@ struct PathState {
     // for the per-type limits (RenderSettings::max_diffuse_bounces ...).
     uint32_t ray_flags = kRayCamera;
     uint16_t diffuse_bounces = 0, glossy_bounces = 0, transmission_bounces = 0, transparent_bounces = 0;
+    // Cycles' min_ray_pdf: the smallest density of the non-Dirac BSDF samples (not through
+    // Transparent lobes) that led here, for Filter Glossy (blur_glossy_lobes).
+    float min_ray_pdf = kInf;
+    // The RGB throughput before the ray this state starts with, for clamping only: a path traced in
+    // pieces (ReSTIR's and path-space filtering's continuations) clamps each contribution as the
+    // whole path would, since Cycles compares throughput x radiance with the limit.
+    Color clamp_beta{1.0f};
 };
 // After the vertex scattered along `bs`: the next ray's flags and the per-type counts, labelled as
 // Cycles labels the event (path_state_next): a Dirac or glossy reflection is glossy, a
@@ -127,6 +134,8 @@ inline void advance_ray_type(PathState& st, const Bsdf& bsdf, const BsdfSample& 
         ++st.transparent_bounces;
         return;
     }
+    // Cycles' Dirac closures report a density of 1e6: they never lower min_ray_pdf.
+    if (!bs.delta) st.min_ray_pdf = std::min(st.min_ray_pdf, bs.pdf);
     const uint32_t kind = !bs.delta && label == RayLabel::Diffuse ? kRayDiffuse : kRayGlossy;
     if (bs.transmission) ++st.transmission_bounces;
     else if (kind == kRayDiffuse) ++st.diffuse_bounces;
@@ -147,23 +156,30 @@ inline bool beyond_bounce_limits(const RenderSettings& s, const PathState& st) {
 }
 // Whether the scene or the settings use what PathState's ray types serve: an object or light hidden
 // from some rays (Scene::has_ray_visibility), per-type bounce limits below max_bounces, clamping or
-// a caustics toggle off. Without, a path that keeps every ray type renders the same image, and the
+// a caustics toggle off, Filter Glossy. Without, a path that keeps every ray type renders the same image, and the
 // path tracer takes its loop without them (trace_path).
 inline bool uses_light_path_rules(const Scene& scene, const RenderSettings& s) {
     const int limit = std::min({s.max_diffuse_bounces, s.max_glossy_bounces, s.max_transmission_bounces,
                                 s.max_transparent_bounces});
     return scene.has_ray_visibility() || limit < s.max_bounces || s.clamp_direct > 0.0f || s.clamp_indirect > 0.0f ||
-           !s.caustics_reflective || !s.caustics_refractive;
+           !s.caustics_reflective || !s.caustics_refractive || s.filter_glossy > 0.0f;
 }
 // Cycles' Clamp Direct / Clamp Indirect (0 = off): a contribution whose mean |RGB| exceeds the
 // limit is scaled down to it (Cycles compares the sum with 3 x the setting). Direct: light samples
 // at the first vertex and emission found by the camera ray or by the first vertex's bounce (path
 // depth <= 1, Cycles' bounce - 1 <= 0); everything else is indirect.
-inline Color clamp_contribution(const RenderSettings& s, const Color& c, bool direct) {
+// `before`: the throughput of the path before the piece whose contribution c is (PathState::clamp_beta).
+inline Color clamp_contribution(const RenderSettings& s, const Color& c, bool direct, const Color& before = Color(1.0f)) {
     const float limit = direct ? s.clamp_direct : s.clamp_indirect;
     if (!(limit > 0.0f)) return c;
-    const float sum = std::fabs(c.x) + std::fabs(c.y) + std::fabs(c.z);
+    const Color full = c * before;
+    const float sum = std::fabs(full.x) + std::fabs(full.y) + std::fabs(full.z);
     return sum > 3.0f * limit ? c * (3.0f * limit / sum) : c;
+}
+// The same for one of n samples of an estimate, given its share c (its full value / n): the sample
+// is clamped as Cycles clamps a single sample, then shared.
+inline Color clamp_sample_share(const RenderSettings& s, const Color& c, int n, bool direct) {
+    return n == 1 ? clamp_contribution(s, c, direct) : clamp_contribution(s, c * float(n), direct) / float(n);
 }
 // The state of a camera path starting at `origin`.
 inline PathState camera_path_state(const Vec3& origin) {
@@ -236,6 +252,23 @@ inline void drop_caustic_lobes(const RenderSettings& s, const PathState& st, Sha
     if (!(st.ray_flags & kRayDiffuse) || (s.caustics_reflective && s.caustics_refractive)) return;
     const bool reflective_off = !s.caustics_reflective, refractive_off = !s.caustics_refractive;
     sp.bsdf = sp.bsdf.only([&](const Lobe& l) { return !lobe_is_caustic(l, reflective_off, refractive_off); });
+    sp.bsdf.change_lobes([&](Lobe& l) { glass_half_left(l, reflective_off, refractive_off); });
+}
+// Cycles' Filter Glossy (surface_shader_prepare_closures, with filter_glossy = 1 / blur_glossy): at
+// a vertex whose path's min_ray_pdf times 1 / blur_glossy is below 1, the microfacet lobes' alpha
+// is raised to at least sqrt(1 - that) / 2 (blur_lobe). Camera rays and paths of Dirac and sharp
+// bounces only (min_ray_pdf infinite or large) keep their lobes.
+inline void blur_glossy_lobes(const RenderSettings& s, const PathState& st, ShadingPoint& sp) {
+    if (!(s.filter_glossy > 0.0f)) return;
+    const float blur_pdf = st.min_ray_pdf / s.filter_glossy;
+    if (!(blur_pdf < 1.0f)) return;
+    const float alpha = 0.5f * std::sqrt(1.0f - blur_pdf);
+    sp.bsdf.change_lobes([alpha](Lobe& lobe) { blur_lobe(lobe, alpha); });
+}
+// Both Light Paths rules that change a vertex's lobes: the caustics toggles and Filter Glossy.
+inline void light_path_lobes(const RenderSettings& s, const PathState& st, ShadingPoint& sp) {
+    drop_caustic_lobes(s, st, sp);
+    blur_glossy_lobes(s, st, sp);
 }
 // With media (Scene::has_media()), `medium` is the medium the path arrived in and the shadow ray
 // carries transmittance; without, it is ignored and the shadow ray is a plain occlusion test.

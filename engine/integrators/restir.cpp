@@ -42,7 +42,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
     for (;; ++st.depth) {
         SurfaceHit hit;
         bool found = scene.intersect(ray, &hit);
-        px.fixed += beta * emission_along(scene, settings, ray, found, hit, st);
+        px.fixed += clamp_contribution(settings, beta * emission_along(scene, settings, ray, found, hit, st), st.depth <= 1);
         if (add_transparency(settings, st, found, hit, beta, counters)) return;
         if (!found || beyond_bounce_limits(settings, st)) return;
         px.distance += hit.t;
@@ -52,6 +52,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
         const bool first = !sp.bsdf.is_delta();
         if (first) {
             px.has_vertex = true;
+            px.camera_hit = st.depth == 0;
             px.sp = sp;
             px.beta = beta;
             px.r = ris_reservoir(scene, sp, settings.ris_candidates, settings.restir_visibility_reuse, rng, &px.eval);
@@ -74,6 +75,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
         if (first) {
             // The rest of the path, with NEE from here on.
             ++st.depth;
+            st.clamp_beta = beta;
             px.fixed += beta * trace_path(scene, settings, ray, st, rng, counters);
             return;
         }
@@ -171,8 +173,13 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             flush_cost(cost);
             final_[i] = c.r;
             // The MIS weights traced the sample's visibility from here already when they include it.
-            L += me.beta * (c.visibility_known ? visible_reservoir_contribution(scene, settings, me.sp, c.r, c.at_q)
-                                               : reservoir_contribution(scene, settings, me.sp, c.r));
+            // Clamping (Cycles' Clamp Direct / Indirect) takes the resampled estimate as the vertex's
+            // one light sample.
+            L += clamp_contribution(settings,
+                                    me.beta * (c.visibility_known
+                                                   ? visible_reservoir_contribution(scene, settings, me.sp, c.r, c.at_q)
+                                                   : reservoir_contribution(scene, settings, me.sp, c.r)),
+                                    me.camera_hit);
         }
         if (ctx.film.has_aux()) {  // diagnostic pass: the candidates the shaded reservoir stands for (M)
             Rng camera_rng;

@@ -152,19 +152,28 @@ bool delta_event(const ShadingPoint& sp, const SpectralMaterial& sm, const BsdfS
         return true;
     }
     float radiance_scale = bs.transmission ? 1.0f / (bs.eta * bs.eta) : 1.0f;
+    // Glass left with one event by a caustics toggle: its Fresnel factor no longer cancels with the
+    // event's probability (1), so the throughput keeps it (the sampled IOR's for a refraction, each
+    // wavelength's own for a dispersive reflection).
+    const bool one_event = lobe.kind == LobeKind::Dielectric && lobe.glass_events != kGlassBoth;
+    auto event_fresnel = [&](float F) { return one_event ? (bs.transmission ? 1.0f - F : F) : 1.0f; };
     if (!s.dispersion.active()) {
+        if (one_event)
+            radiance_scale *= event_fresnel(fresnel_dielectric(std::fabs(cos_o), cos_o > 0.0f ? lobe.eta : 1.0f / lobe.eta));
         for (int i = 0; i < p.n; ++i) p.beta[i] *= s.weight(p.ws.lambda[i]) * (radiance_scale / prob);
         return true;
     }
+    auto fresnel = [&](float lambda) {
+        float e = sp.backfacing ? 1.0f / s.dispersion.eta(lambda) : s.dispersion.eta(lambda);
+        return fresnel_dielectric(std::fabs(cos_o), cos_o > 0.0f ? e : 1.0f / e);
+    };
     if (bs.transmission) {
         for (int i = 0; i < p.n; ++i)
             if (i != p.c) p.beta[i] = p.r[i] = 0.0f;
-        p.beta[p.c] *= s.weight(p.lambda_c()) * (radiance_scale / prob);
+        p.beta[p.c] *= s.weight(p.lambda_c()) * (radiance_scale * event_fresnel(fresnel(p.lambda_c())) / prob);
+    } else if (one_event) {  // reflection alone: chosen with probability 1 at every wavelength
+        for (int i = 0; i < p.n; ++i) p.beta[i] *= s.weight(p.ws.lambda[i]) * fresnel(p.ws.lambda[i]) / prob;
     } else {
-        auto fresnel = [&](float lambda) {
-            float e = sp.backfacing ? 1.0f / s.dispersion.eta(lambda) : s.dispersion.eta(lambda);
-            return fresnel_dielectric(std::fabs(cos_o), cos_o > 0.0f ? e : 1.0f / e);
-        };
         float fc = fresnel(p.lambda_c());
         if (!(fc > 0.0f)) return false;
         for (int i = 0; i < p.n; ++i) {
@@ -251,7 +260,7 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
         }
         ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
         if (holdout_ends_path(state, sp, transparent_beta, counters)) break;
-        drop_caustic_lobes(settings, state, sp);
+        light_path_lobes(settings, state, sp);
         if (sp.bsdf.empty()) break;
         const SpectralMaterial& sm = spectral_.material(hit.material);
         if (sm.dispersive) sp.bsdf = dispersed_bsdf(sp, sm, p.lambda_c());

@@ -181,6 +181,9 @@ RenderSettings parse_settings(const py::dict& dict) {
     s.clamp_indirect = get<float>(d, "clamp_indirect", s.clamp_indirect);
     s.caustics_reflective = get<bool>(d, "caustics_reflective", s.caustics_reflective);
     s.caustics_refractive = get<bool>(d, "caustics_refractive", s.caustics_refractive);
+    s.filter_glossy = get<float>(d, "filter_glossy", s.filter_glossy);
+    if (!(s.filter_glossy >= 0.0f) || !std::isfinite(s.filter_glossy))
+        throw py::value_error("filter_glossy must be 0 (off) or more, not " + std::to_string(s.filter_glossy));
     s.seed = get<uint32_t>(d, "seed", s.seed);
     s.stratified = get<bool>(d, "stratified", s.stratified);
     auto mis = get<std::string>(d, "mis_heuristic", "POWER");
@@ -415,11 +418,12 @@ Material parse_material(Scene& s, const py::dict& d) {
 // The World (addon sync/world.py): {"color", "strength"} for a constant one, and optionally
 // "program" (a compiled World Surface whose "textures" index "images", each add_texture's keyword
 // arguments or {"missing": True}), "map_resolution": (width, height) of the importance map,
-// "visible_camera". The world's images live with its program (a world edit frees the old ones).
+// "visible_camera", "visibility" (parse_visibility: the bounce types that see the World). The world's images live with its program (a world edit frees the old ones).
 WorldDesc parse_world(const py::dict& d) {
     WorldDesc w;
     w.radiance = get_color(d, "color", Color(0.0f)) * get<float>(d, "strength", 1.0f);
     w.visible_to_camera = get<bool>(d, "visible_camera", true);
+    if (d.contains("visibility")) w.visibility = parse_visibility(d["visibility"].cast<py::dict>());
     if (d.contains("map_resolution") && !d["map_resolution"].is_none()) {
         auto r = d["map_resolution"].cast<std::vector<int>>();
         if (r.size() != 2) throw py::value_error("map_resolution needs (width, height)");

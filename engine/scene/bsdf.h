@@ -51,6 +51,16 @@ public:
         }
         return kept;
     }
+    // Each lobe through change(lobe) in place, the Dirac count redone (Filter Glossy raises the
+    // roughness of the microfacet lobes: lobe_ray_types.h's blur_lobe).
+    template <class Change>
+    void change_lobes(Change&& change) {
+        delta_count_ = 0;
+        for (int i = 0; i < count_; ++i) {
+            change(lobes_[i]);
+            if (lobe_is_delta(lobes_[i])) ++delta_count_;
+        }
+    }
     const Lobe& lobe(int i) const { return lobes_[i]; }
     bool empty() const { return count_ == 0; }
     // True when every lobe is a Dirac: NEE is pointless there. Counted in add(), since every

@@ -29,9 +29,9 @@ inline Bsdf lobes_not_of(const Bsdf& bsdf, uint32_t hidden) {
 
 // Cycles' caustics toggles: the closures a surface reached by a diffuse ray leaves out when
 // Reflective Caustics are off (Glossy BSDF, Principled specular and clearcoat) or Refractive
-// Caustics are off (Refraction BSDF, Principled and Glass refraction). Glass and Principled
-// transmission are one lobe here (reflection and refraction by the Fresnel term): it is left out
-// when both toggles are off and kept when only one is (a difference to Cycles, README).
+// Caustics are off (Refraction BSDF). Glass and Principled transmission are one lobe here, Cycles'
+// pair of closures (reflection weighted by F, refraction by 1 - F): it is left out when both toggles
+// are off, and keeps the other half when one is (glass_half_left).
 inline bool lobe_is_caustic(const Lobe& lobe, bool reflective_off, bool refractive_off) {
     switch (lobe.kind) {
         case LobeKind::Microfacet:
@@ -44,6 +44,36 @@ inline bool lobe_is_caustic(const Lobe& lobe, bool reflective_off, bool refracti
         case LobeKind::Refraction: return refractive_off;
         case LobeKind::Dielectric: return reflective_off && refractive_off;
         default: return false;
+    }
+}
+// The glass lobe with one caustics toggle off: its refraction (Reflective off) or its reflection
+// (Refractive off) alone, as Cycles builds only the other closure of the pair (svm/closure.h, Glass
+// and the single-scattering GGX Principled glass).
+inline void glass_half_left(Lobe& lobe, bool reflective_off, bool refractive_off) {
+    if (lobe.kind != LobeKind::Dielectric) return;
+    if (reflective_off) lobe.glass_events &= uint8_t(~kGlassReflection);
+    if (refractive_off) lobe.glass_events &= uint8_t(~kGlassRefraction);
+}
+
+// Cycles' Filter Glossy (bsdf_blur): the microfacet closures' alpha raised to at least `alpha`
+// (GGX and Beckmann reflection, refraction and glass, multiscatter GGX, clearcoat, both axes of the
+// anisotropic ones); the other closures keep theirs. Multiscatter GGX's multiple-scattering lobe
+// keeps the energy of its own roughness (its weight was set from it with the material's colour).
+inline void blur_lobe(Lobe& lobe, float alpha) {
+    switch (lobe.kind) {
+        case LobeKind::Microfacet:
+        case LobeKind::Beckmann:
+        case LobeKind::MultiGgx:
+        case LobeKind::GgxMultiple:
+        case LobeKind::Clearcoat:
+        case LobeKind::Dielectric:
+        case LobeKind::Refraction: lobe.alpha = std::max(lobe.alpha, alpha); break;
+        case LobeKind::AnisoGgx:
+        case LobeKind::AnisoBeckmann:
+            lobe.alpha = std::max(lobe.alpha, alpha);
+            lobe.alpha_y = std::max(lobe.alpha_y, alpha);
+            break;
+        default: break;
     }
 }
 

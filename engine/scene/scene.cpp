@@ -463,11 +463,13 @@ void Scene::finish_lights() {
         if (fast_build_ && (w <= 0 || w > 1024 || h <= 0 || h > 512)) w = 1024, h = 512;
         auto env = std::make_unique<EnvironmentLight>(world_desc_.program, this, w, h, world_desc_.sample_sun);
         env->visible_to_camera = world_desc_.visible_to_camera;
+        env->visibility = world_desc_.visibility;
         emitter_sources_.push_back({"RGB", 6500.0f, env->average()});
         lights_.push_back(std::move(env));
     } else if (max_component(world_) > 0.0f) {
         lights_.push_back(std::make_unique<WorldLight>(world_));
         lights_.back()->visible_to_camera = world_desc_.visible_to_camera;
+        lights_.back()->visibility = world_desc_.visibility;
         emitter_sources_.push_back({"RGB", 6500.0f, world_});
     }
     update_spectral_content();
@@ -522,6 +524,7 @@ void Scene::set_world(const WorldDesc& world) {
         // uniform light, as Cycles disables its background map for a world without variation.
         set_world(world.program->eval_constant().emission);
         world_desc_.visible_to_camera = world.visible_to_camera;
+        world_desc_.visibility = world.visibility;
     }
 }
 

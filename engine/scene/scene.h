@@ -50,6 +50,9 @@ struct WorldDesc {
     std::shared_ptr<const ShaderProgram> program;  // null: the constant radiance
     int map_width = 0, map_height = 0;
     bool visible_to_camera = true;
+    // World > Ray Visibility (Cycles' world.cycles_visibility) beyond Camera: the bounce types that
+    // see it and whose lobes its light samples light (Light::visibility of its light).
+    uint32_t visibility = kRayAllVisibility;
     bool sample_sun = true;  // false: a Nishita sun is left to the map (comparisons only)
 };
 

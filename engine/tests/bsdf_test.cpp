@@ -220,6 +220,13 @@ std::vector<Chi2Case> build_chi2_cases() {
                 cases.push_back(lobe_case("RoughDielectric_a" + num(alpha) + "_" + e.name + "_cos" + num(kCosThetas[i]),
                                           dielectric_lobe(alpha, e.eta), dir_from_cos(c, kPhis[i])));
             }
+    // Glass left with one event by a caustics toggle (Lobe::glass_events): reflection or refraction alone.
+    for (uint8_t events : {kGlassReflection, kGlassRefraction}) {
+        Lobe half = dielectric_lobe(0.3f, 1.5f);
+        half.glass_events = events;
+        cases.push_back(lobe_case(std::string("RoughDielectric_") + (events == kGlassReflection ? "ReflectionOnly" : "RefractionOnly"),
+                                  half, dir_from_cos(0.6f, 0.7f)));
+    }
     // Clearcoat: GTR1 normals at the default coat roughness 0.03 (alpha 9e-4) up to 1 (the uniform limit).
     for (float alpha : {9e-4f, 0.05f, 0.3f, 1.0f})
         for (int i = 0; i < 3; ++i)
@@ -407,6 +414,11 @@ std::vector<Lobe> non_delta_lobes() {
     for (float alpha : {0.01f, 0.1f, 0.5f, 1.0f})
         for (float eta : {1.5f, 1.33f, 1.0f / 1.5f, 4.0f})
             lobes.push_back(dielectric_lobe(alpha, eta, Color(0.9f, 1.0f, 0.8f)));
+    for (uint8_t events : {kGlassReflection, kGlassRefraction}) {
+        Lobe half = dielectric_lobe(0.3f, 1.5f, Color(0.9f, 1.0f, 0.8f));
+        half.glass_events = events;
+        lobes.push_back(half);
+    }
     return lobes;
 }
 

@@ -113,7 +113,106 @@ TEST(RayVisibility, BounceTypesAndPerTypeLimits) {
     EXPECT_TRUE(beyond_bounce_limits(rs, st));
 }
 
+// Filter Glossy (Cycles' blur_glossy): the path's smallest non-Dirac BSDF density sets how far the
+// microfacet lobes of the next vertices are roughened; Dirac bounces and camera rays blur nothing.
+TEST(RayVisibility, FilterGlossyRaisesRoughnessAfterLowDensityBounces) {
+    auto mirror_and_diffuse = [] {
+        ShadingPoint sp;
+        sp.bsdf = Bsdf(Frame(Vec3(0.0f, 0.0f, 1.0f)), Vec3(0.0f, 0.0f, 1.0f));
+        Lobe mirror;
+        mirror.kind = LobeKind::Microfacet;
+        mirror.alpha = 0.0f;
+        sp.bsdf.add(mirror);
+        sp.bsdf.add(Lobe{});  // diffuse: never blurred
+        return sp;
+    };
+    RenderSettings rs;
+    rs.filter_glossy = 1.0f;
+    PathState st;
+    ShadingPoint seen_by_camera = mirror_and_diffuse();
+    blur_glossy_lobes(rs, st, seen_by_camera);
+    EXPECT_EQ(seen_by_camera.bsdf.lobe(0).alpha, 0.0f);
+
+    Bsdf bsdf = mirror_and_diffuse().bsdf;
+    BsdfSample dirac;
+    dirac.lobe = 0;
+    dirac.delta = true;
+    dirac.pdf = 0.01f;
+    advance_ray_type(st, bsdf, dirac);
+    EXPECT_EQ(st.min_ray_pdf, kInf);
+    BsdfSample diffuse_bounce;
+    diffuse_bounce.lobe = 1;
+    diffuse_bounce.pdf = 0.19f;
+    advance_ray_type(st, bsdf, diffuse_bounce);
+    BsdfSample sharper_bounce = diffuse_bounce;
+    sharper_bounce.pdf = 40.0f;
+    advance_ray_type(st, bsdf, sharper_bounce);
+    EXPECT_EQ(st.min_ray_pdf, 0.19f);
+
+    ShadingPoint after_diffuse = mirror_and_diffuse();
+    EXPECT_TRUE(after_diffuse.bsdf.lobe_count() == 2 && !after_diffuse.bsdf.is_delta());
+    blur_glossy_lobes(rs, st, after_diffuse);
+    EXPECT_FLOAT_EQ(after_diffuse.bsdf.lobe(0).alpha, 0.5f * std::sqrt(1.0f - 0.19f));
+    EXPECT_EQ(after_diffuse.bsdf.lobe(1).alpha, 0.0f);
+    rs.filter_glossy = 0.1f;  // blur_pdf = 1.9: no blur
+    ShadingPoint weak_filter = mirror_and_diffuse();
+    blur_glossy_lobes(rs, st, weak_filter);
+    EXPECT_EQ(weak_filter.bsdf.lobe(0).alpha, 0.0f);
+
+    // A Dirac-only BSDF becomes rough: it then takes light samples.
+    ShadingPoint only_mirror;
+    only_mirror.bsdf = Bsdf(Frame(Vec3(0.0f, 0.0f, 1.0f)), Vec3(0.0f, 0.0f, 1.0f));
+    Lobe glass;
+    glass.kind = LobeKind::Dielectric;
+    only_mirror.bsdf.add(glass);
+    EXPECT_TRUE(only_mirror.bsdf.is_delta());
+    rs.filter_glossy = 1.0f;
+    blur_glossy_lobes(rs, st, only_mirror);
+    EXPECT_FALSE(only_mirror.bsdf.is_delta());
+}
+
 TEST(RayVisibility, CamerasCastCameraRays) {
     Camera cam(camera_at(Vec3(0.0f), 8, 8));
     EXPECT_EQ(cam.generate_ray(4.0f, 4.0f).visibility, uint32_t(kRayCamera));
+}
+
+// Reflective or Refractive Caustics off: a glass lobe reached by a diffuse ray keeps the other half of
+// Cycles' pair of closures; a smooth one then always takes that event, valued by its Fresnel share.
+TEST(RayVisibility, OneCausticsToggleLeavesHalfTheGlass) {
+    RenderSettings rs;
+    rs.caustics_refractive = false;
+    PathState after_diffuse;
+    after_diffuse.ray_flags = kRayDiffuse;
+    ShadingPoint sp;
+    sp.bsdf = Bsdf(Frame(Vec3(0.0f, 0.0f, 1.0f)), Vec3(0.0f, 0.0f, 1.0f));
+    Lobe glass;
+    glass.kind = LobeKind::Dielectric;
+    sp.bsdf.add(glass);
+    drop_caustic_lobes(rs, after_diffuse, sp);
+    ASSERT_EQ(sp.bsdf.lobe_count(), 1);
+    EXPECT_EQ(sp.bsdf.lobe(0).glass_events, kGlassReflection);
+    const Vec3 wo = normalize(Vec3(0.3f, 0.0f, 0.8f));
+    const float F = fresnel_dielectric(wo.z, 1.5f);
+    for (float u : {0.01f, 0.5f, 0.99f}) {
+        BsdfSample s = lobe_sample(sp.bsdf.lobe(0), wo, Point2{0.5f, 0.5f}, u);
+        ASSERT_TRUE(s.valid());
+        EXPECT_FALSE(s.transmission);
+        EXPECT_NEAR(s.value.x / s.pdf, F, 1e-6f);
+    }
+    rs.caustics_refractive = true;
+    rs.caustics_reflective = false;
+    ShadingPoint refracting = sp;
+    refracting.bsdf = Bsdf(Frame(Vec3(0.0f, 0.0f, 1.0f)), Vec3(0.0f, 0.0f, 1.0f));
+    refracting.bsdf.add(glass);
+    drop_caustic_lobes(rs, after_diffuse, refracting);
+    BsdfSample t = lobe_sample(refracting.bsdf.lobe(0), wo, Point2{0.5f, 0.5f}, 0.01f);
+    ASSERT_TRUE(t.valid());
+    EXPECT_TRUE(t.transmission);
+    EXPECT_NEAR(t.value.x / t.pdf, (1.0f - F) / (1.5f * 1.5f), 1e-6f);
+    PathState camera;  // camera rays keep the whole lobe
+    ShadingPoint seen = sp;
+    seen.bsdf = Bsdf(Frame(Vec3(0.0f, 0.0f, 1.0f)), Vec3(0.0f, 0.0f, 1.0f));
+    seen.bsdf.add(glass);
+    drop_caustic_lobes(rs, camera, seen);
+    EXPECT_EQ(seen.bsdf.lobe(0).glass_events, kGlassBoth);
 }

@@ -33,6 +33,15 @@ class _WorldImages:
         return len(self.images) - 1
 
 
+# engine key -> World.cycles_visibility's property (its Camera flag is "visible_camera")
+WORLD_RAY_VISIBILITY = (
+    ("diffuse", "diffuse"),
+    ("glossy", "glossy"),
+    ("transmission", "transmission"),
+    ("volume_scatter", "scatter"),
+)
+
+
 def evaluated_world(depsgraph):
     """The scene's World as the depsgraph evaluated it for its frame. `depsgraph.scene.world` is the
     original datablock: in a render from the command line it keeps the values last set by hand, not
@@ -43,7 +52,8 @@ def evaluated_world(depsgraph):
 
 def export_world(world, warn):
     """The dict for `_smis.Scene.set_world` / `replace_lights`: {"color", "strength"} (the constant
-    World), and for a node World "program", "images", "map_resolution", "visible_camera", "volume".
+    World), "visible_camera" and "visibility" (the World's Ray Visibility), and for a node World
+    "program", "images", "map_resolution", "volume".
     No world -> black."""
     if world is None:
         return {"color": (0.0, 0.0, 0.0), "strength": 0.0}
@@ -51,6 +61,11 @@ def export_world(world, warn):
     visibility = getattr(world, "cycles_visibility", None)
     if visibility is not None:
         desc["visible_camera"] = bool(visibility.camera)
+        # Cycles' World > Ray Visibility: bounce rays of a hidden type see no World and its light
+        # samples light no lobe of that class (as a lamp's flags).
+        flags = {key: bool(getattr(visibility, prop)) for key, prop in WORLD_RAY_VISIBILITY}
+        if not all(flags.values()):
+            desc["visibility"] = flags
     if not world.use_nodes or world.node_tree is None:
         return desc
     output = nodes.output_node(world.node_tree)

@@ -25,6 +25,13 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
     // Glass only: the Principled specular layer keeps its IOR on the back face (Cycles 3.4).
     static constexpr bool kBackfaceInvertsEta = true;
 
+    // The probability of sampling the reflection event given F, the Fresnel term at the shading
+    // normal: F for Cycles' pair of closures, 1 or 0 when a caustics toggle left one of them out
+    // (its weight stays F or 1 - F: only the choice of event changes).
+    static float reflection_probability(const Lobe& lobe, float F) {
+        return lobe.glass_events == kGlassBoth ? F : lobe.glass_events == kGlassReflection ? 1.0f : 0.0f;
+    }
+
     static bool is_delta(const Lobe& lobe) {
         return !(lobe.alpha >= kDeltaAlpha) || !(std::fabs(lobe.eta - 1.0f) >= kIndexMatchedEps);
     }
@@ -56,10 +63,12 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
         float d = ggx_D(wm, alpha);
         float g1o = ggx_G1(o, alpha), g1i = ggx_G1(i, alpha);
         float F = fresnel_dielectric(o.z, etap);  // at the shading normal: see sample()
+        if (!(lobe.glass_events & (reflect ? kGlassReflection : kGlassRefraction))) return {};
+        const float p_reflect = reflection_probability(lobe, F);
         LobeTerms r;
         if (reflect) {
             float common = d * g1o / (4.0f * o.z);
-            r.pdf = F * common;
+            r.pdf = p_reflect * common;
             r.geom = F * common * g1i;
         } else {
             // Jacobian of the refraction mapping (Walter eq. 17, divided through by eta_t^2):
@@ -69,7 +78,7 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
             float dwm_dwi = std::fabs(cos_im) / denom;
             // D_wo(wm) = G1(o) D cos_om / cos_o (Heitz 2018 eq. 3).
             float visible = g1o * d * cos_om / o.z;
-            r.pdf = (1.0f - F) * visible * dwm_dwi;
+            r.pdf = (1.0f - p_reflect) * visible * dwm_dwi;
             // f cos_i = (1-F) D G |i.wm| |o.wm| / (denom cos_o); radiance is scaled by (eta_i/eta_t)^2.
             r.geom = (1.0f - F) * visible * dwm_dwi * g1i / (etap * etap);
         }
@@ -84,20 +93,22 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
         if (!(etap > 0.0f) || !std::isfinite(etap)) return s;
 
         if (is_delta(lobe)) {
-            // Smooth interface: choose the event with its exact Fresnel probability; value / pdf is the
-            // throughput multiplier (weight for reflection, weight (eta_i/eta_t)^2 for refraction).
+            // Smooth interface: choose the event with its exact Fresnel probability (or the one event
+            // a caustics toggle left); value / pdf is the throughput multiplier (for the pair: weight
+            // for reflection, weight (eta_i/eta_t)^2 for refraction).
             float cos_o = std::fabs(wo.z);
             float F = fresnel_dielectric(cos_o, etap);
-            if (u_event < F) {
+            const float p_reflect = reflection_probability(lobe, F);
+            if (u_event < p_reflect) {
                 s.wi = Vec3(-wo.x, -wo.y, wo.z);
                 s.value = lobe.weight * F;
-                s.pdf = F;
+                s.pdf = p_reflect;
             } else {
                 Vec3 wt;
                 if (!lobe_detail::refract_dir(wo * side, Vec3(0, 0, 1), etap, &wt)) return BsdfSample{};
                 s.wi = wt * side;
                 s.value = lobe.weight * ((1.0f - F) / (etap * etap));
-                s.pdf = 1.0f - F;
+                s.pdf = 1.0f - p_reflect;
                 s.eta = etap;
                 s.transmission = true;
             }
@@ -116,7 +127,7 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
         if (!(cos_om > 0.0f)) return s;
         float F = fresnel_dielectric(o.z, etap);
         Vec3 i;
-        bool transmission = !(u_event < F);  // F = 1 under total internal reflection
+        bool transmission = !(u_event < reflection_probability(lobe, F));  // F = 1 under total internal reflection
         if (!transmission) {
             i = reflect(o, wm);
             if (!(i.z > 0.0f)) return s;

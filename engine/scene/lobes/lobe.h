@@ -66,10 +66,15 @@ enum class FresnelMode : uint8_t {
     Dielectric,  // exact dielectric Fresnel with `eta`: Principled specular layer on top of diffuse
 };
 
+// Which of Cycles' pair of glass closures (reflection weighted by F, refraction by 1 - F) a
+// Dielectric lobe holds: both, unless a caustics toggle left one out (lobe_ray_types.h).
+constexpr uint8_t kGlassReflection = 1, kGlassRefraction = 2, kGlassBoth = 3;
+
 struct Lobe {
     LobeKind kind = LobeKind::Diffuse;
     FresnelMode fresnel = FresnelMode::None;
     uint8_t index = 0;   // position in the material's lobe list (set by Scene::add_material; spectral data)
+    uint8_t glass_events = kGlassBoth;  // Dielectric only (in the padding before weight)
     Color weight{1.0f};  // closure weight (colour x mix factors)
     Color f0{1.0f};      // Schlick reflectance at normal incidence (FresnelMode::Schlick)
     float alpha = 0.0f;  // GGX alpha = roughness^2 (Blender's convention); below kDeltaAlpha -> delta
