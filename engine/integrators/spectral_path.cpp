@@ -13,15 +13,7 @@ namespace {
 float spectral_fresnel(const Lobe& lobe, const SpectralLobe& s, float lambda, float cos_d) {
     if (lobe_spectral_fresnel(lobe) != SpectralFresnel::Tinted) return 1.0f;
     if (s.metal) return fresnel_conductor(cos_d, metal_ior(*s.metal, lambda));
-    switch (lobe.fresnel) {
-        case FresnelMode::None: return 1.0f;
-        case FresnelMode::Schlick: {
-            float f0 = s.f0(lambda);
-            return f0 + (1.0f - f0) * schlick_weight(cos_d);
-        }
-        case FresnelMode::Dielectric: return fresnel_dielectric(std::fabs(cos_d), lobe.eta);
-    }
-    return 1.0f;
+    return lobe_spectral_colour(lobe, [&] { return s.f0(lambda); }, cos_d);
 }
 
 // The spectral data of a hit's lobe: the material's, upsampled once per render, or for a textured
@@ -31,7 +23,7 @@ const SpectralLobe& hit_lobe(const Lobe& lobe, const SpectralMaterial& sm, Spect
     if (!s.varies) return s;
     *scratch = s;
     scratch->weight = rgb_spectrum_table(lobe.weight);
-    if (lobe.fresnel == FresnelMode::Schlick) scratch->f0 = rgb_spectrum_table(lobe.f0);
+    if (lobe_colour_f0(lobe)) scratch->f0 = rgb_spectrum_table(lobe.f0);
     return *scratch;
 }
 
@@ -140,9 +132,12 @@ bool delta_event(const ShadingPoint& sp, const SpectralMaterial& sm, const BsdfS
     float cos_o = sp.bsdf.frame().to_local(sp.wo).z;
     SpectralFresnel fresnel_kind = lobe_spectral_fresnel(lobe);
     if (fresnel_kind == SpectralFresnel::Tinted) {
+        // A refraction's colour is at cos_d < 0 (principled_glass.h), with the radiance scaling.
+        float cos_d = bs.transmission ? -1.0f : cos_o;
+        float scale = bs.transmission ? 1.0f / (bs.eta * bs.eta) : 1.0f;
         for (int i = 0; i < p.n; ++i) {
             float lambda = p.ws.lambda[i];
-            p.beta[i] *= s.weight(lambda) * spectral_fresnel(lobe, s, lambda, cos_o) / prob;
+            p.beta[i] *= s.weight(lambda) * spectral_fresnel(lobe, s, lambda, cos_d) * scale / prob;
         }
         return true;
     }
