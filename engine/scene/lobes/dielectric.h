@@ -31,6 +31,12 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
 
     // Out of line, as the extra kinds': the Bsdf loops inline the common Lambert and GGX cases only.
     [[gnu::noinline]] static LobeTerms terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+        return rough_terms(lobe, wo, wi, lobe.alpha, lobe.alpha);
+    }
+
+    // The rough terms with the reflection at alpha_r and the refraction at alpha_t (the Principled
+    // transmission's differ, principled_glass.h); cos_d = wi.wm, negative for a refraction.
+    static LobeTerms rough_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi, float alpha_r, float alpha_t) {
         if (!(wo.z != 0.0f) || !(wi.z != 0.0f)) return {};  // also rejects NaN
         // Mirror the configuration so that wo is in the upper hemisphere; +z stays "wo's side".
         float side = wo.z > 0.0f ? 1.0f : -1.0f;
@@ -52,11 +58,12 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
         if (!(cos_om > 0.0f)) return {};
         if (reflect ? !(cos_im > 0.0f) : !(cos_im < 0.0f)) return {};
 
-        float alpha = lobe.alpha;
+        float alpha = reflect ? alpha_r : alpha_t;
         float d = ggx_D(wm, alpha);
         float g1o = ggx_G1(o, alpha), g1i = ggx_G1(i, alpha);
         float F = fresnel_dielectric(o.z, etap);  // at the shading normal: see sample()
         LobeTerms r;
+        r.cos_d = cos_im;
         if (reflect) {
             float common = d * g1o / (4.0f * o.z);
             r.pdf = F * common;
@@ -110,21 +117,33 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
         // reflection weighted by the Fresnel term at the shading normal and a GGX refraction weighted
         // by 1 - that term (svm/closure.h), not by each microfacet's Fresnel term (Walter et al.):
         // the event is chosen with that probability, and terms() weights each side by it.
+        return rough_sample<DielectricLobe>(lobe, wo, u, u_event, lobe.alpha, lobe.alpha);
+    }
+
+    // A rough sample valued by kind L's eval/pdf (rough_terms with the same alphas): the event by the
+    // Fresnel term at the shading normal, then the visible normal at that event's alpha.
+    template <class L>
+    static BsdfSample rough_sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event, float alpha_r,
+                                   float alpha_t) {
+        if (!(wo.z != 0.0f)) return {};
+        float side = wo.z > 0.0f ? 1.0f : -1.0f;
+        float etap = wo.z > 0.0f ? lobe.eta : 1.0f / lobe.eta;  // eta_t / eta_i
+        if (!(etap > 0.0f) || !std::isfinite(etap)) return {};
         Vec3 o = wo * side;
-        Vec3 wm = ggx_sample_visible_normal(o, lobe.alpha, u);
-        float cos_om = dot(o, wm);
-        if (!(cos_om > 0.0f)) return s;
         float F = fresnel_dielectric(o.z, etap);
-        Vec3 i;
         bool transmission = !(u_event < F);  // F = 1 under total internal reflection
+        Vec3 wm = ggx_sample_visible_normal(o, transmission ? alpha_t : alpha_r, u);
+        float cos_om = dot(o, wm);
+        if (!(cos_om > 0.0f)) return {};
+        Vec3 i;
         if (!transmission) {
             i = reflect(o, wm);
-            if (!(i.z > 0.0f)) return s;
+            if (!(i.z > 0.0f)) return {};
             i = normalize(i);
         } else {
-            if (!lobe_detail::refract_dir(o, wm, etap, &i) || !(i.z < 0.0f)) return s;
+            if (!lobe_detail::refract_dir(o, wm, etap, &i) || !(i.z < 0.0f)) return {};
         }
-        return lobe_sample_at<DielectricLobe>(lobe, wo, i * side, transmission, transmission ? etap : 1.0f);
+        return lobe_sample_at<L>(lobe, wo, i * side, transmission, transmission ? etap : 1.0f);
     }
 
     static Color albedo(const Lobe& lobe) { return lobe.weight; }

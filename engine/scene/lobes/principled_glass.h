@@ -19,6 +19,7 @@
 // smooth, that side is a GGX lobe at alpha kDeltaAlpha (Cycles treats alpha below 3.2e-4 as a mirror:
 // the same image).
 #pragma once
+#include "scene/lobes/dielectric.h"
 #include "scene/lobes/lobe.h"
 
 namespace smis {
@@ -70,44 +71,17 @@ struct PrincipledGlassLobe : LobeDefaults<PrincipledGlassLobe> {
     static float reflection_alpha(const Lobe& lobe) { return std::fmax(lobe.alpha, kDeltaAlpha); }
     static float refraction_alpha(const Lobe& lobe) { return std::fmax(lobe.alpha_y, kDeltaAlpha); }
 
+    // The Glass lobe's terms and sampling (dielectric.h) at the two alphas.
     [[gnu::noinline]] static LobeTerms terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
-        if (!(wo.z != 0.0f) || !(wi.z != 0.0f)) return {};  // also rejects NaN
-        float side = wo.z > 0.0f ? 1.0f : -1.0f;
-        Vec3 o = wo * side, i = wi * side;
-        float etap = wo.z > 0.0f ? lobe.eta : 1.0f / lobe.eta;  // eta_t / eta_i seen from wo
-        if (!(etap > 0.0f) || !std::isfinite(etap)) return {};
-        bool reflect = i.z > 0.0f;
-        Vec3 h = reflect ? o + i : o + i * etap;  // Walter eqs. 13 / 16
-        float len2 = length_sq(h);
-        if (!(len2 > kMinHalfLenSq)) return {};
-        Vec3 wm = h / std::sqrt(len2);
-        if (wm.z < 0.0f) wm = -wm;
-        float cos_om = dot(o, wm), cos_im = dot(i, wm);
-        if (!(cos_om > 0.0f)) return {};
-        if (reflect ? !(cos_im > 0.0f) : !(cos_im < 0.0f)) return {};
-
-        float alpha = reflect ? reflection_alpha(lobe) : refraction_alpha(lobe);
-        float d = ggx_D(wm, alpha);
-        float g1o = ggx_G1(o, alpha), g1i = ggx_G1(i, alpha);
-        float F = fresnel_dielectric(o.z, etap);
-        LobeTerms r;
-        r.cos_d = cos_im;
-        if (reflect) {
-            float common = d * g1o / (4.0f * o.z);
-            r.pdf = F * common;
-            r.geom = F * common * g1i;
-        } else {
-            // As dielectric.h: the Jacobian |i.wm| / (i.wm + o.wm / etap)^2 = |i.wm| etap^2 / |h|^2,
-            // radiance scaled by (eta_i / eta_t)^2.
-            float dwm_dwi = std::fabs(cos_im) * (etap * etap) / len2;
-            float visible = g1o * d * cos_om / o.z;
-            r.pdf = (1.0f - F) * visible * dwm_dwi;
-            r.geom = (1.0f - F) * visible * dwm_dwi * g1i / (etap * etap);
-        }
-        return r;
+        return DielectricLobe::rough_terms(lobe, wo, wi, reflection_alpha(lobe), refraction_alpha(lobe));
     }
 
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event) {
+        if (!is_delta(lobe)) {
+            return DielectricLobe::rough_sample<PrincipledGlassLobe>(lobe, wo, u, u_event, reflection_alpha(lobe),
+                                                                     refraction_alpha(lobe));
+        }
+        // Smooth: value / pdf is the weight times the event's colour (and a refraction's radiance scaling).
         BsdfSample s;
         if (!(wo.z != 0.0f)) return s;
         float side = wo.z > 0.0f ? 1.0f : -1.0f;
@@ -115,39 +89,22 @@ struct PrincipledGlassLobe : LobeDefaults<PrincipledGlassLobe> {
         if (!(etap > 0.0f) || !std::isfinite(etap)) return s;
         Vec3 o = wo * side;
         float F = fresnel_dielectric(o.z, etap);
-        bool transmission = !(u_event < F);  // F = 1 under total internal reflection
-
-        if (is_delta(lobe)) {
-            // value / pdf: the weight times the event's colour (and the radiance scaling of a refraction).
-            if (!transmission) {
-                s.wi = Vec3(-wo.x, -wo.y, wo.z);
-                s.value = lobe.weight * fresnel(lobe, o.z) * F;
-                s.pdf = F;
-            } else {
-                Vec3 wt;
-                if (!lobe_detail::refract_dir(o, Vec3(0, 0, 1), etap, &wt)) return BsdfSample{};
-                s.wi = wt * side;
-                s.value = lobe.weight * lobe.f0 * ((1.0f - F) / (etap * etap));
-                s.pdf = 1.0f - F;
-                s.eta = etap;
-                s.transmission = true;
-            }
-            s.delta = true;
-            if (!s.valid()) return BsdfSample{};
-            return s;
+        if (u_event < F) {
+            s.wi = Vec3(-wo.x, -wo.y, wo.z);
+            s.value = lobe.weight * fresnel(lobe, o.z) * F;
+            s.pdf = F;
+        } else {
+            Vec3 wt;
+            if (!lobe_detail::refract_dir(o, Vec3(0, 0, 1), etap, &wt)) return BsdfSample{};
+            s.wi = wt * side;
+            s.value = lobe.weight * lobe.f0 * ((1.0f - F) / (etap * etap));
+            s.pdf = 1.0f - F;
+            s.eta = etap;
+            s.transmission = true;
         }
-
-        Vec3 wm = ggx_sample_visible_normal(o, transmission ? refraction_alpha(lobe) : reflection_alpha(lobe), u);
-        if (!(dot(o, wm) > 0.0f)) return s;
-        Vec3 i;
-        if (!transmission) {
-            i = reflect(o, wm);
-            if (!(i.z > 0.0f)) return s;
-            i = normalize(i);
-        } else if (!lobe_detail::refract_dir(o, wm, etap, &i) || !(i.z < 0.0f)) {
-            return s;
-        }
-        return lobe_sample_at<PrincipledGlassLobe>(lobe, wo, i * side, transmission, transmission ? etap : 1.0f);
+        s.delta = true;
+        if (!s.valid()) return BsdfSample{};
+        return s;
     }
 
     // As the glass lobe before it: the transmitted colour.
