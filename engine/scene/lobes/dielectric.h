@@ -84,40 +84,41 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
     }
 
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event) {
-        BsdfSample s;
-        if (!(wo.z != 0.0f)) return s;
-        float side = wo.z > 0.0f ? 1.0f : -1.0f;
-        float etap = wo.z > 0.0f ? lobe.eta : 1.0f / lobe.eta;  // eta_t / eta_i
-        if (!(etap > 0.0f) || !std::isfinite(etap)) return s;
-
-        if (is_delta(lobe)) {
-            // Smooth interface: choose the event with its exact Fresnel probability; value / pdf is the
-            // throughput multiplier (weight for reflection, weight (eta_i/eta_t)^2 for refraction).
-            float cos_o = std::fabs(wo.z);
-            float F = fresnel_dielectric(cos_o, etap);
-            if (u_event < F) {
-                s.wi = Vec3(-wo.x, -wo.y, wo.z);
-                s.value = lobe.weight * F;
-                s.pdf = F;
-            } else {
-                Vec3 wt;
-                if (!lobe_detail::refract_dir(wo * side, Vec3(0, 0, 1), etap, &wt)) return BsdfSample{};
-                s.wi = wt * side;
-                s.value = lobe.weight * ((1.0f - F) / (etap * etap));
-                s.pdf = 1.0f - F;
-                s.eta = etap;
-                s.transmission = true;
-            }
-            s.delta = true;
-            if (!s.valid()) return BsdfSample{};
-            return s;
-        }
+        if (is_delta(lobe)) return smooth_sample(lobe, wo, u_event, lobe.weight, lobe.weight);
 
         // Rough: Cycles 3.4 splits its Glass (and the Principled GGX transmission) into a GGX
         // reflection weighted by the Fresnel term at the shading normal and a GGX refraction weighted
         // by 1 - that term (svm/closure.h), not by each microfacet's Fresnel term (Walter et al.):
         // the event is chosen with that probability, and terms() weights each side by it.
         return rough_sample<DielectricLobe>(lobe, wo, u, u_event, lobe.alpha, lobe.alpha);
+    }
+
+    // Smooth interface: the event chosen with its exact Fresnel probability; value / pdf is the
+    // throughput multiplier: the reflection's colour, or the refraction's times (eta_i / eta_t)^2.
+    static BsdfSample smooth_sample(const Lobe& lobe, const Vec3& wo, float u_event, const Color& reflection,
+                                    const Color& refraction) {
+        BsdfSample s;
+        if (!(wo.z != 0.0f)) return s;
+        float side = wo.z > 0.0f ? 1.0f : -1.0f;
+        float etap = wo.z > 0.0f ? lobe.eta : 1.0f / lobe.eta;  // eta_t / eta_i
+        if (!(etap > 0.0f) || !std::isfinite(etap)) return s;
+        float F = fresnel_dielectric(std::fabs(wo.z), etap);
+        if (u_event < F) {
+            s.wi = Vec3(-wo.x, -wo.y, wo.z);
+            s.value = reflection * F;
+            s.pdf = F;
+        } else {
+            Vec3 wt;
+            if (!lobe_detail::refract_dir(wo * side, Vec3(0, 0, 1), etap, &wt)) return BsdfSample{};
+            s.wi = wt * side;
+            s.value = refraction * ((1.0f - F) / (etap * etap));
+            s.pdf = 1.0f - F;
+            s.eta = etap;
+            s.transmission = true;
+        }
+        s.delta = true;
+        if (!s.valid()) return BsdfSample{};
+        return s;
     }
 
     // A rough sample valued by kind L's eval/pdf (rough_terms with the same alphas): the event by the

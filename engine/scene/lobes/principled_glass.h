@@ -82,29 +82,8 @@ struct PrincipledGlassLobe : LobeDefaults<PrincipledGlassLobe> {
                                                                      refraction_alpha(lobe));
         }
         // Smooth: value / pdf is the weight times the event's colour (and a refraction's radiance scaling).
-        BsdfSample s;
-        if (!(wo.z != 0.0f)) return s;
-        float side = wo.z > 0.0f ? 1.0f : -1.0f;
-        float etap = wo.z > 0.0f ? lobe.eta : 1.0f / lobe.eta;
-        if (!(etap > 0.0f) || !std::isfinite(etap)) return s;
-        Vec3 o = wo * side;
-        float F = fresnel_dielectric(o.z, etap);
-        if (u_event < F) {
-            s.wi = Vec3(-wo.x, -wo.y, wo.z);
-            s.value = lobe.weight * fresnel(lobe, o.z) * F;
-            s.pdf = F;
-        } else {
-            Vec3 wt;
-            if (!lobe_detail::refract_dir(o, Vec3(0, 0, 1), etap, &wt)) return BsdfSample{};
-            s.wi = wt * side;
-            s.value = lobe.weight * lobe.f0 * ((1.0f - F) / (etap * etap));
-            s.pdf = 1.0f - F;
-            s.eta = etap;
-            s.transmission = true;
-        }
-        s.delta = true;
-        if (!s.valid()) return BsdfSample{};
-        return s;
+        return DielectricLobe::smooth_sample(lobe, wo, u_event, lobe.weight * fresnel(lobe, std::fabs(wo.z)),
+                                             lobe.weight * lobe.f0);
     }
 
     // As the glass lobe before it: the transmitted colour.
