@@ -1,9 +1,10 @@
 """The closure scene (issue 19): one sphere per BSDF closure, for parity with Cycles.
 
 Run:
-    blender -b --factory-startup --python scenes/closures.py -- OUTDIR
+    blender -b --factory-startup --python scenes/closures.py -- OUTDIR [SET]
 
-Writes
+SET is `closures` (the default: every closure) or `closures_principled` (the Principled BSDF's
+transmission and Multiscatter GGX, 3 x 2 tiles, PRINCIPLED_CLOSURES). Writes (for the default set)
   OUTDIR/closures.blend  COLS x ROWS tiles of TILE_PX x TILE_PX pixels (COLS*TILE_PX x ROWS*TILE_PX):
       an orthographic camera looking straight down (-Z) at one sphere per tile (radius 0.85 of the
       tile's half size, so every sphere has its own 32 x 32 px square of 4 x 4 blocks of 8 x 8 px),
@@ -128,6 +129,35 @@ CLOSURES = [
 assert len(CLOSURES) <= COLS * ROWS
 
 
+def _principled(inputs, distribution='GGX'):
+    return lambda nt: _bsdf(nt, "ShaderNodeBsdfPrincipled", inputs, distribution=distribution)
+
+
+# The Principled BSDF v1's transmission and its Multiscatter GGX (closures_principled.blend): Cycles 3.4
+# reflects untinted glass white and tints it by Specular Tint, colours the refraction by the base, and
+# refracts at 1 - (1 - Roughness)(1 - Transmission Roughness) for GGX, at the Roughness for Multiscatter
+# GGX (whose smooth glass, Roughness <= 0.05, is the single-scatter pair).
+PRINCIPLED_CLOSURES = [
+    ("principled_glass_transmission_roughness", _principled({"Base Color": (0.9, 0.6, 0.4), "Transmission": 1.0,
+                                                             "Roughness": 0.15, "Transmission Roughness": 0.5,
+                                                             "IOR": 1.45})),
+    ("principled_glass_specular_tint", _principled({"Base Color": (0.3, 0.6, 0.9), "Transmission": 1.0,
+                                                    "Roughness": 0.3, "Specular Tint": 1.0, "IOR": 1.5})),
+    ("principled_glass_sharp_reflection", _principled({"Base Color": (0.8, 0.9, 0.8), "Transmission": 1.0,
+                                                       "Roughness": 0.0, "Transmission Roughness": 0.35,
+                                                       "IOR": 1.45})),
+    ("principled_half_glass", _principled({"Base Color": (0.7, 0.4, 0.6), "Transmission": 0.6, "Roughness": 0.35,
+                                           "Transmission Roughness": 0.3, "Specular Tint": 0.5, "IOR": 1.45})),
+    ("principled_multi_smooth_glass", _principled({"Base Color": (0.9, 0.9, 0.7), "Transmission": 1.0,
+                                                   "Roughness": 0.04, "Transmission Roughness": 0.6, "IOR": 1.45},
+                                                  distribution='MULTI_GGX')),
+    ("principled_multi_metal", _principled({"Base Color": (0.9, 0.7, 0.5), "Metallic": 1.0, "Roughness": 0.8},
+                                           distribution='MULTI_GGX')),
+]
+# name -> (closures, columns, rows)
+CLOSURE_SETS = {"closures": (CLOSURES, COLS, ROWS), "closures_principled": (PRINCIPLED_CLOSURES, 3, 2)}
+
+
 def _material(name, build):
     mat = bpy.data.materials.new(name)
     mat.use_nodes = True
@@ -138,11 +168,12 @@ def _material(name, build):
     return mat
 
 
-def build(out_dir):
+def build(out_dir, set_name="closures"):
+    closures, cols, rows = CLOSURE_SETS[set_name]
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
     scene.render.engine = 'CYCLES'
-    scene.render.resolution_x, scene.render.resolution_y = COLS * TILE_PX, ROWS * TILE_PX
+    scene.render.resolution_x, scene.render.resolution_y = cols * TILE_PX, rows * TILE_PX
     scene.render.resolution_percentage = 100
     scene.view_settings.view_transform = 'Standard'
     world = bpy.data.worlds.new("Grey")
@@ -152,7 +183,7 @@ def build(out_dir):
 
     cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
     cam.data.type = 'ORTHO'
-    cam.data.ortho_scale = max(COLS, ROWS) * TILE_M  # spans the longer side of the image
+    cam.data.ortho_scale = max(cols, rows) * TILE_M  # spans the longer side of the image
     cam.location = (0.0, 0.0, 10.0)
     scene.collection.objects.link(cam)
     scene.camera = cam
@@ -164,10 +195,10 @@ def build(out_dir):
     scene.collection.objects.link(sun)
 
     tiles = []
-    for i, (name, builder) in enumerate(CLOSURES):
-        col, row = i % COLS, i // COLS  # row 0 at the top of the image
-        x = (col - (COLS - 1) / 2) * TILE_M
-        y = ((ROWS - 1) / 2 - row) * TILE_M
+    for i, (name, builder) in enumerate(closures):
+        col, row = i % cols, i // cols  # row 0 at the top of the image
+        x = (col - (cols - 1) / 2) * TILE_M
+        y = ((rows - 1) / 2 - row) * TILE_M
         label = "tile_%02d_%s" % (i, name)
         bpy.ops.mesh.primitive_uv_sphere_add(segments=96, ring_count=48, radius=0.85 * TILE_M / 2,
                                              location=(x, y, 0.0))
@@ -175,7 +206,7 @@ def build(out_dir):
         ob.name = label
         bpy.ops.object.shade_smooth()
         ob.data.materials.append(_material(label, builder))
-        tiles.append({"index": i, "name": name, "x0": col * TILE_PX, "y0": (ROWS - 1 - row) * TILE_PX,
+        tiles.append({"index": i, "name": name, "x0": col * TILE_PX, "y0": (rows - 1 - row) * TILE_PX,
                       "size": TILE_PX})
 
     scene.cycles.max_bounces = MAX_BOUNCES
@@ -187,10 +218,11 @@ def build(out_dir):
         smis.filter_type = 'BOX'
         smis.filter_width = 1.0
     os.makedirs(out_dir, exist_ok=True)
-    bpy.ops.wm.save_as_mainfile(filepath=os.path.join(out_dir, "closures.blend"))
-    with open(os.path.join(out_dir, "closures.json"), "w") as f:
+    bpy.ops.wm.save_as_mainfile(filepath=os.path.join(out_dir, set_name + ".blend"))
+    with open(os.path.join(out_dir, set_name + ".json"), "w") as f:
         json.dump({"tile_px": TILE_PX, "tiles": tiles}, f, indent=1)
 
 
 if __name__ == "__main__":
-    build(sys.argv[sys.argv.index("--") + 1] if "--" in sys.argv else os.path.join(os.path.dirname(__file__)))
+    args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    build(args[0] if args else os.path.dirname(__file__), args[1] if len(args) > 1 else "closures")

@@ -209,7 +209,8 @@ inline bool holdout_ends_path(const PathState& st, const ShadingPoint& sp, const
 // After a bounce: only a Transparent lobe keeps the background transparent (Cycles clears the flag
 // on every reflection and on every transmission but LABEL_TRANSMIT_TRANSPARENT), and, with
 // Transparent Glass, a refraction through glass (or a Refraction BSDF, and rough Glass's refraction
-// lobe) at most that rough (Cycles' bsdf_sample: alpha^2 at most the threshold roughness^2).
+// lobe, the Principled transmission's refraction) at most that rough (Cycles' bsdf_sample: alpha^2 at
+// most the threshold roughness^2).
 inline void update_transparent_background(const RenderSettings& settings, PathState& st, const Bsdf& bsdf,
                                           const BsdfSample& bs) {
     if (!st.transparent_background) return;
@@ -217,8 +218,9 @@ inline void update_transparent_background(const RenderSettings& settings, PathSt
     st.transparent_background =
         lobe && (lobe->kind == LobeKind::Transparent ||
                  (settings.film_transparent && bs.transmission &&
-                  (lobe->kind == LobeKind::Dielectric || lobe->kind == LobeKind::Refraction) &&
-                  lobe->alpha <= settings.film_transparent_glass));
+                  (((lobe->kind == LobeKind::Dielectric || lobe->kind == LobeKind::Refraction) &&
+                    lobe->alpha <= settings.film_transparent_glass) ||
+                   (lobe->kind == LobeKind::PrincipledGlass && lobe->alpha_y <= settings.film_transparent_glass))));
 }
 struct RayMedia;
 // Transmittance along a ray's media up to t / to its end (defined with RayMedia in volume.cpp).

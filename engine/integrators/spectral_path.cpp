@@ -13,15 +13,7 @@ namespace {
 float spectral_fresnel(const Lobe& lobe, const SpectralLobe& s, float lambda, float cos_d) {
     if (lobe_spectral_fresnel(lobe) != SpectralFresnel::Tinted) return 1.0f;
     if (s.metal) return fresnel_conductor(cos_d, metal_ior(*s.metal, lambda));
-    switch (lobe.fresnel) {
-        case FresnelMode::None: return 1.0f;
-        case FresnelMode::Schlick: {
-            float f0 = s.f0(lambda);
-            return f0 + (1.0f - f0) * schlick_weight(cos_d);
-        }
-        case FresnelMode::Dielectric: return fresnel_dielectric(std::fabs(cos_d), lobe.eta);
-    }
-    return 1.0f;
+    return lobe_spectral_colour(lobe, [&] { return s.f0(lambda); }, cos_d);
 }
 
 // The spectral data of a hit's lobe: the material's, upsampled once per render, or for a textured
@@ -31,7 +23,7 @@ const SpectralLobe& hit_lobe(const Lobe& lobe, const SpectralMaterial& sm, Spect
     if (!s.varies) return s;
     *scratch = s;
     scratch->weight = rgb_spectrum_table(lobe.weight);
-    if (lobe.fresnel == FresnelMode::Schlick) scratch->f0 = rgb_spectrum_table(lobe.f0);
+    if (lobe_colour_f0(lobe)) scratch->f0 = rgb_spectrum_table(lobe.f0);
     return *scratch;
 }
 
@@ -139,10 +131,20 @@ bool delta_event(const ShadingPoint& sp, const SpectralMaterial& sm, const BsdfS
     if (!(prob > 0.0f)) return false;
     float cos_o = sp.bsdf.frame().to_local(sp.wo).z;
     SpectralFresnel fresnel_kind = lobe_spectral_fresnel(lobe);
+    // Glass left with one event by a caustics toggle: its Fresnel factor no longer cancels with the
+    // event's probability (1), so the throughput keeps it (the sampled IOR's for a refraction, each
+    // wavelength's own for a dispersive reflection).
+    const bool one_event = (lobe.kind == LobeKind::Dielectric || lobe.kind == LobeKind::PrincipledGlass) &&
+                           lobe.glass_events != kGlassBoth;
+    auto event_fresnel = [&](float F) { return one_event ? (bs.transmission ? 1.0f - F : F) : 1.0f; };
     if (fresnel_kind == SpectralFresnel::Tinted) {
+        // A refraction's colour is at cos_d < 0 (principled_glass.h), with the radiance scaling.
+        float cos_d = bs.transmission ? -1.0f : cos_o;
+        float scale = bs.transmission ? 1.0f / (bs.eta * bs.eta) : 1.0f;
+        if (one_event) scale *= event_fresnel(fresnel_dielectric(std::fabs(cos_o), cos_o > 0.0f ? lobe.eta : 1.0f / lobe.eta));
         for (int i = 0; i < p.n; ++i) {
             float lambda = p.ws.lambda[i];
-            p.beta[i] *= s.weight(lambda) * spectral_fresnel(lobe, s, lambda, cos_o) / prob;
+            p.beta[i] *= s.weight(lambda) * spectral_fresnel(lobe, s, lambda, cos_d) * scale / prob;
         }
         return true;
     }
@@ -152,11 +154,6 @@ bool delta_event(const ShadingPoint& sp, const SpectralMaterial& sm, const BsdfS
         return true;
     }
     float radiance_scale = bs.transmission ? 1.0f / (bs.eta * bs.eta) : 1.0f;
-    // Glass left with one event by a caustics toggle: its Fresnel factor no longer cancels with the
-    // event's probability (1), so the throughput keeps it (the sampled IOR's for a refraction, each
-    // wavelength's own for a dispersive reflection).
-    const bool one_event = lobe.kind == LobeKind::Dielectric && lobe.glass_events != kGlassBoth;
-    auto event_fresnel = [&](float F) { return one_event ? (bs.transmission ? 1.0f - F : F) : 1.0f; };
     if (!s.dispersion.active()) {
         if (one_event)
             radiance_scale *= event_fresnel(fresnel_dielectric(std::fabs(cos_o), cos_o > 0.0f ? lobe.eta : 1.0f / lobe.eta));

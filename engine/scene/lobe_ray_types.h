@@ -42,7 +42,8 @@ inline bool lobe_is_caustic(const Lobe& lobe, bool reflective_off, bool refracti
         case LobeKind::AnisoBeckmann:
         case LobeKind::Clearcoat: return reflective_off;
         case LobeKind::Refraction: return refractive_off;
-        case LobeKind::Dielectric: return reflective_off && refractive_off;
+        case LobeKind::Dielectric:
+        case LobeKind::PrincipledGlass: return reflective_off && refractive_off;
         default: return false;
     }
 }
@@ -50,7 +51,7 @@ inline bool lobe_is_caustic(const Lobe& lobe, bool reflective_off, bool refracti
 // (Refractive off) alone, as Cycles builds only the other closure of the pair (svm/closure.h, Glass
 // and the single-scattering GGX Principled glass).
 inline void glass_half_left(Lobe& lobe, bool reflective_off, bool refractive_off) {
-    if (lobe.kind != LobeKind::Dielectric) return;
+    if (lobe.kind != LobeKind::Dielectric && lobe.kind != LobeKind::PrincipledGlass) return;
     if (reflective_off) lobe.glass_events &= uint8_t(~kGlassReflection);
     if (refractive_off) lobe.glass_events &= uint8_t(~kGlassRefraction);
 }
@@ -70,6 +71,7 @@ inline void blur_lobe(Lobe& lobe, float alpha) {
         case LobeKind::Refraction: lobe.alpha = std::max(lobe.alpha, alpha); break;
         case LobeKind::AnisoGgx:
         case LobeKind::AnisoBeckmann:
+        case LobeKind::PrincipledGlass:  // alpha_y: its refraction's alpha
             lobe.alpha = std::max(lobe.alpha, alpha);
             lobe.alpha_y = std::max(lobe.alpha_y, alpha);
             break;

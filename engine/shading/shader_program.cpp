@@ -337,10 +337,11 @@ void ShaderProgram::analyse() {
                     Lobe d; d.kind = LobeKind::PrincipledDiffuse;
                     Lobe s; s.kind = LobeKind::Microfacet; s.fresnel = FresnelMode::Dielectric;
                     Lobe m; m.kind = LobeKind::Microfacet; m.fresnel = FresnelMode::Schlick;
-                    Lobe t; t.kind = LobeKind::Dielectric;
+                    Lobe t; t.kind = LobeKind::PrincipledGlass;
                     Lobe sh; sh.kind = LobeKind::Sheen;
                     Lobe c; c.kind = LobeKind::Clearcoat;
-                    for (const Lobe& x : {d, s, m, t, sh, c}) templates_.push_back(x);
+                    Lobe ms; ms.kind = LobeKind::GgxMultiple;  // the metal's multiple scattering (Multiscatter GGX)
+                    for (const Lobe& x : {d, s, m, t, sh, c, ms}) templates_.push_back(x);
                     break;
                 }
                 default: break;
@@ -494,6 +495,36 @@ void multiscatter_ggx(const Color& c, float w, float roughness, uint8_t index, S
     if (multiple_scattering_lobe(single, c, &multiple)) push_lobe(out, multiple);
 }
 
+// The Principled BSDF's transmission of weight g (lobes/principled_glass.h), as Cycles 3.4's
+// svm/closure.h sets it up: the reflection at the roughness, the refraction for GGX at
+// 1 - (1 - roughness)(1 - Transmission Roughness); the Multiscatter GGX distribution refracts at the
+// roughness (Cycles ignores Transmission Roughness there).
+void principled_glass(const Color& base, float g, float rough, float transmission_rough, float spec_tint, float ior,
+                      bool multiscatter, uint8_t index, ShaderResult* out) {
+    Lobe l = make_lobe(LobeKind::PrincipledGlass, FresnelMode::None, Color(g), rough, ior, index);
+    l.f0 = base;
+    l.tint = spec_tint;
+    float rt = clamp01(std::isfinite(transmission_rough) ? transmission_rough : 0.0f);
+    float refraction_rough = multiscatter ? std::sqrt(l.alpha) : 1.0f - (1.0f - std::sqrt(l.alpha)) * (1.0f - rt);
+    l.alpha_y = refraction_rough * refraction_rough;
+    push_lobe(out, l);
+}
+
+// The multiple scattering of the Principled metal with Multiscatter GGX (its MultiGgx lobe `metal`, Schlick
+// f0 = base): Cycles' walk colours every bounce by the Fresnel colour at its microfacet; here every
+// bounce by one effective colour, the cosine-weighted hemispherical average of Schlick's,
+// f0 + (1 - f0) / 21, through multiscatter_tint (lobes/multiscatter_ggx.h). The dielectric layer's
+// multiple scattering (F^2, under 1% of its light) is left out.
+void metal_multiple_scattering(const Lobe& metal, uint8_t index, ShaderResult* out) {
+    Color c = metal.f0 + (Color(1.0f) - metal.f0) * (1.0f / 21.0f);
+    Lobe multiple;
+    if (!multiple_scattering_lobe(metal, c, &multiple)) return;
+    multiple.weight *= c;  // the first bounce's colour (the Glossy BSDF's is in its weight)
+    multiple.fresnel = FresnelMode::None;
+    multiple.index = index;
+    push_lobe(out, multiple);
+}
+
 // Blender 3.4's Principled BSDF as the engine's lobes (the translation materials.py did on constants):
 // with m = metallic and t = transmission (1 - m): Cycles' principled diffuse base (1-m)(1-t), the
 // dielectric specular layer (IOR from Specular: f0 = 0.08 specular, tinted by Specular Tint),
@@ -526,7 +557,11 @@ void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
     // about the Tangent turned by Anisotropic Rotation; 0 is the isotropic lobe.
     float anisotropic = load1(r, op.in[Anisotropic], 0.0f);
     bool aniso = anisotropic != 0.0f && std::isfinite(anisotropic);
-    LobeKind spec_kind = aniso ? LobeKind::AnisoGgx : LobeKind::Microfacet;
+    // Multiscatter GGX above roughness 0.075 (Cycles' threshold), isotropic only (anisotropic: single GGX,
+    // warned by the compiler).
+    bool multiscatter = op.i[0] == 1;
+    bool multi_reflection = multiscatter && rough > 0.075f && !aniso;
+    LobeKind spec_kind = aniso ? LobeKind::AnisoGgx : multi_reflection ? LobeKind::MultiGgx : LobeKind::Microfacet;
     auto stretch = [&](Lobe* l) {
         if (!aniso) return;
         float aspect = std::max(safe_sqrt(1.0f - 0.9f * anisotropic), 1e-3f);
@@ -548,7 +583,9 @@ void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
     metal.f0 = vmin(base, Color(1.0f));
     stretch(&metal);
     push_lobe(out, metal);
-    push_lobe(out, make_lobe(LobeKind::Dielectric, FresnelMode::None, base * (w * t), rough, ior, uint8_t(idx + 3)));
+    if (multi_reflection) metal_multiple_scattering(metal, uint8_t(idx + 6), out);
+    if (t > 0.0f) principled_glass(base, w * t, rough, load1(r, op.in[TransmissionRoughness], 0.0f), spec_tint, ior,
+                                   multiscatter, uint8_t(idx + 3), out);
     float sheen = std::max(load1(r, op.in[Sheen], 0.0f), 0.0f);
     if (sheen > 0.0f) {
         float st = clamp01(load1(r, op.in[SheenTint], 0.5f));

@@ -15,10 +15,9 @@ SpectralMaterial make_material(const Material& m) {
         SpectralLobe s;
         s.weight = rgb_spectrum(lobe.weight);
         s.varies = m.program || (i < m.inputs.size() && m.inputs[i].varies());
-        if (lobe.fresnel == FresnelMode::Schlick) s.f0 = rgb_spectrum(lobe.f0);
+        if (lobe_colour_f0(lobe)) s.f0 = rgb_spectrum(lobe.f0);
         // A measured metal replaces the Fresnel of the tinted lobes that are not a dielectric layer.
-        if (lobe_spectral_fresnel(lobe) == SpectralFresnel::Tinted && lobe.fresnel != FresnelMode::Dielectric)
-            s.metal = metal;
+        if (lobe_spectral_fresnel(lobe) == SpectralFresnel::Tinted && lobe_measured_metal(lobe)) s.metal = metal;
         // Only Dirac refraction disperses (lobes/dielectric.h).
         if (lobe_dispersive(lobe) && lobe_is_delta(lobe)) {
             if (m.spectral.dispersion == "ABBE") s.dispersion = Dispersion::abbe(lobe.eta, m.spectral.abbe);

@@ -967,11 +967,19 @@ def _principled(c, node, ctx, weight):
     ignored = []
     if used("Subsurface"):
         ignored.append("Subsurface (rendered as diffuse of the mixed colour)")
-    if node.distribution != "GGX":
-        ignored.append("Multiscatter GGX (using GGX)")
+    if node.distribution == "MULTI_GGX":
+        # Cycles' multiscatter glass (Roughness > 0.05 with Transmission) and anisotropic multiscatter
+        # reflection are single-scatter GGX here; the isotropic reflection is multiscatter GGX.
+        rough = node.inputs["Roughness"]
+        rough_glass = rough.is_linked or rough.default_value > 0.05
+        if rough_glass and used("Transmission") and (node.inputs["Metallic"].is_linked or
+                                                     node.inputs["Metallic"].default_value < 1.0):
+            ignored.append("Multiscatter GGX glass (using GGX)")
+        if rough_glass and used("Anisotropic"):
+            ignored.append("anisotropic Multiscatter GGX (using GGX)")
     if ignored:
         c.warn_node(node, "uses %s, not supported" % ", ".join(ignored))
-    c.op("principled", ins)
+    c.op("principled", ins, ints=[1 if node.distribution == "MULTI_GGX" else 0])
 
 
 SHADER_NODES = {

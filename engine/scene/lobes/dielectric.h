@@ -38,6 +38,12 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
 
     // Out of line, as the extra kinds': the Bsdf loops inline the common Lambert and GGX cases only.
     [[gnu::noinline]] static LobeTerms terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+        return rough_terms(lobe, wo, wi, lobe.alpha, lobe.alpha);
+    }
+
+    // The rough terms with the reflection at alpha_r and the refraction at alpha_t (the Principled
+    // transmission's differ, principled_glass.h); cos_d = wi.wm, negative for a refraction.
+    static LobeTerms rough_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi, float alpha_r, float alpha_t) {
         if (!(wo.z != 0.0f) || !(wi.z != 0.0f)) return {};  // also rejects NaN
         // Mirror the configuration so that wo is in the upper hemisphere; +z stays "wo's side".
         float side = wo.z > 0.0f ? 1.0f : -1.0f;
@@ -59,13 +65,14 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
         if (!(cos_om > 0.0f)) return {};
         if (reflect ? !(cos_im > 0.0f) : !(cos_im < 0.0f)) return {};
 
-        float alpha = lobe.alpha;
+        float alpha = reflect ? alpha_r : alpha_t;
         float d = ggx_D(wm, alpha);
         float g1o = ggx_G1(o, alpha), g1i = ggx_G1(i, alpha);
         float F = fresnel_dielectric(o.z, etap);  // at the shading normal: see sample()
         if (!(lobe.glass_events & (reflect ? kGlassReflection : kGlassRefraction))) return {};
         const float p_reflect = reflection_probability(lobe, F);
         LobeTerms r;
+        r.cos_d = cos_im;
         if (reflect) {
             float common = d * g1o / (4.0f * o.z);
             r.pdf = p_reflect * common;
@@ -86,56 +93,68 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
     }
 
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event) {
-        BsdfSample s;
-        if (!(wo.z != 0.0f)) return s;
-        float side = wo.z > 0.0f ? 1.0f : -1.0f;
-        float etap = wo.z > 0.0f ? lobe.eta : 1.0f / lobe.eta;  // eta_t / eta_i
-        if (!(etap > 0.0f) || !std::isfinite(etap)) return s;
-
-        if (is_delta(lobe)) {
-            // Smooth interface: choose the event with its exact Fresnel probability (or the one event
-            // a caustics toggle left); value / pdf is the throughput multiplier (for the pair: weight
-            // for reflection, weight (eta_i/eta_t)^2 for refraction).
-            float cos_o = std::fabs(wo.z);
-            float F = fresnel_dielectric(cos_o, etap);
-            const float p_reflect = reflection_probability(lobe, F);
-            if (u_event < p_reflect) {
-                s.wi = Vec3(-wo.x, -wo.y, wo.z);
-                s.value = lobe.weight * F;
-                s.pdf = p_reflect;
-            } else {
-                Vec3 wt;
-                if (!lobe_detail::refract_dir(wo * side, Vec3(0, 0, 1), etap, &wt)) return BsdfSample{};
-                s.wi = wt * side;
-                s.value = lobe.weight * ((1.0f - F) / (etap * etap));
-                s.pdf = 1.0f - p_reflect;
-                s.eta = etap;
-                s.transmission = true;
-            }
-            s.delta = true;
-            if (!s.valid()) return BsdfSample{};
-            return s;
-        }
+        if (is_delta(lobe)) return smooth_sample(lobe, wo, u_event, lobe.weight, lobe.weight);
 
         // Rough: Cycles 3.4 splits its Glass (and the Principled GGX transmission) into a GGX
         // reflection weighted by the Fresnel term at the shading normal and a GGX refraction weighted
         // by 1 - that term (svm/closure.h), not by each microfacet's Fresnel term (Walter et al.):
         // the event is chosen with that probability, and terms() weights each side by it.
+        return rough_sample<DielectricLobe>(lobe, wo, u, u_event, lobe.alpha, lobe.alpha);
+    }
+
+    // Smooth interface: the event chosen with its exact Fresnel probability; value / pdf is the
+    // throughput multiplier: the reflection's colour, or the refraction's times (eta_i / eta_t)^2.
+    static BsdfSample smooth_sample(const Lobe& lobe, const Vec3& wo, float u_event, const Color& reflection,
+                                    const Color& refraction) {
+        BsdfSample s;
+        if (!(wo.z != 0.0f)) return s;
+        float side = wo.z > 0.0f ? 1.0f : -1.0f;
+        float etap = wo.z > 0.0f ? lobe.eta : 1.0f / lobe.eta;  // eta_t / eta_i
+        if (!(etap > 0.0f) || !std::isfinite(etap)) return s;
+        float F = fresnel_dielectric(std::fabs(wo.z), etap);
+        const float p_reflect = reflection_probability(lobe, F);  // or the one event a caustics toggle left
+        if (u_event < p_reflect) {
+            s.wi = Vec3(-wo.x, -wo.y, wo.z);
+            s.value = reflection * F;
+            s.pdf = p_reflect;
+        } else {
+            Vec3 wt;
+            if (!lobe_detail::refract_dir(wo * side, Vec3(0, 0, 1), etap, &wt)) return BsdfSample{};
+            s.wi = wt * side;
+            s.value = refraction * ((1.0f - F) / (etap * etap));
+            s.pdf = 1.0f - p_reflect;
+            s.eta = etap;
+            s.transmission = true;
+        }
+        s.delta = true;
+        if (!s.valid()) return BsdfSample{};
+        return s;
+    }
+
+    // A rough sample valued by kind L's eval/pdf (rough_terms with the same alphas): the event by the
+    // Fresnel term at the shading normal, then the visible normal at that event's alpha.
+    template <class L>
+    static BsdfSample rough_sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event, float alpha_r,
+                                   float alpha_t) {
+        if (!(wo.z != 0.0f)) return {};
+        float side = wo.z > 0.0f ? 1.0f : -1.0f;
+        float etap = wo.z > 0.0f ? lobe.eta : 1.0f / lobe.eta;  // eta_t / eta_i
+        if (!(etap > 0.0f) || !std::isfinite(etap)) return {};
         Vec3 o = wo * side;
-        Vec3 wm = ggx_sample_visible_normal(o, lobe.alpha, u);
-        float cos_om = dot(o, wm);
-        if (!(cos_om > 0.0f)) return s;
         float F = fresnel_dielectric(o.z, etap);
-        Vec3 i;
         bool transmission = !(u_event < reflection_probability(lobe, F));  // F = 1 under total internal reflection
+        Vec3 wm = ggx_sample_visible_normal(o, transmission ? alpha_t : alpha_r, u);
+        float cos_om = dot(o, wm);
+        if (!(cos_om > 0.0f)) return {};
+        Vec3 i;
         if (!transmission) {
             i = reflect(o, wm);
-            if (!(i.z > 0.0f)) return s;
+            if (!(i.z > 0.0f)) return {};
             i = normalize(i);
         } else {
-            if (!lobe_detail::refract_dir(o, wm, etap, &i) || !(i.z < 0.0f)) return s;
+            if (!lobe_detail::refract_dir(o, wm, etap, &i) || !(i.z < 0.0f)) return {};
         }
-        return lobe_sample_at<DielectricLobe>(lobe, wo, i * side, transmission, transmission ? etap : 1.0f);
+        return lobe_sample_at<L>(lobe, wo, i * side, transmission, transmission ? etap : 1.0f);
     }
 
     static Color albedo(const Lobe& lobe) { return lobe.weight; }

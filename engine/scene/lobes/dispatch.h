@@ -18,6 +18,7 @@
 #include "scene/lobes/multiscatter_ggx.h"
 #include "scene/lobes/oren_nayar.h"
 #include "scene/lobes/principled_diffuse.h"
+#include "scene/lobes/principled_glass.h"
 #include "scene/lobes/refraction.h"
 #include "scene/lobes/sheen.h"
 #include "scene/lobes/toon_diffuse.h"
@@ -36,7 +37,7 @@ struct LobeKindList {
 using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, ClearcoatLobe, SheenLobe,
                                   TransparentLobe, PrincipledDiffuseLobe, OrenNayarLobe, VelvetLobe, TranslucentLobe,
                                   RefractionLobe, BeckmannLobe, ToonDiffuseLobe, ToonGlossyLobe, MultiGgxLobe,
-                                  GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe>;
+                                  GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe, PrincipledGlassLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -89,6 +90,7 @@ template <bool kGated = true, class F>
         case GgxMultipleLobe::kKind: return call_kind<GgxMultipleLobe, kGated>(f);
         case AnisoGgxLobe::kKind: return call_kind<AnisoGgxLobe, kGated>(f);
         case AnisoBeckmannLobe::kKind: return call_kind<AnisoBeckmannLobe, kGated>(f);
+        case PrincipledGlassLobe::kKind: return call_kind<PrincipledGlassLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate
@@ -136,6 +138,17 @@ inline bool lobe_dispersive(const Lobe& lobe) {
 }
 inline bool lobe_backface_inverts_eta(const Lobe& lobe) {
     return visit_lobe(lobe.kind, [](auto k) { return decltype(k)::kBackfaceInvertsEta; });
+}
+inline bool lobe_colour_f0(const Lobe& lobe) {
+    return visit_lobe(lobe.kind, [&](auto k) { return decltype(k)::colour_f0(lobe); });
+}
+inline bool lobe_measured_metal(const Lobe& lobe) {
+    return visit_lobe(lobe.kind, [&](auto k) { return decltype(k)::measured_metal(lobe); });
+}
+// The Fresnel factor of a kTinted lobe at one wavelength, f0_at() the lobe's f0 there.
+template <class F0At>
+inline float lobe_spectral_colour(const Lobe& lobe, F0At&& f0_at, float cos_d) {
+    return visit_lobe(lobe.kind, [&](auto k) { return decltype(k)::spectral_colour(lobe, f0_at, cos_d); });
 }
 inline Color lobe_albedo(const Lobe& lobe) {
     return visit_lobe(lobe.kind, [&](auto k) { return decltype(k)::albedo(lobe); });

@@ -57,6 +57,7 @@ enum class LobeKind : uint8_t {
     GgxMultiple,  // Multiscatter GGX, the energy of its multiple scattering (lobes/multiscatter_ggx.h)
     AnisoGgx,     // Anisotropic GGX: Anisotropic BSDF, Principled Anisotropic (lobes/anisotropic.h)
     AnisoBeckmann,  // Anisotropic BSDF with the Beckmann distribution (lobes/anisotropic.h)
+    PrincipledGlass,  // Principled BSDF's transmission (lobes/principled_glass.h)
     Count
 };
 
@@ -74,12 +75,13 @@ struct Lobe {
     LobeKind kind = LobeKind::Diffuse;
     FresnelMode fresnel = FresnelMode::None;
     uint8_t index = 0;   // position in the material's lobe list (set by Scene::add_material; spectral data)
-    uint8_t glass_events = kGlassBoth;  // Dielectric only (in the padding before weight)
+    uint8_t glass_events = kGlassBoth;  // Dielectric and PrincipledGlass only (in the padding before weight)
     Color weight{1.0f};  // closure weight (colour x mix factors)
     Color f0{1.0f};      // Schlick reflectance at normal incidence (FresnelMode::Schlick)
     float alpha = 0.0f;  // GGX alpha = roughness^2 (Blender's convention); below kDeltaAlpha -> delta
     float eta = 1.5f;    // IOR of the inside over the outside (Dielectric lobe / FresnelMode::Dielectric)
     float alpha_y = 0.0f;  // anisotropic lobes: alpha across the tangent (alpha is along it, the frame's s)
+    float tint = 0.0f;     // Principled glass: Specular Tint (lobes/principled_glass.h)
 };
 
 // The label of the rays a lobe scatters (Cycles' LABEL_DIFFUSE / GLOSSY / TRANSPARENT): Light Path
@@ -295,6 +297,23 @@ struct LobeDefaults {
     // lobes inline only the shortcuts).
     static float fixed_wo_scale(const Lobe&, const Vec3&) { return 0.0f; }
     static float fixed_wo_pdf(const Lobe& lobe, float, const Vec3& wo, const Vec3& wi) { return lobe_pdf(lobe, wo, wi); }
+    // Spectral terms of kTinted lobes: f0 is a colour to upsample (FresnelMode::Schlick), a measured
+    // metal replaces the Fresnel (all but the dielectric layer), and the Fresnel factor at one
+    // wavelength from f0_at(), the lobe's f0 there.
+    static bool colour_f0(const Lobe& lobe) { return lobe.fresnel == FresnelMode::Schlick; }
+    static bool measured_metal(const Lobe& lobe) { return lobe.fresnel != FresnelMode::Dielectric; }
+    template <class F0At>
+    static float spectral_colour(const Lobe& lobe, F0At&& f0_at, float cos_d) {
+        switch (lobe.fresnel) {
+            case FresnelMode::None: return 1.0f;
+            case FresnelMode::Schlick: {
+                float f0 = f0_at();
+                return f0 + (1.0f - f0) * schlick_weight(cos_d);
+            }
+            case FresnelMode::Dielectric: return fresnel_dielectric(std::fabs(cos_d), lobe.eta);
+        }
+        return 1.0f;
+    }
 };
 
 }  // namespace smis

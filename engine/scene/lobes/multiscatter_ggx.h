@@ -71,9 +71,13 @@ struct MultiGgxLobe : LobeDefaults<MultiGgxLobe> {
     static constexpr RayLabel kLabel = RayLabel::Glossy;
     // Its pdf is the GGX lobe's (visible normals), so path-space filtering's GGX model holds.
     static constexpr DensityModel kDensity = DensityModel::Ggx;
-    static constexpr SpectralFresnel kSpectral = SpectralFresnel::None;
+    // The GGX lobe's Fresnel modes: None for the Glossy BSDF, the Principled specular layer and metal
+    // with Multiscatter GGX (FresnelMode::Dielectric, Schlick) as the single-scatter lobes.
+    static constexpr SpectralFresnel kSpectral = SpectralFresnel::Tinted;
+    static constexpr bool kTinted = true;
 
     static bool is_delta(const Lobe& lobe) { return !(lobe.alpha >= kDeltaAlpha); }
+    static Color fresnel(const Lobe& lobe, float cos_d) { return MicrofacetLobe::fresnel(lobe, cos_d); }
 
     [[gnu::noinline]] static LobeTerms terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
         Vec3 wm;
@@ -90,7 +94,7 @@ struct MultiGgxLobe : LobeDefaults<MultiGgxLobe> {
 
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float) {
         if (!(wo.z > 0.0f)) return {};
-        if (is_delta(lobe)) return lobe_detail::mirror_sample(wo, lobe.weight);
+        if (is_delta(lobe)) return lobe_detail::mirror_sample(wo, lobe.weight * fresnel(lobe, wo.z));
         return MicrofacetLobe::reflect_about<MultiGgxLobe>(lobe, wo, ggx_sample_visible_normal(wo, lobe.alpha, u));
     }
 
@@ -100,7 +104,7 @@ struct MultiGgxLobe : LobeDefaults<MultiGgxLobe> {
         return MicrofacetLobe::fixed_wo_pdf(lobe, scale, wo, wi);
     }
 
-    static Color albedo(const Lobe& lobe) { return lobe.weight; }  // Cycles: the closure's colour
+    static Color albedo(const Lobe& lobe) { return MicrofacetLobe::albedo(lobe); }  // Glossy: the closure's colour
 };
 
 struct GgxMultipleLobe : LobeDefaults<GgxMultipleLobe> {
