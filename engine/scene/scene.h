@@ -81,6 +81,15 @@ public:
                       const float* corner_normals, const int32_t* material_index,
                       const std::vector<uint32_t>& slot_materials, const float* corner_uvs = nullptr,
                       const std::vector<AttributeInput>& attributes = {});
+    // Deformation motion blur: the mesh's vertices (object space) at `steps` evenly spaced times over
+    // the shutter (steps x nv x 3, nv as given to add_mesh), and optionally its corner normals there
+    // (steps x nt x 3 x 3, nt and the triangle order as given to add_mesh). Rays see the vertices and normals
+    // interpolated linearly in time between the steps (Cycles' motion triangles); add_mesh's
+    // vertices stay what untimed queries see. Steps all equal to the first: no motion. Throws
+    // std::invalid_argument (the mesh unchanged) for a vertex count other than add_mesh's, fewer
+    // than two steps, non-finite values, or an emissive mesh (triangle lights do not move).
+    void set_mesh_motion(uint32_t mesh, const float* positions, size_t steps, size_t nv,
+                         const float* corner_normals = nullptr, size_t nt = 0);
     // The mesh's texture space (Blender's texspace_location / texspace_size), for Generated coordinates.
     void set_mesh_texspace(uint32_t mesh, const Vec3& location, const Vec3& size);
     // Attribute names are interned: shader programs refer to them by id.
@@ -235,7 +244,14 @@ private:
         std::vector<uint32_t> materials;     // per triangle, engine material id
         std::vector<Point2> uvs;             // 3 per triangle, or empty
         std::vector<MeshAttribute> attributes;
-        std::vector<uint32_t> kept;          // while building: input triangle of each kept triangle
+        // Deformation motion blur (set_mesh_motion): motion_steps vertex arrays of 3 floats per vertex
+        // back to back (one float3 of padding at the end, as positions), and 3 normals per kept
+        // triangle per step when corner_normals is not empty; 0 steps: the mesh does not deform.
+        uint32_t motion_steps = 0;
+        std::vector<float> motion_positions;
+        std::vector<Vec3> motion_normals;
+        size_t input_triangles = 0;          // nt as given to add_mesh
+        std::vector<uint32_t> kept;          // input triangle of each kept triangle (empty: none dropped)
         Vec3 texspace_location{0.0f}, texspace_size{1.0f};
         uint32_t dropped = 0;
         uint32_t users = 0;
@@ -281,6 +297,8 @@ private:
     void set_skipped(const char* what, bool skipped);  // adds or removes a skipped() entry
     void update_skipped();
     void fill_hit(const Ray& ray, const struct RTCRayHit& rh, SurfaceHit* hit) const;
+    // A deforming mesh's triangle corners (v) and corner normals (n, when it has them) at `time`.
+    [[gnu::noinline]] static void deformed_triangle(const Mesh& mesh, uint32_t prim, float time, Vec3 v[3], Vec3 n[3]);
     // The UV and normal-map part of fill_hit, for meshes with UVs (textured materials).
     [[gnu::noinline]] void fill_uv_attribs(const Mesh& mesh, const Instance& inst, uint32_t prim, float u, float v,
                                            SurfaceHit* hit) const;
