@@ -347,7 +347,6 @@ void Scene::set_mesh_motion(uint32_t id, const float* positions, size_t steps, s
     if (corner_normals && nt != mesh.input_triangles)
         throw std::invalid_argument("mesh motion normals have " + std::to_string(nt) + " triangles, the mesh " +
                                     std::to_string(mesh.input_triangles));
-    if (emissive(mesh)) throw std::invalid_argument("deformation motion blur of emissive meshes is not supported");
     if (std::equal(positions + 3 * nv, positions + n, positions, positions + n - 3 * nv) &&
         std::equal(positions, positions + 3 * nv, positions + (steps - 1) * 3 * nv))
         return;  // every step the same vertices: nothing moves
@@ -431,8 +430,6 @@ void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& 
             throw std::invalid_argument("instance motion transform is not finite or is singular");
         moves = moves || std::memcmp(&t, &motion[0], sizeof(Transform)) != 0;
     }
-    if (moves && emissive(meshes_[mesh]))
-        throw std::invalid_argument("motion blur of emissive objects is not supported");
     if (meshes_[mesh].indices.empty()) return;
     Instance inst{mesh, to_world, false, -1, is_finite(object_color) ? vmax(object_color, Color(0.0f)) : Color(1.0f),
                   inverse(to_world)};
@@ -692,8 +689,8 @@ void Scene::add_triangle_lights(Instance& inst) {
         auto light = std::make_unique<TriangleLight>(v[0], v[1], v[2], mat.emission * mat.alpha);
         if (mat.emission_texture) light->set_texture(mat.emission_texture.get(), mesh.uvs.empty() ? nullptr : &mesh.uvs[3 * t]);
         Color source = mat.emission;
+        const uint32_t inst_id = uint32_t(&inst - instances_.data());
         if (mat.program) {
-            uint32_t inst_id = uint32_t(&inst - instances_.data());
             Vec3 n = cross(v[1] - v[0], v[2] - v[0]);
             Color centroid = emission(inst_id, uint32_t(t), mesh.materials[t], 1.0f / 3.0f, 1.0f / 3.0f, n);
             light = std::make_unique<TriangleLight>(v[0], v[1], v[2], Color(1.0f));
@@ -701,6 +698,7 @@ void Scene::add_triangle_lights(Instance& inst) {
             source = centroid;
         }
         light->visibility = inst.visibility;
+        if (!inst.motion.empty() || mesh.motion_steps != 0) light->set_motion(this, inst_id, uint32_t(t));
         lights_.push_back(std::move(light));
         emitter_sources_.push_back({mat.spectral.emission_spectrum, mat.spectral.emission_temperature, source});
         stats_.emissive_triangles++;
@@ -854,21 +852,24 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
     const Instance& inst = instances_[geom_to_instance_[top]];
     const Mesh& mesh = meshes_[inst.mesh];
     uint32_t prim = rh.hit.primID;
-    const uint32_t* idx = &mesh.indices[3 * prim];
-    Vec3 a = load3(&mesh.positions[3 * idx[0]]), b = load3(&mesh.positions[3 * idx[1]]),
-         c = load3(&mesh.positions[3 * idx[2]]);
-    const Vec3* cn = mesh.corner_normals.empty() ? nullptr : &mesh.corner_normals[3 * prim];
-    Vec3 deformed[3], deformed_normals[3];
-    if (__builtin_expect(mesh.motion_steps != 0, 0)) {
-        deformed_triangle(mesh, prim, rh.ray.time, deformed, deformed_normals);
-        a = deformed[0], b = deformed[1], c = deformed[2];
-        if (cn) cn = deformed_normals;
-    }
     float u = rh.hit.u, v = rh.hit.v, w = 1.0f - u - v;
-    // Interpolating the vertices is more precise than o + t d for far-away or grazing hits.
-    Vec3 p = a * w + b * u + c * v;
-    Vec3 ng = cross(b - a, c - a);
-    Vec3 ns = cn ? cn[0] * w + cn[1] * u + cn[2] * v : ng;
+    Vec3 p, ng, ns;
+    if (__builtin_expect(mesh.motion_steps == 0, 1)) {
+        const uint32_t* idx = &mesh.indices[3 * prim];
+        Vec3 a = load3(&mesh.positions[3 * idx[0]]), b = load3(&mesh.positions[3 * idx[1]]),
+             c = load3(&mesh.positions[3 * idx[2]]);
+        // Interpolating the vertices is more precise than o + t d for far-away or grazing hits.
+        p = a * w + b * u + c * v;
+        ng = cross(b - a, c - a);
+        ns = ng;
+        if (!mesh.corner_normals.empty()) {
+            const Vec3* cn = &mesh.corner_normals[3 * prim];
+            ns = cn[0] * w + cn[1] * u + cn[2] * v;
+        }
+    } else {
+        const HitFrame d = deformed_point(mesh, prim, rh.ray.time, u, v);
+        p = d.p, ng = d.ng, ns = d.ns;
+    }
     if (!inst.identity) {
         if (__builtin_expect(inst.motion.empty(), 1)) {
             p = inst.to_world.point(p);
@@ -925,6 +926,32 @@ void Scene::deformed_triangle(const Mesh& mesh, uint32_t prim, float time, Vec3 
     const size_t per_step = mesh.corner_normals.size();
     const Vec3* n0 = &mesh.motion_normals[step * per_step + 3 * prim];
     for (int k = 0; k < 3; ++k) n[k] = n0[k] * (1.0f - f) + n0[per_step + k] * f;
+}
+
+void Scene::triangle_at(uint32_t instance, uint32_t prim, float time, Vec3 v[3]) const {
+    const Instance& inst = instances_[instance];
+    const Mesh& mesh = meshes_[inst.mesh];
+    Vec3 normals[3];
+    if (mesh.motion_steps != 0) {
+        deformed_triangle(mesh, prim, time, v, normals);
+    } else {
+        for (int k = 0; k < 3; ++k) v[k] = load3(&mesh.positions[3 * mesh.indices[3 * prim + k]]);
+    }
+    if (inst.identity) return;  // flattened: world space already
+    Transform at = inst.to_world;
+    if (inst.geometry) rtcGetGeometryTransform(inst.geometry, time, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &at.m[0][0]);
+    for (int k = 0; k < 3; ++k) v[k] = at.point(v[k]);
+}
+
+Scene::HitFrame Scene::deformed_point(const Mesh& mesh, uint32_t prim, float time, float u, float v) {
+    Vec3 c[3], n[3];
+    deformed_triangle(mesh, prim, time, c, n);
+    const float w = 1.0f - u - v;
+    HitFrame f;
+    f.p = c[0] * w + c[1] * u + c[2] * v;
+    f.ng = cross(c[1] - c[0], c[2] - c[0]);
+    f.ns = mesh.motion_normals.empty() ? f.ng : n[0] * w + n[1] * u + n[2] * v;
+    return f;
 }
 
 void Scene::fill_uv_attribs(const Mesh& mesh, const Instance& inst, uint32_t prim, float u, float v,

@@ -214,7 +214,7 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
     counts = ExportCounts()
     prototypes = {}   # prototype key -> engine mesh id, or None for empty geometry
     singular, broken = [], []  # objects skipped (the rest of the scene still renders)
-    unblurred = []  # moving objects the engine refused to blur (emitters), rendered unblurred or undeformed
+    unblurred = []  # motion the engine refused (a singular step, unusable vertices): rendered without it
     for kind, inst, obj in walk_instances(depsgraph, reporter, test_break):
         if kind == 'LIGHT':
             if lights.export_light(scene, obj, instance_matrix(inst), reporter):

@@ -6,8 +6,8 @@ matrix there; the engine interpolates between these steps (scene/motion.h) and g
 sample a time in the shutter. Deformation motion blur as Cycles' sync_mesh_motion takes it: the
 evaluated mesh's vertices (and corner normals) at the object's own step times, linear in time between
 them in the engine; a mesh whose vertex count changes over the shutter renders without it (named in
-a warning). Lamps do not move (Cycles 3.4's lights have one transform); moving emitters render
-unblurred with a warning.
+a warning). Moving and deforming emitters are blurred, their light samples taken at the path's
+time in the engine; lamps do not move (Cycles 3.4's lights have one transform).
 """
 
 import math
