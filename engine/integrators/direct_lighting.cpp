@@ -6,7 +6,7 @@ CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, con
     CandidateEval e;
     e.light = x.light;
     const Light& light = scene.light(x.light);
-    e.ls = light.sample(sp.hit.p, x.u);
+    e.ls = light.sample_at(sp.hit.p, x.u, sp.hit.time);
     if (!e.ls.valid()) return e;
     // A light hidden from some ray types lights only the other lobes (Cycles' light visibility).
     const uint32_t hidden = ~light.visibility & kRayBounceTypes;

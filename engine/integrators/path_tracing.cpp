@@ -50,7 +50,7 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
     // their mixture is also the BSDF density its MIS weight counts.
     ds.hidden = ~light.visibility & kRayBounceTypes;
     if (ds.hidden && hidden_light_lights_nothing(sp.bsdf, ds.hidden)) return ds;
-    LightSample ls = light.sample(sp.hit.p, u);
+    LightSample ls = light.sample_at(sp.hit.p, u, sp.hit.time);
     if (!ls.valid()) {
         // A light seen from behind is simply dark; only numerical failures count as rejected.
         if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;

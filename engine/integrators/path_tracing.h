@@ -324,7 +324,7 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
     } else if (hit.light >= 0 && !(hit.holdout && state.transparent_background)) {
         auto& tri = static_cast<const TriangleLight&>(scene.light(hit.light));
         add(uint32_t(hit.light), far(scene.emission_at(hit, -ray.d) *
-                                     weight(scene.light_pmf(hit.light), tri.pdf_at(state.prev_p, hit.p))));
+                                     weight(scene.light_pmf(hit.light), tri.pdf_at(state.prev_p, hit.p, hit.time))));
     }
 }
 inline Color emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,

@@ -104,7 +104,8 @@ constexpr double kMinSolidAngle = 1e-9;
 
 // Next-event sample of `light` from a point x in a medium: rectangles as `rectangles` says, every
 // other light by its own sample().
-LightSample sample_light_from_medium(const Light& light, const Vec3& x, Point2 u, RectangleSampling rectangles) {
+LightSample sample_light_from_medium(const Light& light, const Vec3& x, Point2 u, float time,
+                                     RectangleSampling rectangles) {
     LightRectangle rect;
     if (rectangles == RectangleSampling::kSolidAngle && light.rectangle(&rect)) {
         LightSample s;
@@ -121,7 +122,7 @@ LightSample sample_light_from_medium(const Light& light, const Vec3& x, Point2 u
             return s;
         }
     }
-    return light.sample(x, u);
+    return light.sample_at(x, u, time);
 }
 
 }  // namespace
@@ -167,7 +168,7 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
             // may still pass in front of it, close to the point.
             bool any_point = light.point_independent_of_reference();
             bool same_point = any_point && !(rectangle && rectangles == RectangleSampling::kSolidAngle);
-            LightSample focus = light.sample(mid, same_point ? u : u_focus);
+            LightSample focus = light.sample_at(mid, same_point ? u : u_focus, ray.time);
             if ((focus.pdf > 0.0f || any_point) && focus.dist > 0.0f && std::isfinite(focus.dist))
                 eq = equiangular_frame(o, ray.d, len, mid + focus.wi * focus.dist);
         }
@@ -181,7 +182,7 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
             continue;
         }
         Vec3 x = o + ray.d * ds.t;
-        LightSample ls = sample_light_from_medium(light, x, u, rectangles);
+        LightSample ls = sample_light_from_medium(light, x, u, ray.time, rectangles);
         if (!ls.valid()) {
             if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;
             continue;
@@ -190,7 +191,7 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
         // Cast Shadow off: no shadow ray, so neither occlusion nor the media on the way (Cycles).
         if (light.cast_shadow) {
             Color tr = shadow_transmittance(scene, x, ls.wi, tmax, s.medium);
-            if (is_black(tr) || !reaches_mesh_light(scene, ShadowRay{x, ls.wi, tmax}, ls)) continue;
+            if (is_black(tr) || !reaches_mesh_light(scene, ShadowRay{x, ls.wi, tmax, ray.time}, ls)) continue;
             ls.L *= tr;
         }
         float phase = med.phase.eval(-ray.d, ls.wi);

@@ -539,6 +539,29 @@ PYBIND11_MODULE(_smis, m) {
             py::arg("vertices"), py::arg("triangles"), py::arg("corner_normals") = py::none(),
             py::arg("material_index") = py::none(), py::arg("materials") = std::vector<uint32_t>{},
             py::arg("corner_uvs") = py::none(), py::arg("attributes") = py::dict())
+        .def(
+            "set_mesh_motion",
+            [](Scene& s, uint32_t mesh, FloatArray positions, py::object corner_normals) {
+                if (positions.ndim() != 3 || positions.shape(2) != 3)
+                    throw py::value_error("mesh motion positions must be (steps, N, 3)");
+                FloatArray normal_array;
+                const float* normals = nullptr;
+                size_t nt = 0;
+                if (!corner_normals.is_none()) {
+                    normal_array = corner_normals.cast<FloatArray>();
+                    if (normal_array.ndim() != 4 || normal_array.shape(0) != positions.shape(0) ||
+                        normal_array.shape(2) != 3 || normal_array.shape(3) != 3)
+                        throw py::value_error("mesh motion normals must be (steps, M, 3, 3)");
+                    normals = normal_array.data();
+                    nt = normal_array.shape(1);
+                }
+                value_errors([&] {
+                    s.set_mesh_motion(mesh, positions.data(), positions.shape(0), positions.shape(1), normals, nt);
+                });
+            },
+            py::arg("mesh"), py::arg("positions"), py::arg("corner_normals") = py::none(),
+            "Deformation motion blur: the mesh's vertices (steps, N, 3) and corner normals (steps, M, 3, 3) or "
+            "None at evenly spaced times over the shutter; ValueError (the mesh unchanged) when they do not fit")
         .def("attribute_id", [](Scene& s, const std::string& name) { return s.attribute_id(name); },
              "The id shader programs use for a mesh attribute (UV map or colour attribute) by name")
         .def(

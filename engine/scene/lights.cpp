@@ -332,7 +332,12 @@ std::unique_ptr<Light> make_light(const LightDesc& d) {
 }
 
 TriangleLight::TriangleLight(const Vec3& a, const Vec3& b, const Vec3& c, const Color& radiance)
-    : a_(a), e1_(b - a), e2_(c - a), radiance_(radiance) {
+    : radiance_(radiance) {
+    set_corners(a, b, c);
+}
+
+void TriangleLight::set_corners(const Vec3& a, const Vec3& b, const Vec3& c) {
+    a_ = a, e1_ = b - a, e2_ = c - a;
     Vec3 n = cross(e1_, e2_);
     float len = length(n);
     area_ = 0.5f * len;
@@ -367,6 +372,21 @@ void TriangleLight::set_shader(const SurfaceEmission* shader, uint32_t instance,
     shader_ = shader;
     instance_ = instance, prim_ = prim, material_ = material;
     centroid_emission_ = centroid_emission;
+}
+
+void TriangleLight::set_motion(const MovingTriangles* motion, uint32_t instance, uint32_t prim) {
+    motion_ = motion;
+    instance_ = instance, prim_ = prim;
+    moves_ = motion != nullptr;
+}
+
+TriangleLight TriangleLight::at_time(float time) const {
+    Vec3 v[3];
+    motion_->triangle_at(instance_, prim_, time, v);
+    TriangleLight moved(*this);
+    moved.set_corners(v[0], v[1], v[2]);
+    moved.moves_ = false;
+    return moved;
 }
 
 void TriangleLight::set_texture(const Texture* texture, const Point2* uv) {

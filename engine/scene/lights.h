@@ -45,6 +45,11 @@ class Light {
 public:
     virtual ~Light() = default;
     virtual LightSample sample(const Vec3& ref, Point2 u) const = 0;
+    // The sample for a path at shutter time `time`: a moving emitter (TriangleLight::set_motion) is
+    // sampled where the path's rays see it then; every other light does not move.
+    LightSample sample_at(const Vec3& ref, Point2 u, float time) const {
+        return __builtin_expect(moves_, 0) ? sample_moving(ref, u, time) : sample(ref, u);
+    }
     // Solid-angle density of sample() producing direction wi from ref (0 if it cannot).
     virtual float pdf(const Vec3& ref, const Vec3& wi) const = 0;
     // Intersection by a ray for lights that are not scene geometry (area, point/spot disks, sun, world).
@@ -76,6 +81,10 @@ public:
     // type it is hidden from do not see it and light samples leave out the lobes of that type
     // (light_hidden_from, lobe_ray_types); kRayVolumeScatter off: it does not light media.
     uint32_t visibility = kRayAllVisibility;
+
+protected:
+    virtual LightSample sample_moving(const Vec3& ref, Point2 u, float time) const { return sample(ref, u); }
+    bool moves_ = false;
 };
 
 // Blender light description, in Blender's units (converted as Cycles converts them).
@@ -110,6 +119,14 @@ public:
                            const Vec3& wo) const = 0;
 };
 
+// Where an emissive triangle of a moving or deforming object is at a shutter time (world space),
+// implemented by Scene as its rays see the triangle then.
+class MovingTriangles {
+public:
+    virtual ~MovingTriangles() = default;
+    virtual void triangle_at(uint32_t instance, uint32_t prim, float time, Vec3 v[3]) const = 0;
+};
+
 class TriangleLight : public Light {
 public:
     TriangleLight(const Vec3& a, const Vec3& b, const Vec3& c, const Color& radiance);
@@ -122,14 +139,29 @@ public:
                     const Color& centroid_emission);
     LightSample sample(const Vec3& ref, Point2 u) const override;
     float pdf(const Vec3& ref, const Vec3& wi) const override;
+    // Motion blur: the triangle moves over the shutter (its constructor's corners: where it is at
+    // the frame, for the selection power); sample_at and the timed pdf_at place it at their time.
+    void set_motion(const MovingTriangles* motion, uint32_t instance, uint32_t prim);
     // Density of hitting point p (normal n) from ref, already known from a BVH hit.
     float pdf_at(const Vec3& ref, const Vec3& p) const;
+    // The same on a path at shutter time `time` (the hit's).
+    float pdf_at(const Vec3& ref, const Vec3& p, float time) const {
+        return __builtin_expect(moves_, 0) ? at_time(time).pdf_at(ref, p) : pdf_at(ref, p);
+    }
     bool point_independent_of_reference() const override { return true; }
     float power(float scene_radius) const override;
     const Color& radiance() const { return radiance_; }
     float area() const { return area_; }
 
+protected:
+    LightSample sample_moving(const Vec3& ref, Point2 u, float time) const override {
+        return at_time(time).sample(ref, u);
+    }
+
 private:
+    void set_corners(const Vec3& a, const Vec3& b, const Vec3& c);
+    // This light with its corners where the triangle is at `time` (not moving itself).
+    TriangleLight at_time(float time) const;
     Vec3 a_, e1_, e2_, n_;
     float area_;
     // The triangle's heights over the edges opposite a, b and c (2 area / edge length): a point's
@@ -141,6 +173,7 @@ private:
     const SurfaceEmission* shader_ = nullptr;
     uint32_t instance_ = 0, prim_ = 0, material_ = 0;
     Color centroid_emission_{0.0f};
+    const MovingTriangles* motion_ = nullptr;
 };
 
 // Uniform world background (Blender World "Background" colour x strength): radiance at infinity.

@@ -231,6 +231,7 @@ Scene::Mesh Scene::make_mesh(const float* vertices, size_t nv, const int32_t* tr
                              const float* corner_normals, const int32_t* material_index,
                              const std::vector<uint32_t>& slot_materials, const float* corner_uvs) const {
     Mesh mesh;
+    mesh.input_triangles = nt;
     // Embree reads 16 bytes past the last vertex of shared buffers: keep one float3 of padding.
     mesh.positions.assign(vertices, vertices + 3 * nv);
     mesh.positions.resize(3 * nv + 4, 0.0f);
@@ -330,6 +331,42 @@ bool Scene::replace_mesh(uint32_t id, const float* vertices, size_t nv, const in
     return embree_error_.empty();
 }
 
+void Scene::set_mesh_motion(uint32_t id, const float* positions, size_t steps, size_t nv, const float* corner_normals,
+                            size_t nt) {
+    if (committed_) throw std::logic_error("scene already committed");
+    if (id >= meshes_.size()) throw std::invalid_argument("motion of an unknown mesh");
+    Mesh& mesh = meshes_[id];
+    const size_t mesh_nv = (mesh.positions.size() - 4) / 3;
+    if (nv != mesh_nv)
+        throw std::invalid_argument("mesh motion has " + std::to_string(nv) + " vertices, the mesh " +
+                                    std::to_string(mesh_nv) + " (its topology changes over the shutter)");
+    if (steps < 2) throw std::invalid_argument("mesh motion needs at least two steps");
+    const size_t n = steps * 3 * nv;
+    for (size_t i = 0; i < n; ++i)
+        if (!std::isfinite(positions[i])) throw std::invalid_argument("mesh motion vertices are not finite");
+    if (corner_normals && nt != mesh.input_triangles)
+        throw std::invalid_argument("mesh motion normals have " + std::to_string(nt) + " triangles, the mesh " +
+                                    std::to_string(mesh.input_triangles));
+    if (std::equal(positions + 3 * nv, positions + n, positions, positions + n - 3 * nv) &&
+        std::equal(positions, positions + 3 * nv, positions + (steps - 1) * 3 * nv))
+        return;  // every step the same vertices: nothing moves
+    mesh.motion_positions.assign(positions, positions + n);
+    mesh.motion_positions.resize(n + 4, 0.0f);  // Embree's padding after the last step
+    mesh.motion_normals.clear();
+    if (corner_normals && !mesh.corner_normals.empty()) {
+        const size_t stride = 9 * nt;  // the normals of the triangles make_mesh kept
+        mesh.motion_normals.reserve(steps * mesh.corner_normals.size());
+        for (size_t k = 0; k < steps; ++k)
+            for (size_t i = 0; i < mesh.materials.size(); ++i)
+                for (int c = 0; c < 3; ++c) {
+                    const size_t t = mesh.kept.empty() ? i : mesh.kept[i];
+                    Vec3 nrm = load3(corner_normals + k * stride + 9 * t + 3 * c);
+                    mesh.motion_normals.push_back(is_finite(nrm) ? nrm : Vec3(0.0f));
+                }
+    }
+    mesh.motion_steps = static_cast<uint32_t>(steps);
+}
+
 void Scene::attach_attributes(Mesh& mesh, const std::vector<AttributeInput>& attributes) {
     for (const AttributeInput& a : attributes)
         if (!a.corners || a.dims < 1 || a.dims > 4) throw std::invalid_argument("mesh attribute '" + a.name + "' is malformed");
@@ -343,8 +380,11 @@ void Scene::attach_attributes(Mesh& mesh, const std::vector<AttributeInput>& att
             }
         mesh.attributes.push_back(std::move(attr));
     }
-    mesh.kept.clear();
-    mesh.kept.shrink_to_fit();
+    // Kept for set_mesh_motion's normals only where triangles were dropped (else it is 0, 1, 2, ...).
+    if (mesh.dropped == 0) {
+        mesh.kept.clear();
+        mesh.kept.shrink_to_fit();
+    }
 }
 
 void Scene::set_mesh_texspace(uint32_t mesh, const Vec3& location, const Vec3& size) {
@@ -390,8 +430,6 @@ void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& 
             throw std::invalid_argument("instance motion transform is not finite or is singular");
         moves = moves || std::memcmp(&t, &motion[0], sizeof(Transform)) != 0;
     }
-    if (moves && emissive(meshes_[mesh]))
-        throw std::invalid_argument("motion blur of emissive objects is not supported");
     if (meshes_[mesh].indices.empty()) return;
     Instance inst{mesh, to_world, false, -1, is_finite(object_color) ? vmax(object_color, Color(0.0f)) : Color(1.0f),
                   inverse(to_world)};
@@ -564,8 +602,17 @@ void Scene::build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id, uint32
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetGeometryMask(geom, visibility);
     size_t nv = (mesh.positions.size() - 4) / 3, nt = mesh.indices.size() / 3;
-    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.positions.data(), 0,
-                               3 * sizeof(float), nv);
+    if (mesh.motion_steps == 0) {
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.positions.data(), 0,
+                                   3 * sizeof(float), nv);
+    } else {
+        // Deformation motion blur: one vertex buffer per step; Embree interpolates them linearly in
+        // the ray's time, as Cycles interpolates its motion triangles.
+        rtcSetGeometryTimeStepCount(geom, mesh.motion_steps);
+        for (unsigned k = 0; k < mesh.motion_steps; ++k)
+            rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, k, RTC_FORMAT_FLOAT3, mesh.motion_positions.data(),
+                                       k * 3 * nv * sizeof(float), 3 * sizeof(float), nv);
+    }
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
                                3 * sizeof(uint32_t), nt);
     bool cutout = false;
@@ -645,8 +692,8 @@ void Scene::add_triangle_lights(Instance& inst) {
         auto light = std::make_unique<TriangleLight>(v[0], v[1], v[2], mat.emission * mat.alpha);
         if (mat.emission_texture) light->set_texture(mat.emission_texture.get(), mesh.uvs.empty() ? nullptr : &mesh.uvs[3 * t]);
         Color source = mat.emission;
+        const uint32_t inst_id = uint32_t(&inst - instances_.data());
         if (mat.program) {
-            uint32_t inst_id = uint32_t(&inst - instances_.data());
             Vec3 n = cross(v[1] - v[0], v[2] - v[0]);
             Color centroid = emission(inst_id, uint32_t(t), mesh.materials[t], 1.0f / 3.0f, 1.0f / 3.0f, n);
             light = std::make_unique<TriangleLight>(v[0], v[1], v[2], Color(1.0f));
@@ -654,6 +701,7 @@ void Scene::add_triangle_lights(Instance& inst) {
             source = centroid;
         }
         light->visibility = inst.visibility;
+        if (!inst.motion.empty() || mesh.motion_steps != 0) light->set_motion(this, inst_id, uint32_t(t));
         lights_.push_back(std::move(light));
         emitter_sources_.push_back({mat.spectral.emission_spectrum, mat.spectral.emission_temperature, source});
         stats_.emissive_triangles++;
@@ -702,16 +750,20 @@ void Scene::commit() {
         if (!mesh.prototype) {
             // Sole user: move the vertices into world space. A mirroring transform flips the winding,
             // so swap two corners to keep the geometric normal on Blender's outward side.
-            for (size_t i = 0; i + 4 < mesh.positions.size(); i += 3) {
-                Vec3 p = inst.to_world.point(load3(&mesh.positions[i]));
-                mesh.positions[i] = p.x, mesh.positions[i + 1] = p.y, mesh.positions[i + 2] = p.z;
-            }
+            for (std::vector<float>* positions : {&mesh.positions, &mesh.motion_positions})
+                for (size_t i = 0; i + 4 < positions->size(); i += 3) {
+                    Vec3 p = inst.to_world.point(load3(&(*positions)[i]));
+                    (*positions)[i] = p.x, (*positions)[i + 1] = p.y, (*positions)[i + 2] = p.z;
+                }
             float sign = inst.to_world.determinant3() < 0.0f ? -1.0f : 1.0f;
             for (Vec3& n : mesh.corner_normals) n = inst.to_world.normal(n) * sign;
+            for (Vec3& n : mesh.motion_normals) n = inst.to_world.normal(n) * sign;
             if (sign < 0.0f)
                 for (size_t t = 0; t < mesh.indices.size(); t += 3) {
                     std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
                     if (!mesh.corner_normals.empty()) std::swap(mesh.corner_normals[t + 1], mesh.corner_normals[t + 2]);
+                    for (size_t k = 0; k < mesh.motion_normals.size(); k += mesh.corner_normals.size())
+                        std::swap(mesh.motion_normals[k + t + 1], mesh.motion_normals[k + t + 2]);
                     if (!mesh.uvs.empty()) std::swap(mesh.uvs[t + 1], mesh.uvs[t + 2]);
                     for (MeshAttribute& a : mesh.attributes)
                         for (int k = 0; k < a.dims; ++k)
@@ -742,6 +794,14 @@ void Scene::commit() {
             stats_.embree_instances++;
         }
         geom_to_instance_.push_back(static_cast<uint32_t>(&inst - instances_.data()));
+        has_motion_ = has_motion_ || mesh.motion_steps > 0;
+        // A deforming mesh's bounds cover every step (in world space already when flattened).
+        for (size_t i = 0; i + 4 < mesh.motion_positions.size(); i += 3) {
+            Vec3 p = load3(&mesh.motion_positions[i]);
+            if (!inst.identity) p = inst.to_world.point(p);
+            lo = vmin(lo, p);
+            hi = vmax(hi, p);
+        }
         for (size_t i = 0; i < mesh.indices.size(); ++i) {
             Vec3 p = load3(&mesh.positions[3 * mesh.indices[i]]);
             for (const Transform& step : inst.motion) {
@@ -795,17 +855,23 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
     const Instance& inst = instances_[geom_to_instance_[top]];
     const Mesh& mesh = meshes_[inst.mesh];
     uint32_t prim = rh.hit.primID;
-    const uint32_t* idx = &mesh.indices[3 * prim];
-    Vec3 a = load3(&mesh.positions[3 * idx[0]]), b = load3(&mesh.positions[3 * idx[1]]),
-         c = load3(&mesh.positions[3 * idx[2]]);
     float u = rh.hit.u, v = rh.hit.v, w = 1.0f - u - v;
-    // Interpolating the vertices is more precise than o + t d for far-away or grazing hits.
-    Vec3 p = a * w + b * u + c * v;
-    Vec3 ng = cross(b - a, c - a);
-    Vec3 ns = ng;
-    if (!mesh.corner_normals.empty()) {
-        const Vec3* cn = &mesh.corner_normals[3 * prim];
-        ns = cn[0] * w + cn[1] * u + cn[2] * v;
+    Vec3 p, ng, ns;
+    if (__builtin_expect(mesh.motion_steps == 0, 1)) {
+        const uint32_t* idx = &mesh.indices[3 * prim];
+        Vec3 a = load3(&mesh.positions[3 * idx[0]]), b = load3(&mesh.positions[3 * idx[1]]),
+             c = load3(&mesh.positions[3 * idx[2]]);
+        // Interpolating the vertices is more precise than o + t d for far-away or grazing hits.
+        p = a * w + b * u + c * v;
+        ng = cross(b - a, c - a);
+        ns = ng;
+        if (!mesh.corner_normals.empty()) {
+            const Vec3* cn = &mesh.corner_normals[3 * prim];
+            ns = cn[0] * w + cn[1] * u + cn[2] * v;
+        }
+    } else {
+        const HitFrame d = deformed_point(mesh, prim, rh.ray.time, u, v);
+        p = d.p, ng = d.ng, ns = d.ns;
     }
     if (!inst.identity) {
         if (__builtin_expect(inst.motion.empty(), 1)) {
@@ -845,6 +911,50 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
     // Last and out of line: with a call in the middle, every hit paid for keeping the floats above
     // alive across it (SSE registers are caller-saved), textured or not (+1.1% instructions).
     if (kWithTextures && !mesh.uvs.empty()) fill_uv_attribs(mesh, inst, prim, u, v, hit);
+}
+
+void Scene::deformed_triangle(const Mesh& mesh, uint32_t prim, float time, Vec3 v[3], Vec3 n[3]) {
+    // The step before the time and the fraction towards the next, as Embree places the triangle.
+    const int last = static_cast<int>(mesh.motion_steps) - 1;
+    const float x = std::clamp(time, 0.0f, 1.0f) * last;
+    const int step = std::min(static_cast<int>(x), last - 1);
+    const float f = x - step;
+    const size_t stride = mesh.positions.size() - 4;  // floats per step
+    const float* p0 = &mesh.motion_positions[step * stride];
+    const uint32_t* idx = &mesh.indices[3 * prim];
+    for (int k = 0; k < 3; ++k)
+        v[k] = load3(p0 + 3 * idx[k]) * (1.0f - f) + load3(p0 + stride + 3 * idx[k]) * f;
+    if (mesh.motion_normals.empty()) return;
+    // Corner normals as Cycles' motion vertex normals: linear in time (normalised at the hit).
+    const size_t per_step = mesh.corner_normals.size();
+    const Vec3* n0 = &mesh.motion_normals[step * per_step + 3 * prim];
+    for (int k = 0; k < 3; ++k) n[k] = n0[k] * (1.0f - f) + n0[per_step + k] * f;
+}
+
+void Scene::triangle_at(uint32_t instance, uint32_t prim, float time, Vec3 v[3]) const {
+    const Instance& inst = instances_[instance];
+    const Mesh& mesh = meshes_[inst.mesh];
+    Vec3 normals[3];
+    if (mesh.motion_steps != 0) {
+        deformed_triangle(mesh, prim, time, v, normals);
+    } else {
+        for (int k = 0; k < 3; ++k) v[k] = load3(&mesh.positions[3 * mesh.indices[3 * prim + k]]);
+    }
+    if (inst.identity) return;  // flattened: world space already
+    Transform at = inst.to_world;
+    if (inst.geometry) rtcGetGeometryTransform(inst.geometry, time, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &at.m[0][0]);
+    for (int k = 0; k < 3; ++k) v[k] = at.point(v[k]);
+}
+
+Scene::HitFrame Scene::deformed_point(const Mesh& mesh, uint32_t prim, float time, float u, float v) {
+    Vec3 c[3], n[3];
+    deformed_triangle(mesh, prim, time, c, n);
+    const float w = 1.0f - u - v;
+    HitFrame f;
+    f.p = c[0] * w + c[1] * u + c[2] * v;
+    f.ng = cross(c[1] - c[0], c[2] - c[0]);
+    f.ns = mesh.motion_normals.empty() ? f.ng : n[0] * w + n[1] * u + n[2] * v;
+    return f;
 }
 
 void Scene::fill_uv_attribs(const Mesh& mesh, const Instance& inst, uint32_t prim, float u, float v,

@@ -124,21 +124,17 @@ TEST(Motion, StillInstancesAndMatchingStepsAreNoMotion) {
     EXPECT_EQ(s.stats().embree_instances, 0u);  // flattened as any mesh used once
 }
 
-TEST(Motion, BadStepsAndMovingEmittersAreRefused) {
+TEST(Motion, BadStepsAreRefused) {
     Scene s;
     uint32_t grey = s.add_material(testing::diffuse(Color(0.5f)));
-    uint32_t lamp = s.add_material(testing::diffuse(Color(0.0f), Color(1.0f)));
     const float v[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     const int32_t t[] = {0, 1, 2};
     uint32_t plain = s.add_mesh(v, 3, t, 1, nullptr, nullptr, {grey});
-    uint32_t glowing = s.add_mesh(v, 3, t, 1, nullptr, nullptr, {lamp});
     Transform zero;
     zero.m[0][0] = 0.0f;
     EXPECT_THROW(s.add_instance(plain, Transform(), Color(1.0f), 0, 0, 1, false, kRayAllVisibility, {Transform(), zero}),
                  std::invalid_argument);
     EXPECT_THROW(s.add_instance(plain, Transform(), Color(1.0f), 0, 0, 1, false, kRayAllVisibility, {Transform()}), std::invalid_argument);
-    EXPECT_THROW(s.add_instance(glowing, Transform(), Color(1.0f), 0, 0, 1, false, kRayAllVisibility, {Transform(), rotation_z(5.0f)}),
-                 std::invalid_argument);
     CameraDesc c = testing::camera_at(Vec3(0.0f, 0.0f, 10.0f), 8, 8);
     c.motion = {c.to_world, zero};
     EXPECT_THROW(Camera{c}, std::invalid_argument);

@@ -214,7 +214,7 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
     counts = ExportCounts()
     prototypes = {}   # prototype key -> engine mesh id, or None for empty geometry
     singular, broken = [], []  # objects skipped (the rest of the scene still renders)
-    unblurred = []  # moving objects the engine refused to blur (emitters), rendered unblurred
+    unblurred = []  # motion the engine refused (a singular step, unusable vertices): rendered without it
     for kind, inst, obj in walk_instances(depsgraph, reporter, test_break):
         if kind == 'LIGHT':
             if lights.export_light(scene, obj, instance_matrix(inst), reporter):
@@ -232,6 +232,12 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
                 broken.append("%s (%s)" % (obj.name, exc))
                 mesh_id = None
             prototypes[key] = mesh_id
+            deformation = motion.deformation_of(inst) if motion is not None and mesh_id is not None else None
+            if deformation is not None:
+                try:
+                    scene.set_mesh_motion(mesh_id, *deformation)
+                except ValueError as exc:
+                    unblurred.append("'%s' (%s)" % (obj.name, exc))
         if mesh_id is not None:
             # Object Info: Cycles' random is the instance's random_id over 2^32, the pass index
             # the object's.

@@ -3,9 +3,11 @@ takes them (intern/cycles/blender/sync.cpp, sync_motion; util.h, object_motion_s
 
 Cycles evaluates the scene again at the shutter's times around the frame and keeps each object's
 matrix there; the engine interpolates between these steps (scene/motion.h) and gives every camera
-sample a time in the shutter. Deformation motion blur (vertices moving within the mesh), moving
-emitters and moving lights are not done: they render unblurred, at the shutter's centre (the first
-two with a warning).
+sample a time in the shutter. Deformation motion blur as Cycles' sync_mesh_motion takes it: the
+evaluated mesh's vertices (and corner normals) at the object's own step times, linear in time between
+them in the engine; a mesh whose vertex count changes over the shutter renders without it (named in
+a warning). Moving and deforming emitters are blurred, their light samples taken at the path's
+time in the engine; lamps do not move (Cycles 3.4's lights have one transform).
 """
 
 import math
@@ -14,6 +16,7 @@ import numpy as np
 
 from .camera import camera_object
 from .instances import GEOMETRY_TYPES, instance_matrix
+from .mesh import mesh_buffers
 
 RAMP_TABLE_SIZE = 256   # Cycles' resolution of the shutter curve
 
@@ -57,19 +60,39 @@ def _may_deform(obj):
     keys = getattr(original.data, "shape_keys", None)
     if keys is not None and keys.animation_data is not None:
         return True
+    if getattr(original.data, "animation_data", None) is not None:
+        return True  # keyed vertex positions (or other mesh data)
     return any(m.type in {'ARMATURE', 'CAST', 'CURVE', 'DISPLACE', 'HOOK', 'LATTICE', 'MESH_DEFORM', 'SHRINKWRAP',
                           'SIMPLE_DEFORM', 'SMOOTH', 'SURFACE_DEFORM', 'WARP', 'WAVE', 'CLOTH', 'SOFT_BODY',
                           'OCEAN', 'NODES'} and m.show_render for m in original.modifiers)
 
 
-def _vertex_positions(obj):
+def _deformed_mesh(obj):
+    """(vertices (N, 3), triangles (M, 3), corner normals (M, 3, 3) or None) of the evaluated object,
+    through the export's own mesh_buffers, so every step matches what the frame's export gives."""
     mesh = obj.to_mesh()
     try:
-        co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
-        mesh.vertices.foreach_get("co", co)
-        return co
+        buf = mesh_buffers(mesh, 1)
+        return buf.vertices, buf.triangles, buf.corner_normals
     finally:
         obj.to_mesh_clear()
+
+
+def _deformation(found, steps):
+    """The steps' (positions, normals) of a deforming mesh, or a reason it has none: 'static' (no
+    vertex moves), 'topology' (the vertices or triangles change over the shutter)."""
+    rels = relative_times(steps)
+    if any(r not in found for r in rels):
+        return 'static'
+    meshes = [found[r] for r in rels]
+    vertices, triangles, normals = meshes[0]
+    if any(len(v) != len(vertices) or not np.array_equal(t, triangles) or (n is None) != (normals is None)
+           for v, t, n in meshes[1:]):
+        return 'topology'
+    positions = np.stack([v for v, _, _ in meshes])
+    if np.array_equal(positions.min(axis=0), positions.max(axis=0)):
+        return 'static'
+    return positions, (np.stack([n for _, _, n in meshes]) if normals is not None else None)
 
 
 def shutter_curve(render):
@@ -89,14 +112,20 @@ class Motion:
     """The matrices of what moves over the shutter: `camera` (steps x 4 x 4 or None) and, per
     instance key, the steps of the instances that move (`of(inst)`)."""
 
-    def __init__(self, camera=None, instances=None, shutter_curve_values=None):
+    def __init__(self, camera=None, instances=None, shutter_curve_values=None, deforming=None):
         self.restore = lambda: None  # back to the frame from the shutter's centre
         self.camera = camera
         self.instances = instances or {}
         self.shutter_curve = shutter_curve_values
+        # object name -> (positions (steps, N, 3), corner normals (steps, M, 3, 3) or None)
+        self.deforming = deforming or {}
 
     def of(self, inst):
         return self.instances.get(instance_key(inst))
+
+    def deformation_of(self, inst):
+        """Scene.set_mesh_motion's arguments for the instance's mesh, or None when it does not deform."""
+        return None if inst.is_instance else self.deforming.get(inst.object.original.name_full)
 
     def camera_fields(self):
         fields = {}
@@ -129,7 +158,7 @@ def collect(engine, depsgraph, warn):
     frame, subframe = scene.frame_current, scene.frame_subframe
 
     wanted = {}      # instance key -> steps
-    deforming = []
+    deforming = {}   # object name -> (original object, steps), for the objects whose mesh may deform
     cam_obj = camera_object(engine, scene)
     for inst in depsgraph.object_instances:
         obj = inst.object
@@ -139,14 +168,14 @@ def collect(engine, depsgraph, warn):
         if steps:
             wanted[instance_key(inst)] = steps
             if not inst.is_instance and _may_deform(obj):
-                deforming.append(obj.name)
+                deforming[obj.original.name_full] = (obj.original, steps)
     camera_steps = motion_steps(cam_obj) if cam_obj is not None else 0
 
     times = sorted({t for n in set(wanted.values()) | ({camera_steps} if camera_steps else set())
                     for t in relative_times(n)})
     seen = {key: {} for key in wanted}
     camera_seen = {}
-    vertices = {name: [] for name in deforming}  # at the first and last step
+    meshes = {name: {} for name in deforming}  # relative time -> _deformed_mesh
     try:
         for rel in times:
             t = frame + subframe + delta + rel * 0.5 * shutter
@@ -159,9 +188,9 @@ def collect(engine, depsgraph, warn):
                         entry[rel] = instance_matrix(inst)
             if camera_steps:
                 camera_seen[rel] = np.array(cam_obj.evaluated_get(depsgraph).matrix_world, dtype=np.float64)
-            if rel in (times[0], times[-1]):
-                for name in deforming:
-                    vertices[name].append(_vertex_positions(scene.objects[name].evaluated_get(depsgraph)))
+            for name, (original, steps) in deforming.items():
+                if rel in relative_times(steps):
+                    meshes[name][rel] = _deformed_mesh(original.evaluated_get(depsgraph))
     finally:
         centre = frame + subframe + delta
         engine.frame_set(int(math.floor(centre)), centre - math.floor(centre))
@@ -180,13 +209,14 @@ def collect(engine, depsgraph, warn):
         mats = steps_of(seen[key], steps)
         if mats is not None:
             instances[key] = mats
-    deforming = [name for name in deforming if len(vertices[name]) == 2 and
-                 not np.array_equal(vertices[name][0], vertices[name][1])]
-    if deforming:
-        shown = ", ".join("'%s'" % n for n in deforming[:10])
-        warn("Deformation motion blur is not supported: %s render%s with the transform's motion blur only"
-             % (shown, "s" if len(deforming) == 1 else ""))
+    deformation = {name: _deformation(meshes[name], steps) for name, (_, steps) in deforming.items()}
+    changing = sorted(name for name, d in deformation.items() if d == 'topology')
+    if changing:
+        # Cycles (sync_mesh_motion) drops the deformation of such a mesh too, in its log only.
+        shown = ", ".join("'%s'" % n for n in changing[:10])
+        warn("No deformation motion blur for %s: the mesh topology changes over the shutter" % shown)
     camera = steps_of(camera_seen, camera_steps) if camera_steps else None
-    motion = Motion(camera, instances, shutter_curve(render))
+    motion = Motion(camera, instances, shutter_curve(render),
+                    {name: d for name, d in deformation.items() if not isinstance(d, str)})
     motion.restore = lambda: engine.frame_set(frame, subframe) if delta else None
     return motion
