@@ -2,6 +2,7 @@
 
 #include "integrators/volume.h"
 #include "integrators/direct_lighting.h"
+#include "integrators/subsurface_walk.h"
 #include "shading/normals.h"
 
 namespace smis {
@@ -128,7 +129,8 @@ namespace {
 // instantiated for scenes with media, so the surface-only loop is unchanged for the others. kRules
 // adds Cycles' ray types, per-type bounce limits, clamping and caustics toggles, only for scenes
 // that hide something from some rays or settings that use them (uses_light_path_rules): without,
-// every ray sees every object and light, so the types cannot change what a ray finds.
+// every ray sees every object and light, so the types cannot change what a ray finds. It also
+// carries subsurface scattering (walks, the diffuse ancestor), so scenes without pay nothing.
 template <bool kMedia, bool kRules>
 Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,
                       LocalCounters& counters) {
@@ -169,7 +171,10 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         }
         ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
         if (holdout_ends_path(state, sp, beta, counters)) break;
-        if constexpr (kRules) drop_caustic_lobes(settings, state, sp);
+        if constexpr (kRules) {
+            drop_caustic_lobes(settings, state, sp);
+            if (state.diffuse_ancestor && scene.has_subsurface()) sp.bsdf.subsurface_as_diffuse();
+        }
         if (sp.bsdf.empty()) break;
 
         bool resample = false;
@@ -187,6 +192,17 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         }
 
         BsdfSample bs = sample_bsdf(sp, rng);
+        if constexpr (kRules) {
+            if (bs.delta && bs.lobe >= 0 && sp.bsdf.lobe(bs.lobe).kind == LobeKind::Subsurface) {
+                // Cycles' subsurface bounce: the walk to the exit, then the exit's light sample and
+                // bounce, at the entry's depth (the walk is no bounce of the path in Cycles).
+                beta *= bs.value / bs.pdf;
+                if (!subsurface_walk(scene, sp, sp.bsdf.lobe(bs.lobe), rng, &beta, &sp)) break;
+                DirectSample ds = sample_direct(scene, settings, sp, rng, counters, state.medium);
+                if (ds.valid) L += clamped(beta * direct_eval(sp, ds) * ds.weighted, state.depth == 0);
+                bs = sample_bsdf(sp, rng);
+            }
+        }
         if (!bs.valid()) {
             ++counters.samples_rejected;
             break;
@@ -199,7 +215,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         if constexpr (kMedia) state.medium = medium_towards(scene, sp, bs.wi, state.medium);
         state.prev_delta = bs.delta;
         state.prev_pdf = bs.pdf;
-        state.prev_p = hit.p;
+        state.prev_p = sp.hit.p;
         ray = kRules ? bounce_ray(sp, bs, state) : Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time};
         if (!russian_roulette(state.depth, beta, eta_scale * state.rr_scale, rng) || is_black(beta)) break;
     }

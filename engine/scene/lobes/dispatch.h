@@ -18,8 +18,10 @@
 #include "scene/lobes/multiscatter_ggx.h"
 #include "scene/lobes/oren_nayar.h"
 #include "scene/lobes/principled_diffuse.h"
+#include "scene/lobes/principled_part.h"
 #include "scene/lobes/refraction.h"
 #include "scene/lobes/sheen.h"
+#include "scene/lobes/subsurface.h"
 #include "scene/lobes/toon_diffuse.h"
 #include "scene/lobes/toon_glossy.h"
 #include "scene/lobes/translucent.h"
@@ -36,7 +38,7 @@ struct LobeKindList {
 using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, ClearcoatLobe, SheenLobe,
                                   TransparentLobe, PrincipledDiffuseLobe, OrenNayarLobe, VelvetLobe, TranslucentLobe,
                                   RefractionLobe, BeckmannLobe, ToonDiffuseLobe, ToonGlossyLobe, MultiGgxLobe,
-                                  GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe>;
+                                  GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe, SubsurfaceLobe, PrincipledPartLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -89,6 +91,8 @@ template <bool kGated = true, class F>
         case GgxMultipleLobe::kKind: return call_kind<GgxMultipleLobe, kGated>(f);
         case AnisoGgxLobe::kKind: return call_kind<AnisoGgxLobe, kGated>(f);
         case AnisoBeckmannLobe::kKind: return call_kind<AnisoBeckmannLobe, kGated>(f);
+        case SubsurfaceLobe::kKind: return call_kind<SubsurfaceLobe, kGated>(f);
+        case PrincipledPartLobe::kKind: return call_kind<PrincipledPartLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate
