@@ -97,6 +97,10 @@ struct PathState {
     bool planes_on_camera_ray = false;
     // A camera path before its first non-specular vertex, where settings.direct_light applies.
     bool first_vertex_ahead = false;
+    // Cycles' PATH_RAY_DIFFUSE_ANCESTOR: the path made a diffuse bounce, and subsurface scattering
+    // renders as diffuse from here on (Bsdf::subsurface_as_diffuse). Integrators without subsurface
+    // walks start their paths with it set. (Here, in padding: a larger PathState cost every path.)
+    bool diffuse_ancestor = false;
     // The previous vertex's light-sampling density, for MIS, as a multiple of the NEE density
     // (pmf x light pdf): M for resampled light sampling (RIS, ReSTIR), see reservoir_contribution;
     // n_light / n_bsdf for n_light light and n_bsdf BSDF samples (path-space filtering's
@@ -117,10 +121,6 @@ struct PathState {
     // for the per-type limits (RenderSettings::max_diffuse_bounces ...).
     uint32_t ray_flags = kRayCamera;
     uint16_t diffuse_bounces = 0, glossy_bounces = 0, transmission_bounces = 0, transparent_bounces = 0;
-    // Cycles' PATH_RAY_DIFFUSE_ANCESTOR: the path made a diffuse bounce, and subsurface scattering
-    // renders as diffuse from here on (Bsdf::subsurface_as_diffuse). Integrators without subsurface
-    // walks start their paths with it set.
-    bool diffuse_ancestor = false;
 };
 // After the vertex scattered along `bs`: the next ray's flags and the per-type counts, labelled as
 // Cycles labels the event (path_state_next): a Dirac or glossy reflection is glossy, a

@@ -101,6 +101,12 @@ std::vector<NamedLobe> new_lobes() {
     for (float alpha : {0.1f, 0.5f})
         v.push_back({"Refraction_a" + num(alpha), lobe_of(LobeKind::Refraction, alpha, Color(0.9f, 1.0f, 0.8f), 1.5f),
                      true});
+    // Subsurface scattering's parts of the principled diffuse (lobes/principled_part.h).
+    for (uint8_t variant : {PrincipledPartLobe::kLambert, PrincipledPartLobe::kExit, PrincipledPartLobe::kRetro}) {
+        Lobe l = lobe_of(LobeKind::PrincipledPart, 0.36f, Color(0.8f, 0.5f, 0.3f));
+        l.variant = variant;
+        v.push_back({"PrincipledPart_" + num(variant), l});
+    }
     return v;
 }
 

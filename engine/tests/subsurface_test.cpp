@@ -122,6 +122,29 @@ TEST(Subsurface, WhiteFurnaceWalkLosesNoEnergy) {
     }
 }
 
+TEST(Subsurface, InstancedObjectsWalkInTheirOwnGeometry) {
+    // A mesh used twice is an Embree prototype: each instance's own scene holds its instance
+    // geometry, whose hits map back to it. The second sphere lies far behind the camera.
+    auto s = std::make_shared<Scene>();
+    uint32_t mat = s->add_material(subsurface_material(Color(1.0f), Color(6.0f, 3.0f, 1.2f), 0.0f, false,
+                                                      SubsurfaceMethod::RandomWalkFixedRadius));
+    uint32_t mesh = add_sphere(*s, 1.0f, 32, 64, mat);
+    Transform far;
+    far.m[2][3] = 100.0f;
+    s->add_instance(mesh, far);
+    s->set_world(Color(1.0f));
+    CameraDesc c = camera_at({0, 0, 3.0f}, 16, 16);
+    c.lens = 200.0f;
+    s->set_camera(c);
+    s->commit();
+    ASSERT_EQ(s->stats().embree_instances, 2u);
+    RenderSettings st;
+    st.samples = 128;
+    st.max_bounces = 4;
+    auto m = channel_mean(render(s, st), 1);
+    EXPECT_NEAR(m.mean(), 1.0, 4.0 * m.std_error() + 2e-3);
+}
+
 TEST(Subsurface, ThickSlabReflectsTheSurfaceAlbedo) {
     // What the albedo inversion is for (Chiang et al. 2016): a semi-infinite medium with the fitted
     // alpha reflects the surface albedo. A sphere 50 mean free paths across is nearly one.
