@@ -157,6 +157,7 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
     st1.min_ray_pdf = prefix.min_ray_pdf;
     st1.diffuse_bounces = prefix.diffuse_bounces, st1.glossy_bounces = prefix.glossy_bounces;
     st1.transmission_bounces = prefix.transmission_bounces, st1.transparent_bounces = prefix.transparent_bounces;
+    st1.diffuse_ancestor = true;  // no subsurface walks in path-space filtering
     advance_ray_type(st1, sp.bsdf, bs);
     const Ray r1 = bounce_ray(sp, bs, st1);
     const Color path_weight = beta * bs.value / bs.pdf;
@@ -175,6 +176,7 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
 
     // z1: shade it once, keeping its NEE and BSDF estimators apart for re-evaluation.
     ShadingPoint sp1 = make_shading_point(scene, h1, r1.d);
+    subsurface_fallback(scene, sp1);
     light_path_lobes(settings, st1, sp1);
     if (sp1.bsdf.empty()) return out;
     DirectSample ds1 = sample_direct(scene, settings, sp1, rng, counters);
@@ -235,7 +237,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
     PathRecord rec;
     *model = TechniqueDensity{};
     for (int m = 0; m < extra_paths; ++m) extra[m] = PrivateSuffix{};
-    PathState st = camera_path_state(ray.o);
+    PathState st = camera_path_state(ray.o, false);
     Color beta(1.0f);
     float eta_scale = 1.0f, prefix_length = 0.0f;
     for (;; ++st.depth) {
@@ -246,6 +248,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         if (!found || beyond_bounce_limits(settings, st)) return rec;
         prefix_length += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
+        subsurface_fallback(scene, sp);
         if (holdout_ends_path(st, sp, beta, counters)) return rec;
         if (sp.bsdf.empty()) return rec;
         if (sp.bsdf.is_delta()) {  // still in the prefix: follow the Dirac bounce

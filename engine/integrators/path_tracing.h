@@ -97,6 +97,10 @@ struct PathState {
     bool planes_on_camera_ray = false;
     // A camera path before its first non-specular vertex, where settings.direct_light applies.
     bool first_vertex_ahead = false;
+    // Cycles' PATH_RAY_DIFFUSE_ANCESTOR: the path made a diffuse bounce, and subsurface scattering
+    // renders as diffuse from here on (Bsdf::subsurface_as_diffuse). Integrators without subsurface
+    // walks start their paths with it set. (Here, in padding: a larger PathState cost every path.)
+    bool diffuse_ancestor = false;
     // The previous vertex's light-sampling density, for MIS, as a multiple of the NEE density
     // (pmf x light pdf): M for resampled light sampling (RIS, ReSTIR), see reservoir_contribution;
     // n_light / n_bsdf for n_light light and n_bsdf BSDF samples (path-space filtering's
@@ -137,6 +141,7 @@ inline void advance_ray_type(PathState& st, const Bsdf& bsdf, const BsdfSample& 
     // Cycles' Dirac closures report a density of 1e6: they never lower min_ray_pdf.
     if (!bs.delta) st.min_ray_pdf = std::min(st.min_ray_pdf, bs.pdf);
     const uint32_t kind = !bs.delta && label == RayLabel::Diffuse ? kRayDiffuse : kRayGlossy;
+    st.diffuse_ancestor = st.diffuse_ancestor || kind == kRayDiffuse;
     if (bs.transmission) ++st.transmission_bounces;
     else if (kind == kRayDiffuse) ++st.diffuse_bounces;
     else ++st.glossy_bounces;
@@ -156,13 +161,14 @@ inline bool beyond_bounce_limits(const RenderSettings& s, const PathState& st) {
 }
 // Whether the scene or the settings use what PathState's ray types serve: an object or light hidden
 // from some rays (Scene::has_ray_visibility), per-type bounce limits below max_bounces, clamping or
-// a caustics toggle off, Filter Glossy. Without, a path that keeps every ray type renders the same image, and the
-// path tracer takes its loop without them (trace_path).
+// a caustics toggle off, Filter Glossy, or subsurface scattering (its walks, and the diffuse
+// ancestor). Without, a path that keeps every ray type renders the same image, and the path tracer
+// takes its loop without them (trace_path).
 inline bool uses_light_path_rules(const Scene& scene, const RenderSettings& s) {
     const int limit = std::min({s.max_diffuse_bounces, s.max_glossy_bounces, s.max_transmission_bounces,
                                 s.max_transparent_bounces});
-    return scene.has_ray_visibility() || limit < s.max_bounces || s.clamp_direct > 0.0f || s.clamp_indirect > 0.0f ||
-           !s.caustics_reflective || !s.caustics_refractive || s.filter_glossy > 0.0f;
+    return scene.has_ray_visibility() || scene.has_subsurface() || limit < s.max_bounces || s.clamp_direct > 0.0f ||
+           s.clamp_indirect > 0.0f || !s.caustics_reflective || !s.caustics_refractive || s.filter_glossy > 0.0f;
 }
 // Cycles' Clamp Direct / Clamp Indirect (0 = off): a contribution whose mean |RGB| exceeds the
 // limit is scaled down to it (Cycles compares the sum with 3 x the setting). Direct: light samples
@@ -181,12 +187,19 @@ inline Color clamp_contribution(const RenderSettings& s, const Color& c, bool di
 inline Color clamp_sample_share(const RenderSettings& s, const Color& c, int n, bool direct) {
     return n == 1 ? clamp_contribution(s, c, direct) : clamp_contribution(s, c * float(n), direct) / float(n);
 }
-// The state of a camera path starting at `origin`.
-inline PathState camera_path_state(const Vec3& origin) {
+// The state of a camera path starting at `origin`; `subsurface_walks` false for the integrators
+// that render subsurface scattering as its diffuse fallback (see subsurface_fallback).
+inline PathState camera_path_state(const Vec3& origin, bool subsurface_walks = true) {
     PathState st;
     st.prev_p = origin;
     st.transparent_background = true;
+    st.diffuse_ancestor = !subsurface_walks;
     return st;
+}
+// Integrators without subsurface walks (path-space filtering, ReSTIR, the spectral tracer) render
+// every Subsurface lobe they shade as its diffuse fallback (the add-on warns).
+inline void subsurface_fallback(const Scene& scene, ShadingPoint& sp) {
+    if (scene.has_subsurface()) sp.bsdf.subsurface_as_diffuse();
 }
 // Whether the ray (found: it hit `hit`) ends the camera path as a hole in the film: it escaped to
 // the World with Film Transparent, or it met a holdout object. The path's mean throughput (Cycles'

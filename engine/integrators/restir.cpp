@@ -36,7 +36,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
     px.distance = 0.0f;
     px.r = Reservoir{};
     px.eval = CandidateEval{};
-    PathState st = camera_path_state(ray.o);
+    PathState st = camera_path_state(ray.o, false);
     Color beta(1.0f);
     float eta_scale = 1.0f;
     for (;; ++st.depth) {
@@ -47,6 +47,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
         if (!found || beyond_bounce_limits(settings, st)) return;
         px.distance += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
+        subsurface_fallback(scene, sp);
         if (holdout_ends_path(st, sp, beta, counters)) return;
         if (sp.bsdf.empty()) return;
         const bool first = !sp.bsdf.is_delta();

@@ -256,6 +256,7 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
             sray.length = hit.t;
         }
         ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
+        subsurface_fallback(scene, sp);
         if (holdout_ends_path(state, sp, transparent_beta, counters)) break;
         light_path_lobes(settings, state, sp);
         if (sp.bsdf.empty()) break;

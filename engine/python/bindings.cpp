@@ -692,6 +692,7 @@ PYBIND11_MODULE(_smis, m) {
             d["materials"] = st.materials;
             d["has_media"] = s.has_media();
             d["has_motion"] = s.has_motion();
+            d["has_subsurface"] = s.has_subsurface();
             return d;
         });
 

@@ -135,6 +135,17 @@ void Bsdf::add(const Lobe& lobe) {
     lobes_[count_++] = l;
 }
 
+void Bsdf::subsurface_as_diffuse() {
+    for (int i = 0; i < count_; ++i) {
+        Lobe& l = lobes_[i];
+        if (l.kind != LobeKind::Subsurface) continue;
+        const bool principled = l.variant & SubsurfaceLobe::kPrincipledExit;
+        l.kind = principled ? LobeKind::PrincipledPart : LobeKind::Diffuse;
+        l.variant = PrincipledPartLobe::kLambert;
+        --delta_count_;
+    }
+}
+
 Color Bsdf::albedo_weight() const {
     Color sum(0.0f);
     for (int i = 0; i < count_; ++i) sum += lobes_[i].weight;

@@ -62,6 +62,11 @@ public:
         }
     }
     const Lobe& lobe(int i) const { return lobes_[i]; }
+    // Every Subsurface lobe becomes its diffuse fallback (Lambert for the Subsurface Scattering
+    // node, the principled Lambert part for Principled, whose retro-reflection lobe completes it):
+    // what Cycles renders after a diffuse bounce, and what integrators without a walk render.
+    // Out of line: the path tracer's loop stays small for scenes without subsurface.
+    [[gnu::noinline]] void subsurface_as_diffuse();
     bool empty() const { return count_ == 0; }
     // True when every lobe is a Dirac: NEE is pointless there. Counted in add(), since every
     // vertex of every path asks.

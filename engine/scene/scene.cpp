@@ -127,6 +127,8 @@ Scene::Scene() {
 }
 
 Scene::~Scene() {
+    for (Instance& inst : instances_)
+        if (inst.own) rtcReleaseScene(inst.own);
     for (Mesh& m : meshes_)
         if (m.prototype) rtcReleaseScene(m.prototype);
     if (scene_) rtcReleaseScene(scene_);
@@ -170,6 +172,7 @@ void Scene::sanitize(Material& material) {
         l.f0 = vmin(vmax(l.f0, Color(0.0f)), Color(1.0f));
         l.alpha = std::isfinite(l.alpha) ? clampf(l.alpha, 0.0f, 1.0f) : 1.0f;
         l.eta = (std::isfinite(l.eta) && l.eta > 0.0f) ? l.eta : 1.5f;
+        l.radius = is_finite(l.radius) ? vmax(l.radius, Color(0.0f)) : Color(0.0f);
     }
     for (size_t i = 0; i < material.lobes.size(); ++i) material.lobes[i].index = static_cast<uint8_t>(i);
     validate_spectral(material.spectral, material.name);
@@ -183,9 +186,19 @@ void Scene::sanitize(Material& material) {
     material.prepare();
 }
 
+namespace {
+// A material with a BSSRDF closure (for programs, their lobe templates).
+bool uses_subsurface(const Material& m) {
+    for (const Lobe& l : m.lobes)
+        if (l.kind == LobeKind::Subsurface) return true;
+    return false;
+}
+}  // namespace
+
 uint32_t Scene::add_material(Material material) {
     if (committed_) throw std::logic_error("scene already committed");
     sanitize(material);
+    has_subsurface_ = has_subsurface_ || uses_subsurface(material);
     varying_materials_ = varying_materials_ || !material.inputs.empty() || material.program;
     programs_ = programs_ || material.program;
     // A Holdout closure cuts the film like a holdout object (the film keeps transparency).
@@ -202,12 +215,13 @@ bool Scene::replace_material(uint32_t id, Material material) {
     // are registered per mesh, emissive triangles and media are found at commit.
     auto has_volume = [](const Material& m) { return m.medium >= 0 || m.pass_through; };
     if (old.cutout() != material.cutout() || old.emissive() != material.emissive() || has_volume(old) ||
-        has_volume(material))
+        has_volume(material) || uses_subsurface(old) != uses_subsurface(material))
         return false;
     bool emissive = material.emissive();
     materials_[id] = std::move(material);
     varying_materials_ = varying_materials_ || !materials_[id].inputs.empty() || materials_[id].program;
     programs_ = programs_ || materials_[id].program;
+    hit_ids_ = (kWithTextures && programs_) || has_subsurface_;
     has_holdout_ = has_holdout_ || (materials_[id].program && materials_[id].program->may_hold_out());
     update_skipped();
     if (emissive) rebuild_lights();  // the triangle lights carry the emission
@@ -288,7 +302,8 @@ void Scene::build_prototype(Mesh& mesh) {
 }
 
 bool Scene::set_instance_transforms(const float* rows, size_t n) {
-    if (!committed_ || !fast_build_ || n != instances_.size()) return false;
+    // Subsurface objects' own scenes would keep the old transforms: a new scene is built.
+    if (!committed_ || !fast_build_ || n != instances_.size() || has_subsurface_) return false;
     std::vector<Transform> transforms(n);
     for (size_t i = 0; i < n; ++i) {
         for (int r = 0; r < 3; ++r)
@@ -310,7 +325,7 @@ bool Scene::replace_mesh(uint32_t id, const float* vertices, size_t nv, const in
                          const float* corner_normals, const int32_t* material_index,
                          const std::vector<uint32_t>& slot_materials, const float* corner_uvs,
                          const std::vector<AttributeInput>& attributes) {
-    if (!committed_ || !fast_build_ || id >= meshes_.size() || !meshes_[id].prototype) return false;
+    if (!committed_ || !fast_build_ || id >= meshes_.size() || !meshes_[id].prototype || has_subsurface_) return false;
     Mesh mesh = make_mesh(vertices, nv, triangles, nt, corner_normals, material_index, slot_materials, corner_uvs);
     attach_attributes(mesh, attributes);
     mesh.texspace_location = meshes_[id].texspace_location;
@@ -708,6 +723,36 @@ void Scene::add_triangle_lights(Instance& inst) {
     }
 }
 
+void Scene::attach_instance_geometry(RTCScene target, Instance& inst, unsigned geom_id, bool own) {
+    Mesh& mesh = meshes_[inst.mesh];
+    if (!mesh.prototype) {
+        build_mesh_geometry(target, mesh, geom_id, own ? kRayAllVisibility : inst.visibility);
+        return;
+    }
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(geom, mesh.prototype);
+    if (inst.motion.empty()) {
+        rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &inst.to_world.m[0][0]);
+    } else {
+        // Quaternion steps, so Embree interpolates rotations as Cycles does (scene/motion.h).
+        std::vector<DecomposedTransform> steps = decompose_motion(inst.motion);
+        rtcSetGeometryTimeStepCount(geom, static_cast<unsigned>(steps.size()));
+        for (size_t k = 0; k < steps.size(); ++k) {
+            RTCQuaternionDecomposition q = embree_decomposition(steps[k]);
+            rtcSetGeometryTransformQuaternion(geom, static_cast<unsigned>(k), &q);
+        }
+        if (!own) {
+            inst.geometry = geom;  // the scene keeps it alive
+            has_motion_ = true;
+        }
+    }
+    rtcSetGeometryMask(geom, own ? kRayAllVisibility : inst.visibility);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(target, geom, geom_id);
+    rtcReleaseGeometry(geom);
+    if (!own) stats_.embree_instances++;
+}
+
 void Scene::commit() {
     if (committed_) return;
     if (!has_camera_) throw std::invalid_argument("scene has no camera");
@@ -770,28 +815,18 @@ void Scene::commit() {
                             std::swap(a.corners[(t + 1) * a.dims + k], a.corners[(t + 2) * a.dims + k]);
                 }
             inst.identity = true;
-            build_mesh_geometry(scene_, mesh, geom_id, inst.visibility);
-        } else {
-            RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
-            rtcSetGeometryInstancedScene(geom, mesh.prototype);
-            if (inst.motion.empty()) {
-                rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &inst.to_world.m[0][0]);
-            } else {
-                // Quaternion steps, so Embree interpolates rotations as Cycles does (scene/motion.h).
-                std::vector<DecomposedTransform> steps = decompose_motion(inst.motion);
-                rtcSetGeometryTimeStepCount(geom, static_cast<unsigned>(steps.size()));
-                for (size_t k = 0; k < steps.size(); ++k) {
-                    RTCQuaternionDecomposition q = embree_decomposition(steps[k]);
-                    rtcSetGeometryTransformQuaternion(geom, static_cast<unsigned>(k), &q);
-                }
-                inst.geometry = geom;  // the scene keeps it alive
-                has_motion_ = true;
+        }
+        attach_instance_geometry(scene_, inst, geom_id, false);
+        if (has_subsurface_) {
+            bool walks = false;
+            for (uint32_t m : mesh.materials) walks = walks || uses_subsurface(materials_[m]);
+            if (walks) {
+                inst.own = rtcNewScene(device_);
+                rtcSetSceneFlags(inst.own, RTC_SCENE_FLAG_ROBUST);
+                rtcSetSceneBuildQuality(inst.own, build_quality());
+                attach_instance_geometry(inst.own, inst, geom_id, true);
+                rtcCommitScene(inst.own);
             }
-            rtcSetGeometryMask(geom, inst.visibility);
-            rtcCommitGeometry(geom);
-            rtcAttachGeometryByID(scene_, geom, geom_id);
-            rtcReleaseGeometry(geom);
-            stats_.embree_instances++;
         }
         geom_to_instance_.push_back(static_cast<uint32_t>(&inst - instances_.data()));
         has_motion_ = has_motion_ || mesh.motion_steps > 0;
@@ -820,6 +855,7 @@ void Scene::commit() {
     }
     rtcCommitScene(scene_);
     if (!embree_error_.empty()) throw std::runtime_error(embree_error_);
+    hit_ids_ = (kWithTextures && programs_) || has_subsurface_;
     has_motion_ = has_motion_ || camera_.has_motion();
     radius_ = instances_.empty() ? 1.0f : std::max(1e-3f, 0.5f * length(hi - lo));
     if (!std::isfinite(radius_)) radius_ = 1.0f;
@@ -894,14 +930,12 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
     hit->ns = ns;
     hit->material = mesh.materials[prim];
     hit->holdout = inst.holdout;
-    if (kWithTextures) {
-        hit->attr.object_color = inst.object_color;
-        if (programs_) {
-            hit->attr.instance = geom_to_instance_[top];
-            hit->attr.prim = prim;
-            hit->attr.bu = u;
-            hit->attr.bv = v;
-        }
+    if (kWithTextures) hit->attr.object_color = inst.object_color;
+    if (hit_ids_) {
+        hit->attr.instance = geom_to_instance_[top];
+        hit->attr.prim = prim;
+        hit->attr.bu = u;
+        hit->attr.bv = v;
     }
     hit->light = -1;
     if (inst.light_base >= 0) {
@@ -991,6 +1025,20 @@ Vec3 Scene::apply_normal_map(const Material& mat, const Mesh& mesh, const Instan
     Vec3 n = normalize(ns + (mapped - ns) * std::max(mat.normal_strength, 0.0f));
     if (!is_finite(n)) return ns;
     return dot(n, ng) < 0.0f ? ns : n;  // never below the surface (as fill_hit's own rule)
+}
+
+bool Scene::intersect_instance(uint32_t instance, const Ray& ray, SurfaceHit* hit) const {
+    if (instance >= instances_.size() || !instances_[instance].own) return false;
+    if (!embree_accepts(ray.o, ray.d, ray.tmin, ray.tmax)) return false;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh = embree_ray_hit(ray);
+    rh.ray.mask = kRayAllVisibility;
+    rtcIntersect1(instances_[instance].own, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    fill_hit(ray, rh, hit);
+    hit->time = ray.time;
+    return true;
 }
 
 bool Scene::occluded(const Vec3& origin, const Vec3& dir, float tmax, float time, uint32_t visibility) const {

@@ -158,6 +158,12 @@ public:
                   uint32_t visibility = kRayShadow) const;
     // A visibility mask in the time's place would convert silently: pass the time first.
     bool occluded(const Vec3& origin, const Vec3& dir, float tmax, uint32_t visibility) const = delete;
+    // The closest surface of instance `instance` alone (hit.attr.instance of a hit on it), whatever
+    // the ray's visibility: subsurface walks inside an object (integrators/subsurface_walk.h).
+    // False for instances without subsurface materials (they have no geometry of their own).
+    bool intersect_instance(uint32_t instance, const Ray& ray, SurfaceHit* hit) const;
+    // Some material has a Subsurface lobe (a BSSRDF closure): hits record their instance.
+    bool has_subsurface() const { return has_subsurface_; }
     // Something moves during the shutter (an instance or the camera): camera rays draw a time.
     bool has_motion() const { return has_motion_; }
     // Lights that are not geometry (area, point/spot disks) struck before `ray.tmax`; adds their
@@ -277,7 +283,10 @@ private:
         std::vector<Transform> motion;  // transform motion blur steps, empty when it does not move
         RTCGeometry geometry = nullptr; // the Embree instance of a moving one, for its transform at a time
         uint32_t visibility = kRayAllVisibility;  // the Embree mask of its geometry
+        RTCScene own = nullptr;  // its geometry alone, for subsurface walks (subsurface materials only)
     };
+    // The Embree geometry of `inst` (its mesh, flattened or instanced) into `target` under geom_id.
+    void attach_instance_geometry(RTCScene target, Instance& inst, unsigned geom_id, bool own);
     // Runs a material's program at a hit (the context it built into *ctx_out when given).
     ShaderResult run_program(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
                              ShaderContext* ctx_out = nullptr) const;
@@ -336,6 +345,8 @@ private:
     DiscreteDistribution light_selection_;
     Camera camera_;
     bool has_camera_ = false, committed_ = false, fast_build_ = false, varying_materials_ = false, programs_ = false;
+    bool has_subsurface_ = false;
+    bool hit_ids_ = false;  // hits record instance, triangle and barycentrics (programs, subsurface)
     Color world_{0.0f};  // the constant World's radiance (also a program that folded to a constant)
     WorldDesc world_desc_;  // the program, map size and visibility
     std::vector<Medium> media_;

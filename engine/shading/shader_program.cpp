@@ -7,6 +7,7 @@
 
 #include "scene/environment_light.h"
 #include "scene/scene.h"
+#include "scene/subsurface_closure.h"
 #include "shading/image_projection.h"
 #include "shading/node_math.h"
 #include "shading/normals.h"
@@ -55,7 +56,7 @@ constexpr struct {
     {"emission", Op::Emission}, {"holdout", Op::Holdout}, {"velvet", Op::Velvet}, {"translucent", Op::Translucent},
     {"refraction", Op::Refraction}, {"toon", Op::Toon}, {"tex_environment", Op::TexEnvironment},
     {"tex_sky", Op::TexSky},
-    {"background", Op::Background}, {"anisotropic", Op::Anisotropic},
+    {"background", Op::Background}, {"anisotropic", Op::Anisotropic}, {"subsurface", Op::Subsurface},
 };
 
 bool is_closure(Op code) { return code >= Op::Diffuse; }
@@ -342,6 +343,19 @@ void ShaderProgram::analyse() {
                     Lobe c; c.kind = LobeKind::Clearcoat;
                     Lobe ms; ms.kind = LobeKind::GgxMultiple;  // the metal's multiple scattering (Multiscatter GGX)
                     for (const Lobe& x : {d, s, m, t, sh, c, ms}) templates_.push_back(x);
+                    // Subsurface (where it may be above 0): its walk's entry and the retro-reflection.
+                    uint16_t sss = op.in[principled_in::Subsurface];
+                    if (sss != kNoReg && (varying[sss] || registers_[sss] > 0.0f)) {
+                        Lobe entry; entry.kind = LobeKind::Subsurface;
+                        Lobe retro; retro.kind = LobeKind::PrincipledPart;
+                        templates_.push_back(entry);
+                        templates_.push_back(retro);
+                    }
+                    break;
+                }
+                case Op::Subsurface: {
+                    Lobe entry; entry.kind = LobeKind::Subsurface;
+                    templates_.push_back(entry);
                     break;
                 }
                 default: break;
@@ -525,6 +539,33 @@ void metal_multiple_scattering(const Lobe& metal, uint8_t index, ShaderResult* o
     push_lobe(out, multiple);
 }
 
+// Cycles' CLOSURE_WEIGHT_CUTOFF on Principled's Subsurface: below, the principled diffuse.
+constexpr float kSubsurfaceCutoff = 1e-5f;
+
+void push_subsurface(const SubsurfaceClosure& c, ShaderResult* out) {
+    Lobe lobes[3];
+    int n = subsurface_lobes(c, lobes);
+    for (int k = 0; k < n; ++k) push_lobe(out, lobes[k]);
+}
+
+// Principled's subsurface (svm/closure.h): weight mixed x share, radius Subsurface Radius x Subsurface,
+// the retro-reflection of Roughness at the entry; its templates follow the seven of analyse().
+void principled_subsurface(const ShaderOp& op, const float* r, const Color& mixed, float share, float subsurface,
+                           float roughness, ShaderResult* out) {
+    using namespace principled_in;
+    SubsurfaceClosure c;
+    c.weight = mixed * share;
+    c.albedo = mixed;
+    c.radius = load3(r, op.in[SubsurfaceRadius], Color(1.0f)) * subsurface;
+    c.ior = load1(r, op.in[SubsurfaceIor], 1.4f);
+    c.anisotropy = load1(r, op.in[SubsurfaceAnisotropy], 0.0f);
+    c.method = SubsurfaceMethod(clampf(float(op.i[1]), 0.0f, 2.0f));
+    c.principled = true;
+    c.roughness = roughness;
+    c.index = uint8_t(op.i[5] + 7);
+    push_subsurface(c, out);
+}
+
 // Blender 3.4's Principled BSDF as the engine's lobes (the translation materials.py did on constants):
 // with m = metallic and t = transmission (1 - m): Cycles' principled diffuse base (1-m)(1-t), the
 // dielectric specular layer (IOR from Specular: f0 = 0.08 specular, tinted by Specular Tint),
@@ -539,8 +580,10 @@ void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
     w *= alpha;
     Color base = vmax(load3(r, op.in[BaseColor], Color(0.8f)), Color(0.0f));
     float subsurface = clamp01(load1(r, op.in[Subsurface], 0.0f));
-    if (subsurface > 0.0f)  // no subsurface transport yet: its colour is diffused at the surface
-        base = lerp(subsurface, base, vmax(load3(r, op.in[SubsurfaceColor], Color(0.8f)), Color(0.0f)));
+    // Cycles' diffuse (or subsurface) colour: Base Color mixed towards Subsurface Color by Subsurface.
+    Color mixed = subsurface > 0.0f
+                      ? lerp(subsurface, base, vmax(load3(r, op.in[SubsurfaceColor], Color(0.8f)), Color(0.0f)))
+                      : base;
     float m = clamp01(load1(r, op.in[Metallic], 0.0f));
     float t = clamp01(load1(r, op.in[Transmission], 0.0f)) * (1.0f - m);
     float rough = clamp01(load1(r, op.in[Roughness], 0.5f));
@@ -552,7 +595,8 @@ void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
     set_normal(out, r, op.in[Normal]);
     float lum = luminance(base);
     Color tint = lum > 0.0f ? base / lum : Color(1.0f);
-    push_lobe(out, make_lobe(LobeKind::PrincipledDiffuse, FresnelMode::None, base * (w * dielectric), rough, 1.5f, idx));
+    if (subsurface > kSubsurfaceCutoff) principled_subsurface(op, r, mixed, w * dielectric, subsurface, rough, out);
+    else push_lobe(out, make_lobe(LobeKind::PrincipledDiffuse, FresnelMode::None, mixed * (w * dielectric), rough, 1.5f, idx));
     // Anisotropic: Cycles' alpha_x = alpha / aspect, alpha_y = alpha aspect, aspect = sqrt(1 - 0.9 anisotropic),
     // about the Tangent turned by Anisotropic Rotation; 0 is the isotropic lobe.
     float anisotropic = load1(r, op.in[Anisotropic], 0.0f);
@@ -1199,6 +1243,20 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             break;
         }
         case Op::Principled: principled(op, r, out); break;
+        case Op::Subsurface: {  // in: weight, colour, scale, radius, IOR, anisotropy, normal; i[0] the method
+            float w = std::max(load1(r, op.in[0], 1.0f), 0.0f);
+            set_normal(out, r, op.in[6]);
+            SubsurfaceClosure c;
+            c.albedo = vmax(load3(r, op.in[1], Color(0.8f)), zero);
+            c.weight = c.albedo * w;
+            c.radius = load3(r, op.in[3], Color(1.0f)) * load1(r, op.in[2], 1.0f);
+            c.ior = load1(r, op.in[4], 1.4f);
+            c.anisotropy = load1(r, op.in[5], 0.0f);
+            c.method = SubsurfaceMethod(clampf(float(op.i[0]), 0.0f, 2.0f));
+            c.index = uint8_t(op.i[5]);
+            push_subsurface(c, out);
+            break;
+        }
         case Op::Count: break;
     }
 }

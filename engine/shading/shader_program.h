@@ -41,6 +41,7 @@ enum class ShaderOpCode : uint16_t {
     Diffuse, Glossy, Glass, Transparent, Principled, Emission, Holdout, Velvet, Translucent, Refraction, Toon,
     Background,  // the World's Background node: colour x strength into ShaderResult::emission
     Anisotropic,
+    Subsurface,  // Subsurface Scattering node (scene/subsurface_closure.h)
     Count
 };
 

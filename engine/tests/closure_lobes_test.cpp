@@ -124,6 +124,12 @@ std::vector<NamedLobe> new_lobes() {
         Lobe g = principled_glass_lobe(ar, at, Color(0.9f, 0.5f, 0.2f), 0.7f);
         v.push_back({"PrincipledGlass_" + num(ar) + "_" + num(at), g, true, ar > 0.0f && at > 0.0f});
     }
+    // Subsurface scattering's parts of the principled diffuse (lobes/principled_part.h).
+    for (uint8_t variant : {PrincipledPartLobe::kLambert, PrincipledPartLobe::kExit, PrincipledPartLobe::kRetro}) {
+        Lobe l = lobe_of(LobeKind::PrincipledPart, 0.36f, Color(0.8f, 0.5f, 0.3f));
+        l.variant = variant;
+        v.push_back({"PrincipledPart_" + num(variant), l});
+    }
     return v;
 }
 

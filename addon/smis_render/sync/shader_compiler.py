@@ -946,6 +946,20 @@ def _emission(c, node, ctx, weight):
     c.op("emission", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Strength", ctx, FLOAT)])
 
 
+# Subsurface methods in the engine's order (scene/subsurface_closure.h).
+SUBSURFACE_METHODS = {"RANDOM_WALK": 0, "RANDOM_WALK_FIXED_RADIUS": 1, "BURLEY": 2}
+
+
+def _subsurface(c, node, ctx, weight):
+    """Subsurface Scattering: walked by the RGB path tracer (integrators/subsurface_walk.h)."""
+    if node.falloff == "BURLEY":
+        c.warn_node(node, "uses Christensen-Burley, not supported; walked as Random Walk (Fixed Radius)")
+    c.op("subsurface", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Scale", ctx, FLOAT),
+                        c.input(node, "Radius", ctx, VEC), c.input(node, "IOR", ctx, FLOAT),
+                        c.input(node, "Anisotropy", ctx, FLOAT), _closure_normal(c, node, ctx)],
+         ints=[SUBSURFACE_METHODS.get(node.falloff, 0)])
+
+
 def _holdout(c, node, ctx, weight):
     c.op("holdout", [weight])
 
@@ -965,8 +979,8 @@ def _principled(c, node, ctx, weight):
         else:
             ins.append(c.socket_value(sock, ctx, VEC if name in VECTOR_INPUTS_OF_PRINCIPLED else None))
     ignored = []
-    if used("Subsurface"):
-        ignored.append("Subsurface (rendered as diffuse of the mixed colour)")
+    if used("Subsurface") and node.subsurface_method == "BURLEY":
+        ignored.append("Christensen-Burley subsurface (walked as Random Walk (Fixed Radius))")
     if node.distribution == "MULTI_GGX":
         # Cycles' multiscatter glass (Roughness > 0.05 with Transmission) and anisotropic multiscatter
         # reflection are single-scatter GGX here; the isotropic reflection is multiscatter GGX.
@@ -979,7 +993,9 @@ def _principled(c, node, ctx, weight):
             ignored.append("anisotropic Multiscatter GGX (using GGX)")
     if ignored:
         c.warn_node(node, "uses %s, not supported" % ", ".join(ignored))
-    c.op("principled", ins, ints=[1 if node.distribution == "MULTI_GGX" else 0])
+    # ints: the distribution (1: Multiscatter GGX), the subsurface method
+    c.op("principled", ins, ints=[1 if node.distribution == "MULTI_GGX" else 0,
+                                  SUBSURFACE_METHODS.get(node.subsurface_method, 0)])
 
 
 SHADER_NODES = {
@@ -997,6 +1013,7 @@ SHADER_NODES = {
     "ShaderNodeEmission": _emission,
     "ShaderNodeBsdfPrincipled": _principled,
     "ShaderNodeHoldout": _holdout,
+    "ShaderNodeSubsurfaceScattering": _subsurface,
 }
 
 

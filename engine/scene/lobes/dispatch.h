@@ -19,8 +19,10 @@
 #include "scene/lobes/oren_nayar.h"
 #include "scene/lobes/principled_diffuse.h"
 #include "scene/lobes/principled_glass.h"
+#include "scene/lobes/principled_part.h"
 #include "scene/lobes/refraction.h"
 #include "scene/lobes/sheen.h"
+#include "scene/lobes/subsurface.h"
 #include "scene/lobes/toon_diffuse.h"
 #include "scene/lobes/toon_glossy.h"
 #include "scene/lobes/translucent.h"
@@ -37,7 +39,8 @@ struct LobeKindList {
 using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, ClearcoatLobe, SheenLobe,
                                   TransparentLobe, PrincipledDiffuseLobe, OrenNayarLobe, VelvetLobe, TranslucentLobe,
                                   RefractionLobe, BeckmannLobe, ToonDiffuseLobe, ToonGlossyLobe, MultiGgxLobe,
-                                  GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe, PrincipledGlassLobe>;
+                                  GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe, PrincipledGlassLobe, SubsurfaceLobe,
+                                  PrincipledPartLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -91,6 +94,8 @@ template <bool kGated = true, class F>
         case AnisoGgxLobe::kKind: return call_kind<AnisoGgxLobe, kGated>(f);
         case AnisoBeckmannLobe::kKind: return call_kind<AnisoBeckmannLobe, kGated>(f);
         case PrincipledGlassLobe::kKind: return call_kind<PrincipledGlassLobe, kGated>(f);
+        case SubsurfaceLobe::kKind: return call_kind<SubsurfaceLobe, kGated>(f);
+        case PrincipledPartLobe::kKind: return call_kind<PrincipledPartLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate

@@ -58,6 +58,8 @@ enum class LobeKind : uint8_t {
     AnisoGgx,     // Anisotropic GGX: Anisotropic BSDF, Principled Anisotropic (lobes/anisotropic.h)
     AnisoBeckmann,  // Anisotropic BSDF with the Beckmann distribution (lobes/anisotropic.h)
     PrincipledGlass,  // Principled BSDF's transmission (lobes/principled_glass.h)
+    Subsurface,   // a BSSRDF's entry: the path tracer walks inside the object (lobes/subsurface.h)
+    PrincipledPart,  // one component of Cycles' principled diffuse (lobes/principled_part.h)
     Count
 };
 
@@ -76,12 +78,14 @@ struct Lobe {
     FresnelMode fresnel = FresnelMode::None;
     uint8_t index = 0;   // position in the material's lobe list (set by Scene::add_material; spectral data)
     uint8_t glass_events = kGlassBoth;  // Dielectric and PrincipledGlass only (in the padding before weight)
+    uint8_t variant = 0; // a kind's sub-mode (PrincipledPart's component, Subsurface's method and exit)
     Color weight{1.0f};  // closure weight (colour x mix factors)
     Color f0{1.0f};      // Schlick reflectance at normal incidence (FresnelMode::Schlick)
     float alpha = 0.0f;  // GGX alpha = roughness^2 (Blender's convention); below kDeltaAlpha -> delta
     float eta = 1.5f;    // IOR of the inside over the outside (Dielectric lobe / FresnelMode::Dielectric)
     float alpha_y = 0.0f;  // anisotropic lobes: alpha across the tangent (alpha is along it, the frame's s)
     float tint = 0.0f;     // Principled glass: Specular Tint (lobes/principled_glass.h)
+    Color radius{0.0f};    // Subsurface: the mean free path per channel (lobes/subsurface.h)
 };
 
 // The label of the rays a lobe scatters (Cycles' LABEL_DIFFUSE / GLOSSY / TRANSPARENT): Light Path

@@ -1,0 +1,169 @@
+// Subsurface scattering (issue 19): the closure's lobes as Cycles 3.4 sets them up, and the path
+// tracer's random walk (integrators/subsurface_walk.cpp) against closed forms.
+#include <gtest/gtest.h>
+
+#include "integrators/subsurface_walk.h"
+#include "scene/subsurface_closure.h"
+#include "test_scenes.h"
+
+using namespace smis;
+using namespace smis::testing;
+
+namespace {
+
+Material subsurface_material(const Color& albedo, const Color& radius, float g, bool principled = false,
+                             SubsurfaceMethod method = SubsurfaceMethod::RandomWalk) {
+    SubsurfaceClosure c;
+    c.weight = albedo;
+    c.albedo = albedo;
+    c.radius = radius;
+    c.anisotropy = g;
+    c.method = method;
+    c.principled = principled;
+    Lobe lobes[3];
+    Material m;
+    m.lobes.assign(lobes, lobes + subsurface_lobes(c, lobes));
+    return m;
+}
+
+// A sphere of radius 1 with `m`, filling the view, under a uniform sky of radiance 1.
+std::shared_ptr<Scene> sphere_under_sky(const Material& m) {
+    auto s = std::make_shared<Scene>();
+    add_sphere(*s, 1.0f, 32, 64, s->add_material(m));
+    s->set_world(Color(1.0f));
+    CameraDesc c = camera_at({0, 0, 3.0f}, 16, 16);
+    c.lens = 200.0f;
+    s->set_camera(c);
+    s->commit();
+    return s;
+}
+
+}  // namespace
+
+TEST(Subsurface, RadiusBelowCyclesMinimumIsDiffuse) {
+    // Cycles' bssrdf_setup: a channel of radius below 1e-8 leaves the BSSRDF for a diffuse closure.
+    SubsurfaceClosure c;
+    c.weight = c.albedo = Color(0.8f, 0.6f, 0.4f);
+    c.radius = Color(1.0f, 0.0f, 0.5f);
+    Lobe lobes[3];
+    ASSERT_EQ(subsurface_lobes(c, lobes), 2);
+    EXPECT_EQ(lobes[0].kind, LobeKind::Diffuse);
+    EXPECT_FLOAT_EQ(lobes[0].weight.y, 0.6f);
+    EXPECT_FLOAT_EQ(lobes[0].weight.x, 0.0f);
+    EXPECT_EQ(lobes[1].kind, LobeKind::Subsurface);
+    EXPECT_FLOAT_EQ(lobes[1].weight.y, 0.0f);
+    // Principled: its retro-reflection first, and the Fixed Radius scale 1 / (4 pi).
+    c.principled = true;
+    c.method = SubsurfaceMethod::RandomWalkFixedRadius;
+    c.radius = Color(1.0f);
+    ASSERT_EQ(subsurface_lobes(c, lobes), 2);
+    EXPECT_EQ(lobes[0].kind, LobeKind::PrincipledPart);
+    EXPECT_EQ(lobes[0].variant, PrincipledPartLobe::kRetro);
+    EXPECT_NEAR(lobes[1].radius.x, 0.25f / kPi, 1e-7f);
+}
+
+TEST(Subsurface, DiffuseFallbackIsThePrincipledDiffuse) {
+    // After a diffuse bounce Cycles renders Principled's subsurface as its full principled diffuse:
+    // the Lambert part the Subsurface lobe turns into plus the retro-reflection lobe kept beside it.
+    Material m = subsurface_material(Color(0.7f, 0.5f, 0.3f), Color(0.1f), 0.0f, true);
+    Bsdf b(Frame(Vec3(0, 0, 1)), Vec3(0, 0, 1));
+    for (Lobe l : m.lobes) {
+        l.alpha = 0.16f;  // roughness 0.4
+        b.add(l);
+    }
+    EXPECT_TRUE(!b.is_delta());
+    b.subsurface_as_diffuse();
+    Lobe full;
+    full.kind = LobeKind::PrincipledDiffuse;
+    full.weight = Color(0.7f, 0.5f, 0.3f);
+    full.alpha = 0.16f;
+    Bsdf ref(Frame(Vec3(0, 0, 1)), Vec3(0, 0, 1));
+    ref.add(full);
+    for (Vec3 wi : {Vec3(0.3f, 0.2f, 0.9f), Vec3(-0.7f, 0.1f, 0.2f)}) {
+        Vec3 wo = normalize(Vec3(0.5f, -0.3f, 0.6f));
+        wi = normalize(wi);
+        Color a = b.eval(wo, wi), r = ref.eval(wo, wi);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], r[k], 1e-6f);
+    }
+}
+
+TEST(Subsurface, RandomWalkRadiusInvertsTheDipole) {
+    // alpha' is the single-scattering albedo whose dipole reflectance is the surface albedo: the
+    // scale sqrt(3 (1 - alpha')) falls from sqrt(3) (albedo 0) to ~0 (albedo 1).
+    EXPECT_NEAR(random_walk_radius_scale(0.0f, 1.4f), std::sqrt(3.0f), 1e-6f);
+    EXPECT_NEAR(random_walk_radius_scale(1.0f, 1.4f), std::sqrt(3.0f * 1e-6f), 2e-5f);
+    float last = 10.0f;
+    for (float a : {0.1f, 0.3f, 0.5f, 0.7f, 0.9f}) {
+        float s = random_walk_radius_scale(a, 1.4f);
+        EXPECT_LT(s, last) << a;
+        last = s;
+    }
+}
+
+TEST(Subsurface, WhiteFurnaceWalkLosesNoEnergy) {
+    // Albedo 1: the medium absorbs nothing (alpha = 1 - 1e-6) and every walk leaves the closed
+    // sphere, so its mean throughput is 1 whatever the guiding, the channel choice or the
+    // anisotropy; the exit's Lambert under a uniform sky of radiance 1 then returns 1 exactly.
+    // Mean free paths of 0.5 to 0.1 in a sphere of radius 1: walks end long before Cycles' cap of
+    // 256 scattering events (with a mean free path of 1e-3, as Random Walk makes albedo 1, about 9%
+    // of the walks in this sphere reach the cap and are lost, in Cycles as here).
+    for (float g : {0.0f, 0.7f}) {
+        auto s = sphere_under_sky(subsurface_material(Color(1.0f), Color(6.0f, 3.0f, 1.2f), g, false,
+                                                      SubsurfaceMethod::RandomWalkFixedRadius));
+        RenderSettings st;
+        st.samples = 256;
+        st.max_bounces = 4;
+        auto img = render(s, st);
+        for (int ch = 0; ch < 3; ++ch) {
+            auto m = channel_mean(img, ch);
+            std::printf("g %.1f channel %d: %.5f +- %.5f\n", g, ch, m.mean(), m.std_error());
+            EXPECT_NEAR(m.mean(), 1.0, 4.0 * m.std_error() + 2e-3) << "g " << g << " channel " << ch;
+        }
+    }
+}
+
+TEST(Subsurface, InstancedObjectsWalkInTheirOwnGeometry) {
+    // A mesh used twice is an Embree prototype: each instance's own scene holds its instance
+    // geometry, whose hits map back to it. The second sphere lies far behind the camera.
+    auto s = std::make_shared<Scene>();
+    uint32_t mat = s->add_material(subsurface_material(Color(1.0f), Color(6.0f, 3.0f, 1.2f), 0.0f, false,
+                                                      SubsurfaceMethod::RandomWalkFixedRadius));
+    uint32_t mesh = add_sphere(*s, 1.0f, 32, 64, mat);
+    Transform far;
+    far.m[2][3] = 100.0f;
+    s->add_instance(mesh, far);
+    s->set_world(Color(1.0f));
+    CameraDesc c = camera_at({0, 0, 3.0f}, 16, 16);
+    c.lens = 200.0f;
+    s->set_camera(c);
+    s->commit();
+    ASSERT_EQ(s->stats().embree_instances, 2u);
+    RenderSettings st;
+    st.samples = 128;
+    st.max_bounces = 4;
+    auto m = channel_mean(render(s, st), 1);
+    EXPECT_NEAR(m.mean(), 1.0, 4.0 * m.std_error() + 2e-3);
+}
+
+TEST(Subsurface, ThickSlabReflectsTheSurfaceAlbedo) {
+    // What the albedo inversion is for (Chiang et al. 2016): a semi-infinite medium with the fitted
+    // alpha reflects the surface albedo. A sphere 50 mean free paths across is nearly one.
+    for (float a : {0.3f, 0.6f, 0.9f}) {
+        auto s = sphere_under_sky(subsurface_material(Color(a), Color(0.02f), 0.0f));
+        RenderSettings st;
+        st.samples = 256;
+        st.max_bounces = 4;
+        auto img = render(s, st);
+        auto m = channel_mean(img, 1);
+        std::printf("albedo %.1f: %.5f +- %.5f\n", a, m.mean(), m.std_error());
+        EXPECT_NEAR(m.mean(), a, 0.03 * a + 4.0 * m.std_error()) << "albedo " << a;
+    }
+}
+
+TEST(Subsurface, ScenesWithoutSubsurfaceKeepTheLoopWithoutRules) {
+    auto plain = sphere_under_sky(diffuse(Color(0.5f)));
+    auto sss = sphere_under_sky(subsurface_material(Color(0.5f), Color(0.1f), 0.0f));
+    RenderSettings st;
+    EXPECT_FALSE(uses_light_path_rules(*plain, st));
+    EXPECT_TRUE(uses_light_path_rules(*sss, st));
+}
