@@ -13,11 +13,13 @@
 #include "scene/lobes/clearcoat.h"
 #include "scene/lobes/dielectric.h"
 #include "scene/lobes/diffuse.h"
+#include "scene/lobes/hair.h"
 #include "scene/lobes/lobe.h"
 #include "scene/lobes/microfacet.h"
 #include "scene/lobes/multiscatter_ggx.h"
 #include "scene/lobes/oren_nayar.h"
 #include "scene/lobes/principled_diffuse.h"
+#include "scene/lobes/principled_hair.h"
 #include "scene/lobes/refraction.h"
 #include "scene/lobes/sheen.h"
 #include "scene/lobes/toon_diffuse.h"
@@ -36,7 +38,9 @@ struct LobeKindList {
 using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, ClearcoatLobe, SheenLobe,
                                   TransparentLobe, PrincipledDiffuseLobe, OrenNayarLobe, VelvetLobe, TranslucentLobe,
                                   RefractionLobe, BeckmannLobe, ToonDiffuseLobe, ToonGlossyLobe, MultiGgxLobe,
-                                  GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe>;
+                                  GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe, HairReflectionLobe,
+                                  HairTransmissionLobe, PrincipledHairRLobe, PrincipledHairTTLobe,
+                                  PrincipledHairTRTLobe, PrincipledHairTRRTLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -89,6 +93,12 @@ template <bool kGated = true, class F>
         case GgxMultipleLobe::kKind: return call_kind<GgxMultipleLobe, kGated>(f);
         case AnisoGgxLobe::kKind: return call_kind<AnisoGgxLobe, kGated>(f);
         case AnisoBeckmannLobe::kKind: return call_kind<AnisoBeckmannLobe, kGated>(f);
+        case HairReflectionLobe::kKind: return call_kind<HairReflectionLobe, kGated>(f);
+        case HairTransmissionLobe::kKind: return call_kind<HairTransmissionLobe, kGated>(f);
+        case PrincipledHairRLobe::kKind: return call_kind<PrincipledHairRLobe, kGated>(f);
+        case PrincipledHairTTLobe::kKind: return call_kind<PrincipledHairTTLobe, kGated>(f);
+        case PrincipledHairTRTLobe::kKind: return call_kind<PrincipledHairTRTLobe, kGated>(f);
+        case PrincipledHairTRRTLobe::kKind: return call_kind<PrincipledHairTRRTLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate

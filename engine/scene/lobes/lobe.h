@@ -57,6 +57,12 @@ enum class LobeKind : uint8_t {
     GgxMultiple,  // Multiscatter GGX, the energy of its multiple scattering (lobes/multiscatter_ggx.h)
     AnisoGgx,     // Anisotropic GGX: Anisotropic BSDF, Principled Anisotropic (lobes/anisotropic.h)
     AnisoBeckmann,  // Anisotropic BSDF with the Beckmann distribution (lobes/anisotropic.h)
+    HairReflection,    // Hair BSDF, Reflection (lobes/hair.h)
+    HairTransmission,  // Hair BSDF, Transmission (lobes/hair.h)
+    PrincipledHairR,     // Principled Hair BSDF, its four paths R, TT, TRT, TRRT+ (lobes/principled_hair.h)
+    PrincipledHairTT,
+    PrincipledHairTRT,
+    PrincipledHairTRRT,
     Count
 };
 
@@ -71,7 +77,8 @@ struct Lobe {
     FresnelMode fresnel = FresnelMode::None;
     uint8_t index = 0;   // position in the material's lobe list (set by Scene::add_material; spectral data)
     Color weight{1.0f};  // closure weight (colour x mix factors)
-    Color f0{1.0f};      // Schlick reflectance at normal incidence (FresnelMode::Schlick)
+    Color f0{1.0f};      // Schlick reflectance at normal incidence (FresnelMode::Schlick); f0.x: Toon's
+                         // Smooth, the hair lobes' Offset
     float alpha = 0.0f;  // GGX alpha = roughness^2 (Blender's convention); below kDeltaAlpha -> delta
     float eta = 1.5f;    // IOR of the inside over the outside (Dielectric lobe / FresnelMode::Dielectric)
     float alpha_y = 0.0f;  // anisotropic lobes: alpha across the tangent (alpha is along it, the frame's s)
