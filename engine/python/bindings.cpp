@@ -562,6 +562,19 @@ PYBIND11_MODULE(_smis, m) {
             py::arg("mesh"), py::arg("positions"), py::arg("corner_normals") = py::none(),
             "Deformation motion blur: the mesh's vertices (steps, N, 3) and corner normals (steps, M, 3, 3) or "
             "None at evenly spaced times over the shutter; ValueError (the mesh unchanged) when they do not fit")
+        .def(
+            "add_curves",
+            [](Scene& s, FloatArray points, IntArray curve_offsets, uint32_t material) {
+                if (points.ndim() != 2 || points.shape(1) != 4) throw py::value_error("points must be (N, 4): x, y, z, radius");
+                if (curve_offsets.ndim() != 1 || curve_offsets.shape(0) < 1)
+                    throw py::value_error("curve_offsets must be (curves + 1,)");
+                size_t np = points.shape(0), nc = curve_offsets.shape(0) - 1;
+                py::gil_scoped_release release;
+                return value_errors([&] { return s.add_curves(points.data(), np, curve_offsets.data(), nc, material); });
+            },
+            py::arg("points"), py::arg("curve_offsets"), py::arg("material"),
+            "Hair: Catmull-Rom curves through (N, 4) points (x, y, z, radius), curve c from curve_offsets[c] to "
+            "curve_offsets[c + 1] - 1, all with one material; returns a mesh id for add_instance")
         .def("attribute_id", [](Scene& s, const std::string& name) { return s.attribute_id(name); },
              "The id shader programs use for a mesh attribute (UV map or colour attribute) by name")
         .def(

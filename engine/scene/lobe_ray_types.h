@@ -16,7 +16,11 @@ inline uint32_t lobe_ray_types(const Lobe& lobe) {
     switch (lobe.kind) {
         case LobeKind::Translucent: return kRayDiffuse | kRayTransmission;
         case LobeKind::Dielectric:
-        case LobeKind::Refraction: return kRayTransmission;
+        case LobeKind::Refraction:
+        case LobeKind::HairTransmission:
+        case LobeKind::PrincipledHairTT:
+        case LobeKind::PrincipledHairTRT:
+        case LobeKind::PrincipledHairTRRT: return kRayTransmission;
         case LobeKind::Transparent: return 0;
         default: return lobe_label(lobe) == RayLabel::Diffuse ? kRayDiffuse : kRayGlossy;
     }

@@ -614,6 +614,7 @@ void Scene::set_camera(const CameraDesc& desc) {
 }
 
 void Scene::build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id, uint32_t visibility) {
+    if (mesh.curves) return build_curve_geometry(target, mesh, id, visibility);
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetGeometryMask(geom, visibility);
     size_t nv = (mesh.positions.size() - 4) / 3, nt = mesh.indices.size() / 3;
@@ -774,6 +775,7 @@ void Scene::commit() {
         const Mesh& mesh = meshes_[m];
         std::vector<int32_t>& local = emissive_local_[m];
         int32_t count = 0;
+        if (mesh.curves) continue;  // hair is not a light (Cycles does not sample emissive curves either)
         for (uint32_t mat : mesh.materials) local.push_back(materials_[mat].emissive() ? count++ : -1);
         if (count == 0) local.clear();
     }
@@ -790,9 +792,13 @@ void Scene::commit() {
     scattering_.everywhere = world_medium_ >= 0 && media_[world_medium_].scatters();
     for (Instance& inst : instances_) {
         Mesh& mesh = meshes_[inst.mesh];
-        stats_.triangles += mesh.indices.size() / 3;
+        if (!mesh.curves) stats_.triangles += mesh.indices.size() / 3;
         unsigned geom_id = static_cast<unsigned>(geom_to_instance_.size());
-        if (!mesh.prototype) {
+        if (!mesh.prototype && mesh.curves) {
+            flatten_curves(mesh, inst.to_world);
+            inst.identity = true;
+            build_mesh_geometry(scene_, mesh, geom_id, inst.visibility);
+        } else if (!mesh.prototype) {
             // Sole user: move the vertices into world space. A mirroring transform flips the winding,
             // so swap two corners to keep the geometric normal on Blender's outward side.
             for (std::vector<float>* positions : {&mesh.positions, &mesh.motion_positions})
@@ -831,13 +837,19 @@ void Scene::commit() {
         geom_to_instance_.push_back(static_cast<uint32_t>(&inst - instances_.data()));
         has_motion_ = has_motion_ || mesh.motion_steps > 0;
         // A deforming mesh's bounds cover every step (in world space already when flattened).
-        for (size_t i = 0; i + 4 < mesh.motion_positions.size(); i += 3) {
+        for (size_t i = 0; i + 3 <= mesh.motion_positions.size(); i += 3) {
             Vec3 p = load3(&mesh.motion_positions[i]);
             if (!inst.identity) p = inst.to_world.point(p);
             lo = vmin(lo, p);
             hi = vmax(hi, p);
         }
-        for (size_t i = 0; i < mesh.indices.size(); ++i) {
+        for (size_t i = 0; mesh.curves && i < mesh.curve_points.size(); i += 4) {
+            Vec3 p = load3(&mesh.curve_points[i]);
+            if (!inst.identity) p = inst.to_world.point(p);
+            lo = vmin(lo, p);
+            hi = vmax(hi, p);
+        }
+        for (size_t i = 0; !mesh.curves && i < mesh.indices.size(); ++i) {
             Vec3 p = load3(&mesh.positions[3 * mesh.indices[i]]);
             for (const Transform& step : inst.motion) {
                 lo = vmin(lo, step.point(p));
@@ -890,6 +902,7 @@ void Scene::fill_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const
     unsigned top = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
     const Instance& inst = instances_[geom_to_instance_[top]];
     const Mesh& mesh = meshes_[inst.mesh];
+    if (__builtin_expect(mesh.curves, 0)) return fill_curve_hit(ray, rh, geom_to_instance_[top], hit);
     uint32_t prim = rh.hit.primID;
     float u = rh.hit.u, v = rh.hit.v, w = 1.0f - u - v;
     Vec3 p, ng, ns;

@@ -93,6 +93,11 @@ public:
     // than two steps or non-finite values. A deforming emitter's triangle lights follow it.
     void set_mesh_motion(uint32_t mesh, const float* positions, size_t steps, size_t nv,
                          const float* corner_normals = nullptr, size_t nt = 0);
+    // Hair: curves through points (np x 4: x, y, z, radius), curve c running from point
+    // curve_offsets[c] to curve_offsets[c + 1] - 1 (nc + 1 offsets), rendered as Embree round
+    // Catmull-Rom curves (Cycles' 3D curves), all with `material`. Curves with fewer than two points
+    // and non-finite points are dropped (counted in mesh_dropped()). Placed by add_instance as a mesh.
+    uint32_t add_curves(const float* points, size_t np, const int32_t* curve_offsets, size_t nc, uint32_t material);
     // The mesh's texture space (Blender's texspace_location / texspace_size), for Generated coordinates.
     void set_mesh_texspace(uint32_t mesh, const Vec3& location, const Vec3& size);
     // Attribute names are interned: shader programs refer to them by id.
@@ -269,7 +274,20 @@ private:
         uint32_t users = 0;
         RTCScene prototype = nullptr;        // when instanced more than once
         const Scene* owner = nullptr;        // for the cut-out filter, which gets only the mesh
+        // Hair (add_curves): control points x, y, z, radius, each curve's ends doubled as Cycles
+        // does for Catmull-Rom; `indices` then holds each segment's first control point and
+        // `materials` one id per segment.
+        bool curves = false;
+        std::vector<float> curve_points;
     };
+    // Hair (curves.cpp): rays leaving a hair ignore the segment they start on (Cycles' self skip);
+    // the Embree geometry; a sole user's curves moved into world space; a hit and what its program reads.
+    static void curve_self_filter(const struct RTCFilterFunctionNArguments* args);
+    void build_curve_geometry(RTCScene target, Mesh& mesh, unsigned id, uint32_t visibility);
+    static void flatten_curves(Mesh& mesh, const Transform& to_world);
+    [[gnu::noinline]] void fill_curve_hit(const Ray& ray, const struct RTCRayHit& rh, uint32_t instance,
+                                          SurfaceHit* hit) const;
+    ShaderContext curve_shader_context(const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray) const;
     static void cutout_filter(const struct RTCFilterFunctionNArguments* args);
     struct Instance {
         uint32_t mesh;

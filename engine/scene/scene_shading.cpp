@@ -27,6 +27,7 @@ ShaderContext Scene::shader_context(const SurfaceAttribs& at, const Vec3& wo, co
     c.ray = ray;
     const Instance& inst = instances_[at.instance];
     const Mesh& mesh = meshes_[inst.mesh];
+    if (mesh.curves) return curve_shader_context(at, wo, ray);
     c.instance = at.instance;
     c.prim = at.prim;
     c.bu = at.bu;

@@ -57,6 +57,7 @@ constexpr struct {
     {"refraction", Op::Refraction}, {"toon", Op::Toon}, {"tex_environment", Op::TexEnvironment},
     {"tex_sky", Op::TexSky},
     {"background", Op::Background}, {"anisotropic", Op::Anisotropic}, {"subsurface", Op::Subsurface},
+    {"hair", Op::Hair}, {"principled_hair", Op::PrincipledHair}, {"hair_geometry", Op::HairGeometry},
 };
 
 bool is_closure(Op code) { return code >= Op::Diffuse; }
@@ -67,7 +68,7 @@ bool reads_context(const ShaderOp& op) {
     switch (op.code) {
         case Op::TexCoord: case Op::UvMap: case Op::Attribute: case Op::Geometry: case Op::ObjectInfo:
         case Op::LightPath: case Op::Fresnel: case Op::LayerWeight: case Op::CameraData: case Op::Tangent:
-        case Op::BumpEnter: case Op::BumpLeave: case Op::Bump: case Op::NormalMap: case Op::VectorTransform:
+        case Op::HairGeometry: case Op::BumpEnter: case Op::BumpLeave: case Op::Bump: case Op::NormalMap: case Op::VectorTransform:
         case Op::Displacement:
             return true;
         default: return false;
@@ -326,6 +327,16 @@ void ShaderProgram::analyse() {
                     l.kind = op.i[0] == 2 ? LobeKind::AnisoBeckmann : LobeKind::AnisoGgx;
                     templates_.push_back(l);
                     break;
+                case Op::Hair:  // i[0]: 0 reflection, 1 transmission
+                    l.kind = op.i[0] == 1 ? LobeKind::HairTransmission : LobeKind::HairReflection;
+                    templates_.push_back(l);
+                    break;
+                case Op::PrincipledHair:  // R, TT, TRT, TRRT+
+                    for (int p = 0; p < 4; ++p) {
+                        l.kind = LobeKind(int(LobeKind::PrincipledHairR) + p);
+                        templates_.push_back(l);
+                    }
+                    break;
                 case Op::Glass: l.kind = LobeKind::Dielectric; templates_.push_back(l); break;
                 case Op::Velvet: l.kind = LobeKind::Velvet; templates_.push_back(l); break;
                 case Op::Translucent: l.kind = LobeKind::Translucent; templates_.push_back(l); break;
@@ -498,6 +509,66 @@ Lobe make_lobe(LobeKind kind, FresnelMode fresnel, const Color& weight, float ro
     l.eta = std::isfinite(ior) && ior > 0.0f ? ior : 1.5f;
     l.index = index;
     return l;
+}
+
+// Cycles' Principled Hair closure (svm/closure.h, bsdf_principled_hair_setup) as four lobes
+// (lobes/principled_hair.h) whose weights carry A_p at the hit's wo. in: weight, colour, melanin,
+// melanin redness, tint, absorption coefficient, roughness, radial roughness, coat, IOR, offset,
+// tangent, sin theta_o, |h| (the hair_geometry op); i[0]: 0 absorption coefficient, 1 melanin concentration, 2 direct colouring.
+// Random Color / Random Roughness are not applied (their default 0 leaves Cycles' values alone).
+float hair_albedo_roughness_scale(float x) {
+    return (((((0.245f * x) + 5.574f) * x - 10.73f) * x + 2.532f) * x - 0.215f) * x + 5.969f;
+}
+Color hair_sigma_from_reflectance(const Color& c, float radial_roughness) {
+    float scale = hair_albedo_roughness_scale(radial_roughness);
+    Color s;
+    for (int k = 0; k < 3; ++k) s[k] = sqr(std::log(std::max(c[k], 1e-6f)) / scale);
+    return s;
+}
+float hair_remap_roughness(float v) {
+    float v2 = v * v, v4 = v2 * v2, v20 = v4 * v4 * v4 * v4 * v4;
+    return sqr(0.726f * v + 0.812f * v2 + 3.700f * v20);
+}
+void principled_hair_closure(const ShaderOp& op, const float* r, ShaderResult* out) {
+    float w = load1(r, op.in[0], 1.0f);
+    set_tangent(out, r, op.in[11], 0.0f);
+    float roughness = load1(r, op.in[6], 0.3f), radial = load1(r, op.in[7], 0.3f);
+    float coat = clamp01(load1(r, op.in[8], 0.0f));
+    float eta = load1(r, op.in[9], 1.55f), alpha = load1(r, op.in[10], 0.0349f);
+    if (!std::isfinite(eta) || !(eta > 1e-3f)) eta = 1.55f;
+    if (!std::isfinite(alpha)) alpha = 0.0f;
+    Color sigma;
+    if (op.i[0] == 0) {
+        sigma = vmax(load3(r, op.in[5], Color(0.245531f, 0.52f, 1.365f)), Color(0.0f));
+    } else if (op.i[0] == 1) {
+        float melanin = -std::log(std::max(1.0f - load1(r, op.in[2], 0.8f), 0.0001f));
+        float redness = load1(r, op.in[3], 1.0f);
+        float eu = melanin * (1.0f - redness), pheo = melanin * redness;
+        sigma = Color(0.506f, 0.841f, 1.653f) * eu + Color(0.343f, 0.733f, 1.924f) * pheo +
+                hair_sigma_from_reflectance(load3(r, op.in[4], Color(1.0f)), radial);
+    } else {
+        sigma = hair_sigma_from_reflectance(load3(r, op.in[1], Color(0.017513f, 0.005763f, 0.002059f)), radial);
+    }
+    float v = clampf(std::isfinite(roughness) ? roughness : 0.3f, 1e-3f, 1.0f);
+    float s = clampf(std::isfinite(radial) ? radial : 0.3f, 1e-3f, 1.0f);
+    float m0 = clampf((1.0f - coat) * v, 1e-3f, 1.0f);
+    float v_r = hair_remap_roughness(v), m0_r = hair_remap_roughness(m0);
+    float s2 = s * s, s4 = s2 * s2, s22 = s4 * s4 * s4 * s4 * s4 * s2;
+    float s_r = (0.265f * s + 1.194f * s2 + 5.372f * s22) * std::sqrt(kPi / 8.0f);
+    // A_p at wo (the hair_geometry op's sin theta_o and |h|).
+    float sin_o = clampf(load1(r, op.in[12], 0.0f), -1.0f, 1.0f), abs_h = clamp01(load1(r, op.in[13], 0.0f));
+    principled_hair::Attenuation at = principled_hair::attenuation(sin_o, abs_h, eta, sigma);
+    const float v_p[4] = {m0_r, 0.25f * v_r, 4.0f * v_r, 4.0f * v_r};
+    const float tilt[4] = {-2.0f * alpha, alpha, 4.0f * alpha, 0.0f};
+    for (int p = 0; p < 4; ++p) {
+        if (!is_finite(at.a[p])) continue;
+        Lobe l = make_lobe(LobeKind(int(LobeKind::PrincipledHairR) + p), FresnelMode::None, at.a[p] * w, 0.0f, eta,
+                           uint8_t(op.i[5] + p));
+        l.alpha = v_p[p];
+        l.alpha_y = s_r;
+        l.f0 = Color(tilt[p], 0.0f, 0.0f);
+        push_lobe(out, l);
+    }
 }
 
 // Multiscatter GGX of colour c (lobes/multiscatter_ggx.h): the height-correlated single scattering,
@@ -768,7 +839,9 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
         }
         case Op::Tangent: {
             const ShaderContext& c = *ctxp;
-            if (op.i[0] == 1) {  // the UV map's MikkTSpace tangent; none without the map, as Cycles
+            if (op.i[0] == 2) {  // a hair closure's default: the curve's tangent (the mesh's dPdu elsewhere)
+                store3(r, op.out[0], c.dPdu);
+            } else if (op.i[0] == 1) {  // the UV map's MikkTSpace tangent; none without the map, as Cycles
                 float a[4];
                 const bool found = op.i[2] >= 0 && c.scene && c.scene->attribute(c, op.i[2], a);
                 // Without exported tangents (a mesh with n-gons) the triangle's UV derivative.
@@ -777,6 +850,23 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             } else {
                 store3(r, op.out[0], radial_tangent(c, op.i[1]));
             }
+            break;
+        }
+        case Op::HairGeometry: {  // in: tangent; out: sin theta_o and |h| of wo in the hair frame
+            // (Scene::program_bsdf's: x the tangent made normal to N, z = N)
+            const ShaderContext& c = *ctxp;
+            Vec3 t = load3(r, op.in[0], c.dPdu);
+            Vec3 x = t - c.N * dot(c.N, t);
+            float sin_o = 0.0f, abs_h = 0.0f;
+            if (length_sq(x) > 1e-12f && is_finite(x)) {
+                x = normalize(x);
+                float wy = dot(c.I, cross(c.N, x)), wz = dot(c.I, c.N);
+                float l = std::sqrt(wy * wy + wz * wz);
+                sin_o = dot(c.I, x);
+                abs_h = l > 0.0f ? std::fabs(wy) / l : 0.0f;
+            }
+            store1(r, op.out[0], sin_o);
+            store1(r, op.out[1], abs_h);
             break;
         }
         case Op::BumpEnter: {
@@ -1220,6 +1310,19 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             push_lobe(out, l);
             break;
         }
+        case Op::Hair: {  // in: weight, colour, offset (radians), roughness U, roughness V, tangent (lobes/hair.h)
+            float w = load1(r, op.in[0], 1.0f);
+            set_tangent(out, r, op.in[5], 0.0f);
+            Lobe l = make_lobe(op.i[0] == 1 ? LobeKind::HairTransmission : LobeKind::HairReflection, FresnelMode::None,
+                               load3(r, op.in[1], Color(0.8f)) * w, 0.0f, 1.5f, uint8_t(op.i[5]));
+            l.alpha = load1(r, op.in[3], 0.1f);
+            l.alpha_y = load1(r, op.in[4], 1.0f);
+            float offset = -load1(r, op.in[2], 0.0f);  // Cycles' closure tilts by minus the node's Offset
+            l.f0 = Color(std::isfinite(offset) ? offset : 0.0f, 0.0f, 0.0f);
+            push_lobe(out, l);
+            break;
+        }
+        case Op::PrincipledHair: principled_hair_closure(op, r, out); break;
         case Op::Glass: {
             float w = load1(r, op.in[0], 1.0f);
             set_normal(out, r, op.in[4]);

@@ -25,6 +25,7 @@ namespace smis {
 enum class ShaderOpCode : uint16_t {
     // inputs (read the hit)
     TexCoord, UvMap, Attribute, Geometry, ObjectInfo, LightPath, Fresnel, LayerWeight, CameraData, Tangent,
+    HairGeometry,
     // bump evaluation: the ops between Enter and Leave see the point moved by one footprint in x or y
     BumpEnter, BumpLeave, Bump, NormalMap,
     // textures
@@ -42,6 +43,7 @@ enum class ShaderOpCode : uint16_t {
     Background,  // the World's Background node: colour x strength into ShaderResult::emission
     Anisotropic,
     Subsurface,  // Subsurface Scattering node (scene/subsurface_closure.h)
+    Hair, PrincipledHair,
     Count
 };
 

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import lights
+from . import hair, lights
 from .mesh import mesh_buffers
 from .visibility import instance_ray_visibility
 
@@ -41,6 +41,7 @@ class ExportCounts:
     lights: int = 0
     dropped_lights: int = 0
     dropped_triangles: int = 0
+    dropped_curves: int = 0
 
 
 def _prototype_key(obj):
@@ -171,7 +172,8 @@ def instance_matrix(inst):
 
 
 def walk_instances(depsgraph, reporter, test_break=None):
-    """The depsgraph's renderable instances as ('LIGHT' or 'MESH', instance, object), in the
+    """The depsgraph's renderable instances as ('LIGHT', 'MESH', 'HAIR' (a mesh's particle hair) or
+    'CURVES', instance, object), in the
     order the engine receives them; unsupported object types are warned about once."""
     unsupported = set()   # object types already warned about
     for i, inst in enumerate(depsgraph.object_instances):
@@ -182,6 +184,11 @@ def walk_instances(depsgraph, reporter, test_break=None):
         if obj_type == 'LIGHT':
             yield 'LIGHT', inst, obj
             continue
+        if obj_type == 'CURVES':
+            yield 'CURVES', inst, obj
+            continue
+        if obj_type == 'MESH' and not inst.is_instance and hair.particle_hair_systems(obj):
+            yield 'HAIR', inst, obj  # the hair renders whether or not its emitter does
         if obj_type not in GEOMETRY_TYPES:
             if obj_type not in _SILENT_TYPES and obj_type not in unsupported:
                 unsupported.add(obj_type)
@@ -221,6 +228,12 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
                 counts.lights += 1
             else:
                 counts.dropped_lights += 1
+            continue
+        if kind in ('HAIR', 'CURVES'):
+            try:
+                _export_hair(kind, inst, obj, scene, materials, counts, depsgraph.view_layer)
+            except (RuntimeError, ValueError, TypeError) as exc:
+                broken.append("%s (%s)" % (obj.name, exc))
             continue
         key = _prototype_key(obj)
         if key in prototypes:
@@ -267,6 +280,24 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
         reporter.warning("Rendered without motion blur: " + ", ".join(unblurred[:10])
                          + (" and %d more" % (len(unblurred) - 10) if len(unblurred) > 10 else ""))
     return counts
+
+
+def _export_hair(kind, inst, obj, scene, materials, counts, view_layer):
+    """A mesh's particle hair or a Curves object as engine curves, one instance per hair system."""
+    if kind == 'HAIR':
+        systems = [(hair.particle_strands(obj, p), hair.particle_material(obj, p))
+                   for p in hair.particle_hair_systems(obj)]
+    else:
+        systems = [(hair.curves_strands(obj.data), hair.curves_material(obj))]
+    for (points, offsets), material in systems:
+        if len(offsets) < 2:
+            continue
+        mesh_id = scene.add_curves(points, offsets, materials.id_for(material))
+        counts.meshes += 1
+        counts.dropped_curves += scene.mesh_dropped(mesh_id)
+        scene.add_instance(mesh_id, instance_matrix(inst), obj.color[:], (inst.random_id & 0xFFFFFFFF) / 4294967295.0,
+                           float(obj.pass_index), is_holdout(inst, view_layer), instance_ray_visibility(inst))
+        counts.instances += 1
 
 
 def _warn_skipped(reporter, names, why):

@@ -931,6 +931,44 @@ def _anisotropic(c, node, ctx, weight):
                          _closure_normal(c, node, ctx), _tangent_input(c, node, ctx)], ints=[mode])
 
 
+def _hair(c, node, ctx, weight):
+    """Cycles' Hair BSDF, Reflection (0) or Transmission (1) (lobes/hair.h), about the Tangent, by
+    default the curve's own (a `tangent` op of mode 2: it reads the hit, so the material stays a
+    program and the shading frame follows the strand)."""
+    t = c.normal_input(node, "Tangent", ctx)
+    if t is None:
+        t = c.alloc(VEC)
+        c.op("tangent", [], [t], [2, 0, -1])
+    c.op("hair", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Offset", ctx, FLOAT),
+                  c.input(node, "RoughnessU", ctx, FLOAT), c.input(node, "RoughnessV", ctx, FLOAT), t],
+         ints=[1 if node.component == "Transmission" else 0])
+
+
+PRINCIPLED_HAIR_MODES = {"ABSORPTION": 0, "MELANIN": 1, "COLOR": 2}
+
+
+def _principled_hair(c, node, ctx, weight):
+    """Cycles' Principled Hair BSDF (Chiang et al. 2016) as its four paths (lobes/principled_hair.h):
+    the hair_geometry op reads wo in the strand's frame at the hit, from which the closure op
+    computes each path's attenuation."""
+    t = c.normal_input(node, "Tangent", ctx) if "Tangent" in node.inputs else None
+    if t is None:
+        t = c.alloc(VEC)
+        c.op("tangent", [], [t], [2, 0, -1])
+    sin_o, abs_h = c.alloc(FLOAT), c.alloc(FLOAT)
+    c.op("hair_geometry", [t], [sin_o, abs_h])
+    for name in ("Random Color", "Random Roughness"):
+        sock = node.inputs.get(name)
+        if sock is not None and (sock.is_linked or sock.default_value != 0.0):
+            c.warn_node(node, "uses %s, which is not supported (no per-strand randomisation)" % name)
+    c.op("principled_hair", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Melanin", ctx, FLOAT),
+                             c.input(node, "Melanin Redness", ctx, FLOAT), c.input(node, "Tint", ctx, COLOR),
+                             c.input(node, "Absorption Coefficient", ctx, VEC), c.input(node, "Roughness", ctx, FLOAT),
+                             c.input(node, "Radial Roughness", ctx, FLOAT), c.input(node, "Coat", ctx, FLOAT),
+                             c.input(node, "IOR", ctx, FLOAT), c.input(node, "Offset", ctx, FLOAT), t, sin_o, abs_h],
+         ints=[PRINCIPLED_HAIR_MODES.get(node.parametrization, 2)])
+
+
 def _glass(c, node, ctx, weight):
     """One dielectric lobe; rough, it weights reflection and refraction by the Fresnel term at the
     shading normal as Cycles 3.4's pair of closures does (lobes/dielectric.h)."""
@@ -1005,6 +1043,8 @@ SHADER_NODES = {
     "ShaderNodeBsdfGlossy": _glossy,
     "ShaderNodeBsdfGlass": _glass,
     "ShaderNodeBsdfAnisotropic": _anisotropic,
+    "ShaderNodeBsdfHair": _hair,
+    "ShaderNodeBsdfHairPrincipled": _principled_hair,
     "ShaderNodeBsdfVelvet": _velvet,
     "ShaderNodeBsdfTranslucent": _translucent,
     "ShaderNodeBsdfRefraction": _refraction,

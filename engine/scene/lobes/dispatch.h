@@ -13,12 +13,14 @@
 #include "scene/lobes/clearcoat.h"
 #include "scene/lobes/dielectric.h"
 #include "scene/lobes/diffuse.h"
+#include "scene/lobes/hair.h"
 #include "scene/lobes/lobe.h"
 #include "scene/lobes/microfacet.h"
 #include "scene/lobes/multiscatter_ggx.h"
 #include "scene/lobes/oren_nayar.h"
 #include "scene/lobes/principled_diffuse.h"
 #include "scene/lobes/principled_glass.h"
+#include "scene/lobes/principled_hair.h"
 #include "scene/lobes/principled_part.h"
 #include "scene/lobes/refraction.h"
 #include "scene/lobes/sheen.h"
@@ -40,7 +42,8 @@ using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, C
                                   TransparentLobe, PrincipledDiffuseLobe, OrenNayarLobe, VelvetLobe, TranslucentLobe,
                                   RefractionLobe, BeckmannLobe, ToonDiffuseLobe, ToonGlossyLobe, MultiGgxLobe,
                                   GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe, PrincipledGlassLobe, SubsurfaceLobe,
-                                  PrincipledPartLobe>;
+                                  PrincipledPartLobe, HairReflectionLobe, HairTransmissionLobe, PrincipledHairRLobe,
+                                  PrincipledHairTTLobe, PrincipledHairTRTLobe, PrincipledHairTRRTLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -96,6 +99,12 @@ template <bool kGated = true, class F>
         case PrincipledGlassLobe::kKind: return call_kind<PrincipledGlassLobe, kGated>(f);
         case SubsurfaceLobe::kKind: return call_kind<SubsurfaceLobe, kGated>(f);
         case PrincipledPartLobe::kKind: return call_kind<PrincipledPartLobe, kGated>(f);
+        case HairReflectionLobe::kKind: return call_kind<HairReflectionLobe, kGated>(f);
+        case HairTransmissionLobe::kKind: return call_kind<HairTransmissionLobe, kGated>(f);
+        case PrincipledHairRLobe::kKind: return call_kind<PrincipledHairRLobe, kGated>(f);
+        case PrincipledHairTTLobe::kKind: return call_kind<PrincipledHairTTLobe, kGated>(f);
+        case PrincipledHairTRTLobe::kKind: return call_kind<PrincipledHairTRTLobe, kGated>(f);
+        case PrincipledHairTRRTLobe::kKind: return call_kind<PrincipledHairTRRTLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate

@@ -60,6 +60,12 @@ enum class LobeKind : uint8_t {
     PrincipledGlass,  // Principled BSDF's transmission (lobes/principled_glass.h)
     Subsurface,   // a BSSRDF's entry: the path tracer walks inside the object (lobes/subsurface.h)
     PrincipledPart,  // one component of Cycles' principled diffuse (lobes/principled_part.h)
+    HairReflection,    // Hair BSDF, Reflection (lobes/hair.h)
+    HairTransmission,  // Hair BSDF, Transmission (lobes/hair.h)
+    PrincipledHairR,     // Principled Hair BSDF, its four paths R, TT, TRT, TRRT+ (lobes/principled_hair.h)
+    PrincipledHairTT,
+    PrincipledHairTRT,
+    PrincipledHairTRRT,
     Count
 };
 
@@ -80,7 +86,8 @@ struct Lobe {
     uint8_t glass_events = kGlassBoth;  // Dielectric and PrincipledGlass only (in the padding before weight)
     uint8_t variant = 0; // a kind's sub-mode (PrincipledPart's component, Subsurface's method and exit)
     Color weight{1.0f};  // closure weight (colour x mix factors)
-    Color f0{1.0f};      // Schlick reflectance at normal incidence (FresnelMode::Schlick)
+    Color f0{1.0f};      // Schlick reflectance at normal incidence (FresnelMode::Schlick); f0.x: Toon's
+                         // Smooth, the hair lobes' Offset
     float alpha = 0.0f;  // GGX alpha = roughness^2 (Blender's convention); below kDeltaAlpha -> delta
     float eta = 1.5f;    // IOR of the inside over the outside (Dielectric lobe / FresnelMode::Dielectric)
     float alpha_y = 0.0f;  // anisotropic lobes: alpha across the tangent (alpha is along it, the frame's s)

@@ -1,0 +1,103 @@
+"""Hair -> engine curves (Scene.add_curves), read as Cycles 3.4 reads it (intern/cycles/blender/curves.cpp).
+
+* Particle-system hair (Particle Settings of type Hair, rendered as Path) of an evaluated object:
+  every strand the render depsgraph evaluates (parents, or the children when there are any) through
+  `ParticleSystem.co_hair` at 2^render_step + 1 steps (world space), steps of zero length dropped as
+  Cycles drops them. Radius along the strand from the Hair Shape panel: Cycles' root and tip radius
+  (Diameter Root / Tip x Radius Scale x 0.5) blended by Strand Shape over the strand's length, 0 at
+  the last point with Close Tip. Material: the settings' material slot.
+* Curves objects (3.4's hair curves): `position`, the `radius` attribute (Cycles' 0.005 without one)
+  and the curve offsets, all through foreach_get; the first material slot.
+
+`co_hair` is one Python call per point (no bulk accessor exists for evaluated children in 3.4):
+about 14 us each, 0.38 s for 3,000 strands of 9 points (measured on this machine).
+"""
+
+import numpy as np
+
+# Cycles' radius of hair curves without a radius attribute.
+CURVES_DEFAULT_RADIUS = 0.005
+
+
+def _strand_radius(times, shape, root, tip):
+    """Cycles' shaperadius: root at time 0, tip at time 1, Strand Shape bending the blend."""
+    radius = 1.0 - times
+    if shape < 0.0:
+        radius = radius ** (1.0 + shape)
+    elif shape > 0.0:
+        radius = radius ** (1.0 / (1.0 - shape))
+    return radius * (root - tip) + tip
+
+
+def _psys_rendered(obj, psys):
+    for mod in obj.modifiers:
+        if mod.type == 'PARTICLE_SYSTEM' and mod.particle_system == psys:
+            return mod.show_render
+    return False
+
+
+def particle_hair_systems(obj):
+    """The particle systems of an evaluated object that Cycles renders as hair curves."""
+    return [p for p in obj.particle_systems
+            if p.settings.type == 'HAIR' and p.settings.render_type == 'PATH' and _psys_rendered(obj, p)]
+
+
+def particle_strands(obj, psys):
+    """(points (N, 4) float32 in object space: x, y, z, radius; offsets (curves + 1,) int32)."""
+    st = psys.settings
+    steps = (1 << st.render_step) + 1
+    if st.kink == 'SPIRAL':
+        steps += st.kink_extra_steps
+    parents, children = len(psys.particles), len(psys.child_particles)
+    first = parents if st.child_type != 'NONE' and children else 0
+    count = parents + children - first
+    world = np.empty((count * steps, 3), dtype=np.float32)
+    co_hair = psys.co_hair
+    k = 0
+    for pa in range(first, parents + children):
+        for step in range(steps):
+            world[k] = co_hair(obj, particle_no=pa, step=step)
+            k += 1
+    inv = np.array(obj.matrix_world.inverted_safe(), dtype=np.float64)
+    local = (world.astype(np.float64) @ inv[:3, :3].T + inv[:3, 3]).reshape(count, steps, 3)
+    # Steps of zero length are dropped (Cycles), the rest measured along the strand.
+    seg = np.linalg.norm(np.diff(local, axis=1), axis=2)
+    keep = np.concatenate([np.ones((count, 1), dtype=bool), seg > 0.0], axis=1)
+    lengths = np.concatenate([np.zeros((count, 1)), np.cumsum(np.where(seg > 0.0, seg, 0.0), axis=1)], axis=1)
+    total = lengths[:, -1:]
+    times = np.divide(lengths, total, out=np.zeros_like(lengths), where=total > 0.0)
+    half = st.radius_scale * 0.5
+    radius = _strand_radius(times, st.shape, half * st.root_radius, half * st.tip_radius)
+    if st.use_close_tip:
+        last = np.cumsum(keep, axis=1) == keep.sum(axis=1, keepdims=True)
+        radius = np.where(last & keep, 0.0, radius)
+    points = np.concatenate([local, radius[..., None]], axis=2)[keep].astype(np.float32)
+    offsets = np.concatenate([[0], np.cumsum(keep.sum(axis=1))]).astype(np.int32)
+    return points, offsets
+
+
+def particle_material(obj, psys):
+    """The material of a hair particle system: its settings' slot (1-based), clamped as Cycles does."""
+    slots = obj.material_slots
+    if not len(slots):
+        return None
+    return slots[min(max(psys.settings.material - 1, 0), len(slots) - 1)].material
+
+
+def curves_strands(curves):
+    """(points, offsets) of a Curves datablock (object space)."""
+    n = len(curves.points)
+    pos = np.empty(n * 3, dtype=np.float32)
+    curves.points.foreach_get("position", pos)
+    radius = np.full(n, CURVES_DEFAULT_RADIUS, dtype=np.float32)
+    if "radius" in curves.attributes:
+        curves.attributes["radius"].data.foreach_get("value", radius)
+    offsets = np.empty(len(curves.curves) + 1, dtype=np.int32)
+    curves.curve_offset_data.foreach_get("value", offsets)
+    points = np.concatenate([pos.reshape(n, 3), radius[:, None]], axis=1)
+    return np.ascontiguousarray(points, dtype=np.float32), offsets
+
+
+def curves_material(obj):
+    slots = obj.material_slots
+    return slots[0].material if len(slots) else None

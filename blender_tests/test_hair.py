@@ -1,0 +1,70 @@
+"""Hair parity with Cycles (issue 19): scenes/hair.py's field of 3,600 particle-hair strands (a plane
+emitter under a sun and a grey world) rendered by our engine as Embree round Catmull-Rom curves
+matches the Cycles 3.4 references in blender_tests/references/hair_*.exr
+(scenes/make_hair_references.sh):
+  * diffuse, diffuse_curves: the geometry (a Diffuse BSDF on the strands, sun and world, 8 bounces),
+    as particle hair and as a Curves object (the same strands converted);
+  * hair_bsdf_direct, principled_*_direct: the Hair BSDF and the Principled Hair BSDF's three colour
+    parametrisations lit by the sun alone (max bounces 0).
+The hair closures with the world and 8 bounces are not here yet: sun light that has bounced twice or
+more between strands renders darker than Cycles' (-6% at 2 bounces, -28% at 8 for the Principled
+Hair; the world's light through 8 bounces and the same strands with a diffuse material match), a
+discrepancy not resolved yet (README).
+
+Error: mean relative error over 8x8-pixel blocks and R, G, B (as test_closures.py, EPS 0.02), at
+most 2% (the issue's bar for hair).
+
+Run alone:
+    blender -b --factory-startup --addons smis_render --python blender_tests/run.py -- -k hair -s
+"""
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+from conftest import REFERENCES, ROOT, _smis, block_mean, render
+
+EPS = 0.02
+THRESHOLD = 0.02
+BLOCK = 8
+SPP = int(os.environ.get("SMIS_HAIR_SPP", "128"))
+SCENES = ["diffuse", "diffuse_curves", "hair_bsdf_direct", "principled_color_direct", "principled_melanin_direct",
+          "principled_absorption_direct"]
+_BUILT = {}
+
+
+def _blend(tmp_path_factory, name):
+    if "dir" not in _BUILT:
+        _BUILT["dir"] = str(tmp_path_factory.mktemp("hair"))
+    path = os.path.join(_BUILT["dir"], "hair_%s.blend" % name)
+    if not os.path.exists(path):
+        proc = subprocess.run(["blender", "-b", "--factory-startup", "--python", os.path.join(ROOT, "scenes", "hair.py"),
+                               "--", _BUILT["dir"], name], capture_output=True, text=True, timeout=300)
+        assert proc.returncode == 0 and os.path.exists(path), (proc.stdout + proc.stderr)[-3000:]
+    return path
+
+
+def block_mre(ours, ref):
+    a, b = block_mean(ours[..., :3], BLOCK), block_mean(ref[..., :3], BLOCK)
+    return float((np.abs(a - b) / np.maximum(b, EPS)).mean())
+
+
+@pytest.mark.parametrize("name", SCENES)
+def test_hair_matches_cycles(tmp_path_factory, name):
+    run = render(_blend(tmp_path_factory, name), f"""
+scene.smis.samples = {SPP}
+scene.smis.seed = 1
+scene.smis.integrator = 'PATH'
+""", timeout=600)
+    assert run.returncode == 0, run.output[-3000:]
+    bad = [ln for ln in run.output.splitlines() if ln.startswith("Warning") and "not supported" in ln]
+    assert not bad, "\n".join(bad)
+    ours = run.image
+    assert np.isfinite(ours).all()
+    ref = _smis.read_exr(os.path.join(REFERENCES, "hair_%s.exr" % name))
+    assert ref.shape[:2] == ours.shape[:2]
+    err = block_mre(ours, ref)
+    print("%-24s MRE %6.3f %%  ref mean %s  ours %s" % (name, 100 * err, ref[..., :3].mean(axis=(0, 1)),
+                                                     ours[..., :3].mean(axis=(0, 1))))
+    assert err <= THRESHOLD, "%s: MRE %.3f%%" % (name, 100 * err)

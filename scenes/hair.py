@@ -1,0 +1,186 @@
+"""The hair scene (issue 19): a field of particle hair on a plane under a sun and a grey world, for
+parity with Cycles' curves and hair closures.
+
+Run:
+    blender -b --factory-startup --python scenes/hair.py -- OUTDIR [MATERIAL ...]
+
+MATERIAL: `hair_bsdf` (default: Cycles' Hair BSDF, a Reflection plus a Transmission closure), or the
+Principled Hair BSDF `principled_color`, `principled_melanin`, `principled_absorption` (its three
+colour parametrisations); with the suffix `_direct`, the same lit by the sun alone (black world, max
+bounces 0: direct light only, where Cycles' Hair BSDF evaluates what it defines, lobes/hair.h); with
+`_curves` (before `_direct`), the strands converted to a Curves object (hair curves) instead.
+Writes OUTDIR/hair_<MATERIAL>.blend for each: a 64 x 48 px view at 45 degrees down onto a 2 x 2 m
+plane (a grey diffuse emitter) growing 400 parent strands with 8 interpolated children each (3,600
+strands of 9 points as Cycles renders them: render_step 3), 0.5 m long and tilted at random, of
+radius 0.01 m at the root to 0 at the tip (Cycles' default thick round curves), lit by a sun
+(3 W/m^2, 5 degrees wide) from the side and a uniform grey world (0.25). Saved for Cycles with the
+project's unbiased settings (scenes/cycles_settings.py) and for SMIS (path tracing, BOX filter 1 px),
+max bounces 8, view transform Standard.
+"""
+import math
+import os
+import sys
+
+import bpy
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cycles_settings import make_cycles_unbiased  # noqa: E402
+
+MAX_BOUNCES = 8
+WIDTH, HEIGHT = 64, 48
+
+
+def _hair_bsdf(nt, parts=("Reflection", "Transmission")):
+    r = nt.nodes.new("ShaderNodeBsdfHair")
+    r.component = 'Reflection'
+    r.inputs["Color"].default_value = (0.5, 0.4, 0.3, 1.0)
+    r.inputs["Offset"].default_value = math.radians(3.0)
+    r.inputs["RoughnessU"].default_value = 0.2
+    r.inputs["RoughnessV"].default_value = 0.6
+    t = nt.nodes.new("ShaderNodeBsdfHair")
+    t.component = 'Transmission'
+    t.inputs["Color"].default_value = (0.4, 0.3, 0.2, 1.0)
+    t.inputs["RoughnessU"].default_value = 0.3
+    t.inputs["RoughnessV"].default_value = 0.8
+    if len(parts) == 1:
+        return r if parts[0] == "Reflection" else t
+    add = nt.nodes.new("ShaderNodeAddShader")
+    nt.links.new(r.outputs[0], add.inputs[0])
+    nt.links.new(t.outputs[0], add.inputs[1])
+    return add
+
+
+def _principled_hair(parametrization, **inputs):
+    def build(nt):
+        n = nt.nodes.new("ShaderNodeBsdfHairPrincipled")
+        n.parametrization = parametrization
+        for k, v in inputs.items():
+            sock = n.inputs[k]
+            sock.default_value = (*v, 1.0) if sock.type == 'RGBA' else v
+        return n
+    return build
+
+
+def _diffuse(nt):
+    n = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    n.inputs["Color"].default_value = (0.6, 0.5, 0.4, 1.0)
+    return n
+
+
+MATERIALS = {
+    "hair_bsdf": _hair_bsdf,
+    "hair_reflection": lambda nt: _hair_bsdf(nt, ("Reflection",)),
+    "hair_transmission": lambda nt: _hair_bsdf(nt, ("Transmission",)),
+    "diffuse": _diffuse,  # the geometry alone
+    # Chiang's model in its three colour parametrisations (Cycles' defaults otherwise: roughness 0.3,
+    # radial roughness 0.3, IOR 1.55, offset 2 degrees, no coat)
+    "principled_color": _principled_hair('COLOR', Color=(0.7, 0.45, 0.25)),
+    # without the cuticle tilt, where Cycles' sampling and evaluation agree (lobes/principled_hair.h)
+    "principled_color_untilted": _principled_hair('COLOR', Color=(0.7, 0.45, 0.25), Offset=0.0),
+    "principled_melanin": _principled_hair('MELANIN', Melanin=0.4, **{"Melanin Redness": 0.7, "Roughness": 0.4}),
+    "principled_absorption": _principled_hair('ABSORPTION', **{"Absorption Coefficient": (0.3, 0.6, 1.2),
+                                                               "Radial Roughness": 0.5, "Coat": 0.0}),
+}
+
+
+def _material(name, build):
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nt = mat.node_tree
+    nt.nodes.clear()
+    output = nt.nodes.new("ShaderNodeOutputMaterial")
+    nt.links.new(build(nt).outputs[0], output.inputs["Surface"])
+    return mat
+
+
+def build(out_dir, material, direct=False, curves=False):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.engine = 'CYCLES'
+    scene.render.resolution_x, scene.render.resolution_y = WIDTH, HEIGHT
+    scene.render.resolution_percentage = 100
+    scene.view_settings.view_transform = 'Standard'
+    world = bpy.data.worlds.new("Grey")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0) if direct else \
+        (0.25, 0.25, 0.25, 1.0)
+    scene.world = world
+
+    bpy.ops.mesh.primitive_plane_add(size=2.0)
+    plane = bpy.context.object
+    plane.name = "emitter"
+    ground = bpy.data.materials.new("ground")
+    ground.use_nodes = True
+    ground.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.3, 0.3, 0.3, 1.0)
+    ground.node_tree.nodes["Principled BSDF"].inputs["Specular"].default_value = 0.0
+    plane.data.materials.append(ground)
+    plane.data.materials.append(_material(material, MATERIALS[material]))
+    mod = plane.modifiers.new("hair", 'PARTICLE_SYSTEM')
+    st = mod.particle_system.settings
+    mod.particle_system.seed = 7
+    st.type = 'HAIR'
+    st.count = 400
+    st.hair_length = 0.5
+    st.use_advanced_hair = True
+    st.normal_factor = 1.0
+    st.factor_random = 0.6
+    st.child_type = 'INTERPOLATED'
+    st.child_nbr = 8
+    st.rendered_child_count = 8
+    st.render_step = 3
+    st.material = 2
+    st.radius_scale = 0.02
+    st.root_radius = 1.0
+    st.tip_radius = 0.0
+    st.use_close_tip = True
+
+    if curves:
+        # The same strands as a Curves object (3.4's hair curves: 5 points per strand from the
+        # display steps, no radius attribute, so Cycles' 0.005), the particle system off for render.
+        bpy.context.view_layer.objects.active = plane
+        plane.select_set(True)
+        bpy.ops.curves.convert_from_particle_system()
+        hair = next(o for o in bpy.data.objects if o.type == 'CURVES')
+        hair.data.materials.append(plane.data.materials[1])
+        mod.show_render = False
+        mod.show_viewport = False
+
+    bpy.ops.object.light_add(type='SUN', rotation=(math.radians(50), math.radians(-20), math.radians(30)))
+    sun = bpy.context.object
+    sun.data.energy = 3.0
+    sun.data.angle = math.radians(5.0)
+
+    bpy.ops.object.camera_add(location=(0.0, -2.6, 2.2), rotation=(math.radians(52), 0.0, 0.0))
+    cam = bpy.context.object
+    cam.data.lens = 40
+    scene.camera = cam
+
+    bounces = 0 if direct else MAX_BOUNCES
+    scene.cycles.max_bounces = bounces
+    make_cycles_unbiased(scene, bounces)
+    scene.cycles_curves.shape = 'THICK'
+    smis = scene.smis if hasattr(scene, "smis") else None
+    if smis is not None:
+        smis.integrator = 'PATH'
+        smis.max_bounces = bounces
+        smis.filter_type = 'BOX'
+        smis.filter_width = 1.0
+    path = os.path.join(out_dir, "hair_%s%s%s.blend" % (material, "_curves" if curves else "",
+                                                         "_direct" if direct else ""))
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    return path
+
+
+def main():
+    argv = sys.argv
+    args = argv[argv.index("--") + 1:] if "--" in argv else []
+    out_dir = os.path.abspath(args[0] if args else ".")
+    os.makedirs(out_dir, exist_ok=True)
+    for name in args[1:] or ["hair_bsdf"]:
+        direct, curves = name.endswith("_direct"), "_curves" in name
+        material = name.replace("_direct", "").replace("_curves", "")
+        print("wrote", build(out_dir, material, direct, curves))
+
+
+if __name__ == "__main__":
+    main()
