@@ -8,7 +8,7 @@ struct Point2 {
     float x = 0, y = 0;
 };
 
-inline Point2 sample_uniform_disk_concentric(Point2 u) {
+[[gnu::always_inline]] inline Point2 sample_uniform_disk_concentric(Point2 u) {
     float ox = 2.0f * u.x - 1.0f, oy = 2.0f * u.y - 1.0f;
     if (ox == 0.0f && oy == 0.0f) return {0.0f, 0.0f};
     float r, theta;
@@ -42,8 +42,10 @@ inline float regular_polygon_area(int corners) {
     return 0.5f * corners * std::sin(2.0f * kPi / corners);
 }
 
-// Cosine-weighted hemisphere around +z; pdf in solid angle.
-inline Vec3 sample_cosine_hemisphere(Point2 u) {
+// Cosine-weighted hemisphere around +z; pdf in solid angle. Always inlined: every diffuse bounce
+// samples it, and with more lobe kinds in the dispatch the compiler stopped inlining it (+1.1% of
+// cornell's instructions with the call).
+[[gnu::always_inline]] inline Vec3 sample_cosine_hemisphere(Point2 u) {
     Point2 d = sample_uniform_disk_concentric(u);
     float z = safe_sqrt(1.0f - d.x * d.x - d.y * d.y);
     return {d.x, d.y, z};

@@ -116,7 +116,7 @@ bool subsurface_walk(const Scene& scene, const ShadingPoint& entry, const Lobe& 
     const float g = lobe.alpha;
     Color sigma_t, alpha, throughput = *beta;
     for (int k = 0; k < 3; ++k) {
-        subsurface_detail::walk_coefficients(lobe.f0[k], lobe.radius[k], g, &sigma_t[k], &alpha[k]);
+        subsurface_detail::walk_coefficients(lobe.f0[k], lobe.kind_colour[k], g, &sigma_t[k], &alpha[k]);
         throughput[k] = lobe.f0[k] != 0.0f ? throughput[k] / lobe.f0[k] : 0.0f;
         // Very low albedos would make the guiding phase function infinite: raise alpha, keep the loss.
         if (alpha[k] < kMinAlpha) {

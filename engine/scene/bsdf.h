@@ -109,7 +109,8 @@ private:
     [[gnu::noinline]] Color eval_bumped(const Vec3& wi, const Vec3& wo_l, const Vec3& wi_l) const;
     [[gnu::noinline]] void shadow_diffuse_terms(const Vec3& wi, LobeTerms* terms) const;
     static bool diffuse_labelled(const Lobe& lobe) { return lobe_label(lobe) == RayLabel::Diffuse; }
-    void selection_probabilities(const Vec3& wo_local, float* probs) const;
+    // Inlined into sample() and fix_wo(), its two callers (it was, until the dispatch grew).
+    [[gnu::always_inline]] inline void selection_probabilities(const Vec3& wo_local, float* probs) const;
     Frame frame_;
     Vec3 ng_{0, 0, 1};
     Lobe lobes_[kMaxLobes];

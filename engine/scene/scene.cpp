@@ -172,7 +172,7 @@ void Scene::sanitize(Material& material) {
         l.f0 = vmin(vmax(l.f0, Color(0.0f)), Color(1.0f));
         l.alpha = std::isfinite(l.alpha) ? clampf(l.alpha, 0.0f, 1.0f) : 1.0f;
         l.eta = (std::isfinite(l.eta) && l.eta > 0.0f) ? l.eta : 1.5f;
-        l.radius = is_finite(l.radius) ? vmax(l.radius, Color(0.0f)) : Color(0.0f);
+        l.kind_colour = is_finite(l.kind_colour) ? vmax(l.kind_colour, Color(0.0f)) : Color(0.0f);
     }
     for (size_t i = 0; i < material.lobes.size(); ++i) material.lobes[i].index = static_cast<uint8_t>(i);
     validate_spectral(material.spectral, material.name);

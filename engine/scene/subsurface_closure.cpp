@@ -76,7 +76,7 @@ int subsurface_lobes(const SubsurfaceClosure& c, Lobe* out) {
     }
     Lobe s = base(LobeKind::Subsurface, sss_weight);
     s.f0 = vmax(c.albedo, Color(0.0f));
-    s.radius = radius;
+    s.kind_colour = radius;
     s.alpha = clampf(std::isfinite(c.anisotropy) ? c.anisotropy : 0.0f, 0.0f, 0.9f);
     s.eta = ior;
     s.variant = c.principled ? SubsurfaceLobe::kPrincipledExit : 0;

@@ -588,7 +588,7 @@ void principled_glass(const Color& base, float g, float rough, float transmissio
                       bool multiscatter, uint8_t index, ShaderResult* out) {
     Lobe l = make_lobe(LobeKind::PrincipledGlass, FresnelMode::None, Color(g), rough, ior, index);
     l.f0 = base;
-    l.tint = spec_tint;
+    l.kind_colour.x = spec_tint;
     float rt = clamp01(std::isfinite(transmission_rough) ? transmission_rough : 0.0f);
     float refraction_rough = multiscatter ? std::sqrt(l.alpha) : 1.0f - (1.0f - std::sqrt(l.alpha)) * (1.0f - rt);
     l.alpha_y = refraction_rough * refraction_rough;

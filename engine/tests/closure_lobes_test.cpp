@@ -61,7 +61,7 @@ Lobe principled_glass_lobe(float alpha_r, float alpha_t, Color base = Color(1.0f
     Lobe l = lobe_of(LobeKind::PrincipledGlass, alpha_r, Color(1.0f), eta);
     l.alpha_y = alpha_t;
     l.f0 = base;
-    l.tint = tint;
+    l.kind_colour.x = tint;
     return l;
 }
 

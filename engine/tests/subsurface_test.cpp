@@ -59,7 +59,7 @@ TEST(Subsurface, RadiusBelowCyclesMinimumIsDiffuse) {
     ASSERT_EQ(subsurface_lobes(c, lobes), 2);
     EXPECT_EQ(lobes[0].kind, LobeKind::PrincipledPart);
     EXPECT_EQ(lobes[0].variant, PrincipledPartLobe::kRetro);
-    EXPECT_NEAR(lobes[1].radius.x, 0.25f / kPi, 1e-7f);
+    EXPECT_NEAR(lobes[1].kind_colour.x, 0.25f / kPi, 1e-7f);
 }
 
 TEST(Subsurface, DiffuseFallbackIsThePrincipledDiffuse) {

@@ -91,8 +91,10 @@ struct Lobe {
     float alpha = 0.0f;  // GGX alpha = roughness^2 (Blender's convention); below kDeltaAlpha -> delta
     float eta = 1.5f;    // IOR of the inside over the outside (Dielectric lobe / FresnelMode::Dielectric)
     float alpha_y = 0.0f;  // anisotropic lobes: alpha across the tangent (alpha is along it, the frame's s)
-    float tint = 0.0f;     // Principled glass: Specular Tint (lobes/principled_glass.h)
-    Color radius{0.0f};    // Subsurface: the mean free path per channel (lobes/subsurface.h)
+    // A colour parameter of the lobe's own kind: Subsurface's mean free path per channel
+    // (lobes/subsurface.h), the Principled glass' Specular Tint in x (lobes/principled_glass.h). One
+    // field for both keeps Lobe small: every hit copies its lobes.
+    Color kind_colour{0.0f};
 };
 
 // The label of the rays a lobe scatters (Cycles' LABEL_DIFFUSE / GLOSSY / TRANSPARENT): Light Path

@@ -12,7 +12,7 @@
 //
 // F(cos_o) is the dielectric Fresnel term at the shading normal (Cycles' `fresnel`), and chooses the
 // sampled event as the Glass lobe does (dielectric.h), so it cancels in value / pdf. Lobe fields:
-// weight = g (the glass weight), f0 = the base colour (the refraction's colour), tint = Specular
+// weight = g (the glass weight), f0 = the base colour (the refraction's colour), kind_colour.x = Specular
 // Tint, alpha = the reflection's alpha, alpha_y = the refraction's, eta = the IOR (inverted on the back
 // face, as Cycles). kTinted: eval = weight x fresnel(cos_d) x geom, where cos_d = wi.wm is negative
 // for the refraction, whose colour is the base. Dirac only when both roughnesses are: with one of them
@@ -53,7 +53,7 @@ struct PrincipledGlassLobe : LobeDefaults<PrincipledGlassLobe> {
     // The colour of a direction: the base for the refraction (cos_d < 0), Cycles' Fresnel colour for
     // the reflection.
     static float colour(float base, const Lobe& lobe, float cos_d) {
-        return cos_d < 0.0f ? base : reflection_colour(base, lobe.tint, lobe.eta, cos_d);
+        return cos_d < 0.0f ? base : reflection_colour(base, lobe.kind_colour.x, lobe.eta, cos_d);
     }
     static Color fresnel(const Lobe& lobe, float cos_d) {
         return Color(colour(lobe.f0.x, lobe, cos_d), colour(lobe.f0.y, lobe, cos_d), colour(lobe.f0.z, lobe, cos_d));

@@ -5,7 +5,7 @@
 // and goes on from the exit point with a diffuse lobe. Parameters (scene/subsurface_closure.cpp):
 //   weight   the closure weight (Cycles' bssrdf->weight: albedo x mix weight)
 //   f0       the surface albedo (the colour the walk's single-scattering albedo is inverted from)
-//   radius   the mean free path per channel after Cycles' bssrdf_setup_radius
+//   kind_colour  the mean free path per channel after Cycles' bssrdf_setup_radius
 //   alpha    the phase function's anisotropy g in [0, 0.9]
 //   variant  kPrincipledExit: the exit lobe is principled (1 - FL/2) Lambert, else plain Lambert.
 // Integrators without subsurface transport, and paths after a diffuse bounce (Cycles' diffuse
