@@ -797,7 +797,6 @@ void Scene::commit() {
         if (!mesh.prototype && mesh.curves) {
             flatten_curves(mesh, inst.to_world);
             inst.identity = true;
-            build_mesh_geometry(scene_, mesh, geom_id, inst.visibility);
         } else if (!mesh.prototype) {
             // Sole user: move the vertices into world space. A mirroring transform flips the winding,
             // so swap two corners to keep the geometric normal on Blender's outward side.
@@ -837,7 +836,7 @@ void Scene::commit() {
         geom_to_instance_.push_back(static_cast<uint32_t>(&inst - instances_.data()));
         has_motion_ = has_motion_ || mesh.motion_steps > 0;
         // A deforming mesh's bounds cover every step (in world space already when flattened).
-        for (size_t i = 0; i + 3 <= mesh.motion_positions.size(); i += 3) {
+        for (size_t i = 0; i + 4 < mesh.motion_positions.size(); i += 3) {  // 4 floats of padding
             Vec3 p = load3(&mesh.motion_positions[i]);
             if (!inst.identity) p = inst.to_world.point(p);
             lo = vmin(lo, p);
