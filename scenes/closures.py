@@ -158,7 +158,8 @@ PRINCIPLED_CLOSURES = [
 CLOSURE_SETS = {"closures": (CLOSURES, COLS, ROWS), "closures_principled": (PRINCIPLED_CLOSURES, 3, 2)}
 
 
-def _material(name, build):
+def node_material(name, build):
+    """A material whose Surface is the node `build(node_tree)` returns (also used by scenes/hair.py)."""
     mat = bpy.data.materials.new(name)
     mat.use_nodes = True
     nt = mat.node_tree
@@ -205,7 +206,7 @@ def build(out_dir, set_name="closures"):
         ob = bpy.context.active_object
         ob.name = label
         bpy.ops.object.shade_smooth()
-        ob.data.materials.append(_material(label, builder))
+        ob.data.materials.append(node_material(label, builder))
         tiles.append({"index": i, "name": name, "x0": col * TILE_PX, "y0": (rows - 1 - row) * TILE_PX,
                       "size": TILE_PX})
 

@@ -24,6 +24,7 @@ import sys
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from closures import node_material  # noqa: E402
 from cycles_settings import make_cycles_unbiased  # noqa: E402
 
 MAX_BOUNCES = 8
@@ -83,16 +84,6 @@ MATERIALS = {
 }
 
 
-def _material(name, build):
-    mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
-    nt = mat.node_tree
-    nt.nodes.clear()
-    output = nt.nodes.new("ShaderNodeOutputMaterial")
-    nt.links.new(build(nt).outputs[0], output.inputs["Surface"])
-    return mat
-
-
 def build(out_dir, material, direct=False, curves=False):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
@@ -114,7 +105,7 @@ def build(out_dir, material, direct=False, curves=False):
     ground.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.3, 0.3, 0.3, 1.0)
     ground.node_tree.nodes["Principled BSDF"].inputs["Specular"].default_value = 0.0
     plane.data.materials.append(ground)
-    plane.data.materials.append(_material(material, MATERIALS[material]))
+    plane.data.materials.append(node_material(material, MATERIALS[material]))
     mod = plane.modifiers.new("hair", 'PARTICLE_SYSTEM')
     st = mod.particle_system.settings
     mod.particle_system.seed = 7

@@ -198,13 +198,7 @@ ShaderContext Scene::curve_shader_context(const SurfaceAttribs& at, const Vec3& 
     ctx.Ng = ctx.N = ctx.backfacing ? -n : n;
     ctx.N_object = inst.identity ? normalize(inst.to_world.normal_to_object(n)) : normalize(inst.to_object.vector(n));
     ctx.dPdu = c.tangent;
-    ctx.to_world = inst.to_world;
-    ctx.to_object = inst.to_object;
-    ctx.object_location = inst.to_world.column(3);
-    ctx.object_color = inst.object_color;
-    ctx.object_alpha = inst.alpha;
-    ctx.object_random = inst.random;
-    ctx.object_index = inst.pass_index;
+    set_object_inputs(inst, &ctx);
     float dist = length(ctx.P - camera_.origin());
     float footprint = camera_.pixel_footprint(std::max(dist, 1e-6f));
     if (!(footprint > 0.0f) || !std::isfinite(footprint)) footprint = 1e-4f;

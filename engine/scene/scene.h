@@ -303,6 +303,8 @@ private:
         uint32_t visibility = kRayAllVisibility;  // the Embree mask of its geometry
         RTCScene own = nullptr;  // its geometry alone, for subsurface walks (subsurface materials only)
     };
+    // The shader inputs an instance gives every hit on it (transforms, Object Info), for meshes and curves alike.
+    static void set_object_inputs(const Instance& inst, ShaderContext* c);
     // The Embree geometry of `inst` (its mesh, flattened or instanced) into `target` under geom_id.
     void attach_instance_geometry(RTCScene target, Instance& inst, unsigned geom_id, bool own);
     // Runs a material's program at a hit (the context it built into *ctx_out when given).

@@ -66,13 +66,7 @@ ShaderContext Scene::shader_context(const SurfaceAttribs& at, const Vec3& wo, co
     c.backfacing = dot(wo, ng) < 0.0f;
     c.Ng = c.backfacing ? -ng : ng;
     c.N = c.backfacing ? -ns : ns;
-    c.to_world = inst.to_world;
-    c.to_object = inst.to_object;
-    c.object_location = inst.to_world.column(3);
-    c.object_color = inst.object_color;
-    c.object_alpha = inst.alpha;
-    c.object_random = inst.random;
-    c.object_index = inst.pass_index;
+    set_object_inputs(inst, &c);
     c.material_index = 0.0f;
     c.texspace_location = mesh.texspace_location;
     c.texspace_size = mesh.texspace_size;
@@ -103,6 +97,16 @@ ShaderContext Scene::shader_context(const SurfaceAttribs& at, const Vec3& wo, co
     c.duvdx = uv_offset(dpdu, dpdv, c.dPdx);
     c.duvdy = uv_offset(dpdu, dpdv, c.dPdy);
     return c;
+}
+
+void Scene::set_object_inputs(const Instance& inst, ShaderContext* c) {
+    c->to_world = inst.to_world;
+    c->to_object = inst.to_object;
+    c->object_location = inst.to_world.column(3);
+    c->object_color = inst.object_color;
+    c->object_alpha = inst.alpha;
+    c->object_random = inst.random;
+    c->object_index = inst.pass_index;
 }
 
 bool Scene::attribute(const ShaderContext& ctx, int32_t id, float* out) const {

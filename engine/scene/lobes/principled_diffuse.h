@@ -6,6 +6,16 @@
 
 namespace smis {
 
+// The principled diffuse's two parts without cos_i / pi, given FV and FL; subsurface scattering
+// uses them apart (principled_part.h).
+namespace principled_diffuse {
+inline float lambert_part(float fv, float fl) { return (1.0f - 0.5f * fv) * (1.0f - 0.5f * fl); }
+inline float retro_part(const Lobe& lobe, const Vec3& wo, const Vec3& wi, float fv, float fl) {
+    float rr = std::sqrt(lobe.alpha) * (1.0f + dot(wi, wo));
+    return rr * (fl + fv + fl * fv * (rr - 1.0f));
+}
+}  // namespace principled_diffuse
+
 struct PrincipledDiffuseLobe : LobeDefaults<PrincipledDiffuseLobe> {
     static constexpr LobeKind kKind = LobeKind::PrincipledDiffuse;
     static constexpr const char* kName = "principled_diffuse";
@@ -20,8 +30,7 @@ struct PrincipledDiffuseLobe : LobeDefaults<PrincipledDiffuseLobe> {
     [[gnu::noinline]] static LobeTerms terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
         if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return {};
         float fv = schlick_weight(wo.z), fl = schlick_weight(wi.z);
-        float rr = std::sqrt(lobe.alpha) * (1.0f + dot(wi, wo));
-        float f = (1.0f - 0.5f * fv) * (1.0f - 0.5f * fl) + rr * (fl + fv + fl * fv * (rr - 1.0f));
+        float f = principled_diffuse::lambert_part(fv, fl) + principled_diffuse::retro_part(lobe, wo, wi, fv, fl);
         LobeTerms t;
         t.pdf = cosine_hemisphere_pdf(wi.z);
         t.geom = wi.z * kInvPi * f;

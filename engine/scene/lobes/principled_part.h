@@ -10,6 +10,7 @@
 // Lambert + Retro is PrincipledDiffuseLobe exactly. Cosine sampled.
 #pragma once
 #include "scene/lobes/lobe.h"
+#include "scene/lobes/principled_diffuse.h"
 
 namespace smis {
 
@@ -28,15 +29,9 @@ struct PrincipledPartLobe : LobeDefaults<PrincipledPartLobe> {
     [[gnu::noinline]] static LobeTerms terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
         if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return {};
         float fv = schlick_weight(wo.z), fl = schlick_weight(wi.z);
-        float f;
-        if (lobe.variant == kLambert) {
-            f = (1.0f - 0.5f * fv) * (1.0f - 0.5f * fl);
-        } else if (lobe.variant == kExit) {
-            f = 1.0f - 0.5f * fl;
-        } else {
-            float rr = std::sqrt(lobe.alpha) * (1.0f + dot(wi, wo));
-            f = rr * (fl + fv + fl * fv * (rr - 1.0f));
-        }
+        float f = lobe.variant == kLambert ? principled_diffuse::lambert_part(fv, fl)
+                  : lobe.variant == kExit  ? 1.0f - 0.5f * fl
+                                           : principled_diffuse::retro_part(lobe, wo, wi, fv, fl);
         LobeTerms t;
         t.pdf = cosine_hemisphere_pdf(wi.z);
         t.geom = wi.z * kInvPi * f;
