@@ -130,6 +130,17 @@ def test_principled_transmission_and_multiscatter_match_cycles(tmp_path_factory)
     assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
 
 
+def test_beckmann_glass_and_refraction_match_cycles(tmp_path_factory):
+    """Glass and Refraction with the Beckmann distribution (closures_beckmann, 2 spheres): Beckmann's D
+    and rational G1, the glass weighted by the Fresnel term at the normal as Cycles' pair of closures."""
+    blend, tiles = _scene(tmp_path_factory, "closures_beckmann")
+    ours = _render(blend, PRINCIPLED_SPP).image
+    assert np.isfinite(ours).all()
+    errors = _tile_errors(ours, _reference(ours.shape, "closures_beckmann"), tiles)
+    failing = {k: round(100 * v, 3) for k, v in errors.items() if v > THRESHOLD}
+    assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
+
+
 def _sphere_means_match(tmp_path_factory, spp, principled_spp, extra, bound):
     """Both sets rendered with `extra` settings: every sphere finite and its mean within `bound` (plus
     its known difference) of Cycles'. The Principled set's glass shows the sun through itself, noisy at

@@ -3,8 +3,9 @@
 Run:
     blender -b --factory-startup --python scenes/closures.py -- OUTDIR [SET]
 
-SET is `closures` (the default: every closure) or `closures_principled` (the Principled BSDF's
-transmission and Multiscatter GGX, 3 x 2 tiles, PRINCIPLED_CLOSURES). Writes (for the default set)
+SET is `closures` (the default: every closure), `closures_principled` (the Principled BSDF's
+transmission and Multiscatter GGX, 3 x 2 tiles, PRINCIPLED_CLOSURES) or `closures_beckmann` (Glass and
+Refraction with the Beckmann distribution, 2 x 1 tiles). Writes (for the default set)
   OUTDIR/closures.blend  COLS x ROWS tiles of TILE_PX x TILE_PX pixels (COLS*TILE_PX x ROWS*TILE_PX):
       an orthographic camera looking straight down (-Z) at one sphere per tile (radius 0.85 of the
       tile's half size, so every sphere has its own 32 x 32 px square of 4 x 4 blocks of 8 x 8 px),
@@ -154,8 +155,18 @@ PRINCIPLED_CLOSURES = [
     ("principled_multi_metal", _principled({"Base Color": (0.9, 0.7, 0.5), "Metallic": 1.0, "Roughness": 0.8},
                                            distribution='MULTI_GGX')),
 ]
+# Glass and Refraction with the Beckmann distribution (closures_beckmann.blend): Cycles 3.4's pair of
+# Beckmann glass closures weighted by the Fresnel term at the normal, and the Beckmann refraction.
+BECKMANN_CLOSURES = [
+    ("glass_beckmann_0p3", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlass", {"Color": (0.9, 0.8, 0.6), "Roughness": 0.3,
+                                                                        "IOR": 1.45}, distribution='BECKMANN')),
+    ("refraction_beckmann_0p4", lambda nt: _bsdf(nt, "ShaderNodeBsdfRefraction",
+                                                 {"Color": (0.6, 0.8, 0.9), "Roughness": 0.4, "IOR": 1.5},
+                                                 distribution='BECKMANN')),
+]
 # name -> (closures, columns, rows)
-CLOSURE_SETS = {"closures": (CLOSURES, COLS, ROWS), "closures_principled": (PRINCIPLED_CLOSURES, 3, 2)}
+CLOSURE_SETS = {"closures": (CLOSURES, COLS, ROWS), "closures_principled": (PRINCIPLED_CLOSURES, 3, 2),
+                "closures_beckmann": (BECKMANN_CLOSURES, 2, 1)}
 
 
 def node_material(name, build):

@@ -1283,8 +1283,10 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             float w = load1(r, op.in[0], 1.0f);
             set_normal(out, r, op.in[4]);
             float rough = op.i[0] == 0 ? 0.0f : load1(r, op.in[2], 0.0f);
-            push_lobe(out, make_lobe(LobeKind::Refraction, FresnelMode::None, load3(r, op.in[1], Color(1.0f)) * w, rough,
-                                     load1(r, op.in[3], 1.45f), uint8_t(op.i[5])));
+            Lobe l = make_lobe(LobeKind::Refraction, FresnelMode::None, load3(r, op.in[1], Color(1.0f)) * w, rough,
+                               load1(r, op.in[3], 1.45f), uint8_t(op.i[5]));
+            l.variant = op.i[0] == 2 ? kBeckmannDistribution : kGgxDistribution;  // i[0]: 0 sharp, 1 GGX, 2 Beckmann
+            push_lobe(out, l);
             break;
         }
         case Op::Glossy: {
@@ -1327,8 +1329,10 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             float w = load1(r, op.in[0], 1.0f);
             set_normal(out, r, op.in[4]);
             float rough = op.i[0] == 0 ? 0.0f : load1(r, op.in[2], 0.0f);
-            push_lobe(out, make_lobe(LobeKind::Dielectric, FresnelMode::None, load3(r, op.in[1], Color(1.0f)) * w, rough,
-                                     load1(r, op.in[3], 1.45f), uint8_t(op.i[5])));
+            Lobe l = make_lobe(LobeKind::Dielectric, FresnelMode::None, load3(r, op.in[1], Color(1.0f)) * w, rough,
+                               load1(r, op.in[3], 1.45f), uint8_t(op.i[5]));
+            l.variant = op.i[0] == 2 ? kBeckmannDistribution : kGgxDistribution;  // i[0]: 0 sharp, 1 GGX, 2 Beckmann
+            push_lobe(out, l);
             break;
         }
         case Op::Transparent:

@@ -138,6 +138,14 @@ std::vector<NamedLobe> new_lobes() {
     for (float alpha : {0.1f, 0.5f})
         v.push_back({"Refraction_a" + num(alpha), lobe_of(LobeKind::Refraction, alpha, Color(0.9f, 1.0f, 0.8f), 1.5f),
                      true});
+    // Glass and Refraction with the Beckmann distribution (variant; lobes/dielectric.h).
+    for (float alpha : {0.1f, 0.5f}) {
+        Lobe refraction = lobe_of(LobeKind::Refraction, alpha, Color(0.9f, 1.0f, 0.8f), 1.5f);
+        Lobe glass = lobe_of(LobeKind::Dielectric, alpha, Color(0.8f, 0.9f, 1.0f), 1.45f);
+        refraction.variant = glass.variant = kBeckmannDistribution;
+        v.push_back({"BeckmannRefraction_a" + num(alpha), refraction, true});
+        v.push_back({"BeckmannGlass_a" + num(alpha), glass, true});
+    }
     // Principled transmission: reflection and refraction roughness apart, one of them smooth, tinted.
     for (auto [ar, at] : {std::pair{0.09f, 0.36f}, std::pair{0.0f, 0.25f}, std::pair{0.3f, 0.0f}}) {
         Lobe g = principled_glass_lobe(ar, at, Color(0.9f, 0.5f, 0.2f), 0.7f);
@@ -575,6 +583,39 @@ TEST(ClosureClosedForm, BeckmannIsCyclesFormula) {
             double expected = d * g1(alpha, wo.z) * g1(alpha, wi.z) / (4.0 * wo.z);
             Color e = lobe_eval(lobe_of(LobeKind::Beckmann, float(alpha)), wo, wi);
             EXPECT_NEAR(e.x, expected, 1e-4 * expected + 1e-7) << alpha << " " << i;
+        }
+}
+
+// Cycles' Beckmann refraction (bsdf_microfacet_beckmann_eval_transmit): D G |cos_hi cos_ho| eta^2 /
+// (cos_no |eta wi + wo|^2), which ours is times the radiance scaling 1 / eta^2; and the Beckmann
+// glass is the reflection weighted by F at the normal plus the refraction weighted by 1 - F.
+TEST(ClosureClosedForm, BeckmannRefractionIsCyclesFormula) {
+    const double pi = 3.14159265358979323846, eta = 1.5;
+    auto g1 = [](double alpha, double c) {
+        c = std::fabs(c);
+        double a = 1.0 / (alpha * std::sqrt(1.0 - c * c) / c);
+        return a >= 1.6 ? 1.0 : (3.535 * a + 2.181 * a * a) / (1.0 + 2.276 * a + 2.577 * a * a);
+    };
+    for (double alpha : {0.15, 0.5})
+        for (int i = 0; i < 3; ++i) {
+            Vec3 wo = dir_from_cos(kCosThetas[i], kPhis[i]), wi = dir_from_cos(-0.7f, kPhis[i] + 2.8f);
+            Vec3 ht = -(wi * float(eta) + wo);
+            Vec3 m = normalize(ht);
+            double c2 = double(m.z) * m.z, a2 = alpha * alpha;
+            double d = std::exp(-(1.0 - c2) / c2 / a2) / (pi * a2 * c2 * c2);
+            double cycles = d * g1(alpha, wo.z) * g1(alpha, wi.z) * std::fabs(dot(m, wi) * dot(m, wo)) * eta * eta /
+                            (wo.z * length_sq(ht));
+            Lobe refraction = lobe_of(LobeKind::Refraction, float(alpha), Color(1.0f), float(eta));
+            refraction.variant = kBeckmannDistribution;
+            Color e = lobe_eval(refraction, wo, wi);
+            EXPECT_NEAR(e.x * eta * eta, cycles, 1e-4 * cycles + 1e-7) << alpha << " " << i;
+            Lobe glass = refraction;
+            glass.kind = LobeKind::Dielectric;
+            double F = fresnel_dielectric(wo.z, float(eta));
+            EXPECT_NEAR(lobe_eval(glass, wo, wi).x, (1.0 - F) * e.x, 1e-4 * e.x + 1e-7) << alpha << " " << i;
+            Lobe beckmann = lobe_of(LobeKind::Beckmann, float(alpha));
+            Vec3 wr = dir_from_cos(0.6f, kPhis[i] + 2.5f);
+            EXPECT_NEAR(lobe_eval(glass, wo, wr).x, F * lobe_eval(beckmann, wo, wr).x, 1e-4 * F + 1e-7) << alpha << " " << i;
         }
 }
 

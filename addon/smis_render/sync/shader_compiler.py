@@ -887,7 +887,13 @@ def _toon(c, node, ctx, weight):
 
 def _refraction(c, node, ctx, weight):
     c.op("refraction", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
-                        c.input(node, "IOR", ctx, FLOAT), _closure_normal(c, node, ctx)], ints=[_distribution(c, node)])
+                        c.input(node, "IOR", ctx, FLOAT), _closure_normal(c, node, ctx)],
+         ints=[_dielectric_distribution(c, node)])
+
+
+def _dielectric_distribution(c, node):
+    """Glass and Refraction: Sharp (0), GGX (1) or Beckmann (2) (lobes/dielectric.h)."""
+    return 2 if node.distribution == "BECKMANN" else _distribution(c, node)
 
 
 def _distribution(c, node, supported=("SHARP", "GGX")):
@@ -973,7 +979,8 @@ def _glass(c, node, ctx, weight):
     """One dielectric lobe; rough, it weights reflection and refraction by the Fresnel term at the
     shading normal as Cycles 3.4's pair of closures does (lobes/dielectric.h)."""
     c.op("glass", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
-                   c.input(node, "IOR", ctx, FLOAT), _closure_normal(c, node, ctx)], ints=[_distribution(c, node)])
+                   c.input(node, "IOR", ctx, FLOAT), _closure_normal(c, node, ctx)],
+         ints=[_dielectric_distribution(c, node)])
 
 
 def _transparent(c, node, ctx, weight):

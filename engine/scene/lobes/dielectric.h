@@ -5,10 +5,17 @@
 // cancels in value / pdf. Two-sided: +z is the outside, eta = inside / outside.
 // Refraction scales radiance by (eta_i / eta_t)^2, so value / pdf of a refracted sample is the
 // radiance throughput, not the energy fraction.
+// With variant kBeckmannDistribution (Cycles' Glass BSDF with the Beckmann distribution), the rough
+// events use Beckmann's D and rational Smith G1 (lobes/beckmann.h) and sample D(m) cos(theta_m)
+// (Walter eq. 28): the pdf of the normal is D cos_m, not the visible-normal density.
 #pragma once
+#include "scene/lobes/beckmann.h"
 #include "scene/lobes/lobe.h"
 
 namespace smis {
+
+// Lobe::variant of the Dielectric and Refraction kinds: the microfacet distribution of rough events.
+constexpr uint8_t kGgxDistribution = 0, kBeckmannDistribution = 1;
 
 struct DielectricLobe : LobeDefaults<DielectricLobe> {
     static constexpr LobeKind kKind = LobeKind::Dielectric;
@@ -38,12 +45,13 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
 
     // Out of line, as the extra kinds': the Bsdf loops inline the common Lambert and GGX cases only.
     [[gnu::noinline]] static LobeTerms terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
-        return rough_terms(lobe, wo, wi, lobe.alpha, lobe.alpha);
+        return rough_terms(lobe, wo, wi, lobe.alpha, lobe.alpha, lobe.variant == kBeckmannDistribution);
     }
 
     // The rough terms with the reflection at alpha_r and the refraction at alpha_t (the Principled
     // transmission's differ, principled_glass.h); cos_d = wi.wm, negative for a refraction.
-    static LobeTerms rough_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi, float alpha_r, float alpha_t) {
+    static LobeTerms rough_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi, float alpha_r, float alpha_t,
+                                 bool beckmann = false) {
         if (!(wo.z != 0.0f) || !(wi.z != 0.0f)) return {};  // also rejects NaN
         // Mirror the configuration so that wo is in the upper hemisphere; +z stays "wo's side".
         float side = wo.z > 0.0f ? 1.0f : -1.0f;
@@ -66,13 +74,14 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
         if (reflect ? !(cos_im > 0.0f) : !(cos_im < 0.0f)) return {};
 
         float alpha = reflect ? alpha_r : alpha_t;
-        float d = ggx_D(wm, alpha);
-        float g1o = ggx_G1(o, alpha), g1i = ggx_G1(i, alpha);
         float F = fresnel_dielectric(o.z, etap);  // at the shading normal: see sample()
         if (!(lobe.glass_events & (reflect ? kGlassReflection : kGlassRefraction))) return {};
         const float p_reflect = reflection_probability(lobe, F);
         LobeTerms r;
         r.cos_d = cos_im;
+        if (beckmann) return beckmann_terms(o, i, wm, alpha, etap, len2, F, p_reflect, reflect, r);
+        float d = ggx_D(wm, alpha);
+        float g1o = ggx_G1(o, alpha), g1i = ggx_G1(i, alpha);
         if (reflect) {
             float common = d * g1o / (4.0f * o.z);
             r.pdf = p_reflect * common;
@@ -92,6 +101,23 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
         return r;
     }
 
+    // rough_terms' Beckmann events: as the GGX ones, with the normal's pdf D cos_m in place of the
+    // visible-normal density G1(o) D cos_om / cos_o.
+    static LobeTerms beckmann_terms(const Vec3& o, const Vec3& i, const Vec3& wm, float alpha, float etap, float len2,
+                                    float F, float p_reflect, bool reflect, LobeTerms r) {
+        float d = BeckmannLobe::D(wm.z, alpha);
+        float g = BeckmannLobe::G1(o.z, alpha) * BeckmannLobe::G1(i.z, alpha);
+        if (reflect) {
+            r.pdf = p_reflect * d * wm.z / (4.0f * dot(o, wm));
+            r.geom = F * d * g / (4.0f * o.z);
+        } else {
+            float dwm_dwi = std::fabs(dot(i, wm)) / (len2 / (etap * etap));
+            r.pdf = (1.0f - p_reflect) * d * wm.z * dwm_dwi;
+            r.geom = (1.0f - F) * d * g * dot(o, wm) / o.z * dwm_dwi / (etap * etap);
+        }
+        return r;
+    }
+
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event) {
         if (is_delta(lobe)) return smooth_sample(lobe, wo, u_event, lobe.weight, lobe.weight);
 
@@ -99,7 +125,8 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
         // reflection weighted by the Fresnel term at the shading normal and a GGX refraction weighted
         // by 1 - that term (svm/closure.h), not by each microfacet's Fresnel term (Walter et al.):
         // the event is chosen with that probability, and terms() weights each side by it.
-        return rough_sample<DielectricLobe>(lobe, wo, u, u_event, lobe.alpha, lobe.alpha);
+        return rough_sample<DielectricLobe>(lobe, wo, u, u_event, lobe.alpha, lobe.alpha,
+                                            lobe.variant == kBeckmannDistribution);
     }
 
     // Smooth interface: the event chosen with its exact Fresnel probability; value / pdf is the
@@ -135,7 +162,7 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
     // Fresnel term at the shading normal, then the visible normal at that event's alpha.
     template <class L>
     static BsdfSample rough_sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event, float alpha_r,
-                                   float alpha_t) {
+                                   float alpha_t, bool beckmann = false) {
         if (!(wo.z != 0.0f)) return {};
         float side = wo.z > 0.0f ? 1.0f : -1.0f;
         float etap = wo.z > 0.0f ? lobe.eta : 1.0f / lobe.eta;  // eta_t / eta_i
@@ -143,7 +170,8 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
         Vec3 o = wo * side;
         float F = fresnel_dielectric(o.z, etap);
         bool transmission = !(u_event < reflection_probability(lobe, F));  // F = 1 under total internal reflection
-        Vec3 wm = ggx_sample_visible_normal(o, transmission ? alpha_t : alpha_r, u);
+        const float alpha = transmission ? alpha_t : alpha_r;
+        Vec3 wm = beckmann ? BeckmannLobe::sample_normal(alpha, u) : ggx_sample_visible_normal(o, alpha, u);
         float cos_om = dot(o, wm);
         if (!(cos_om > 0.0f)) return {};
         Vec3 i;

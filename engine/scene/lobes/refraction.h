@@ -5,6 +5,7 @@
 // scaled by (eta_i/eta_t)^2 like the glass lobe; on a closed object the two crossings cancel, as
 // in Cycles, whose kernel leaves the scaling out). A microfacet that totally reflects the ray
 // contributes nothing (Cycles drops those samples too). eta = inside / outside, alpha = roughness^2.
+// Variant kBeckmannDistribution: Beckmann's D and G1 sampled by D cos_m, as the Beckmann glass.
 #pragma once
 #include "scene/lobes/dielectric.h"
 #include "scene/lobes/lobe.h"
@@ -37,6 +38,10 @@ struct RefractionLobe : LobeDefaults<RefractionLobe> {
         if (wm.z < 0.0f) wm = -wm;
         float cos_om = dot(o, wm), cos_im = dot(i, wm);
         if (!(cos_om > 0.0f) || !(cos_im < 0.0f)) return {};
+        if (lobe.variant == kBeckmannDistribution) {
+            LobeTerms r;
+            return DielectricLobe::beckmann_terms(o, i, wm, lobe.alpha, etap, len2, 0.0f, 0.0f, false, r);
+        }
         float d = ggx_D(wm, lobe.alpha);
         float g1o = ggx_G1(o, lobe.alpha), g1i = ggx_G1(i, lobe.alpha);
         float dwm_dwi = std::fabs(cos_im) / (len2 / (etap * etap));  // see DielectricLobe::terms
@@ -64,7 +69,8 @@ struct RefractionLobe : LobeDefaults<RefractionLobe> {
             s.eta = etap;
             return s;
         }
-        Vec3 wm = ggx_sample_visible_normal(o, lobe.alpha, u);
+        Vec3 wm = lobe.variant == kBeckmannDistribution ? BeckmannLobe::sample_normal(lobe.alpha, u)
+                                                        : ggx_sample_visible_normal(o, lobe.alpha, u);
         if (!(dot(o, wm) > 0.0f)) return {};
         if (!lobe_detail::refract_dir(o, wm, etap, &i) || !(i.z < 0.0f)) return {};
         return lobe_sample_at<RefractionLobe>(lobe, wo, i * side, true, etap);
