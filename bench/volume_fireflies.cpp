@@ -180,7 +180,7 @@ TEST(VolumeFireflies, RenderCost) {
     RenderSettings s;
     s.samples = 8;
     s.max_bounces = 1;
-    s.filter = "BOX";
+    s.filter = PixelFilterKind::Box;
     s.filter_width = 1.0f;
     s.threads = 1;
     auto img = render(volume_planes_replica(), s);

@@ -82,3 +82,89 @@ def test_an_unknown_render_setting_is_an_error():
     _smis.RenderSession(s, properties.session_settings(bpy.context.scene))  # all known
     with pytest.raises(ValueError, match="'sampels'"):
         _smis.RenderSession(s, {"sampels": 4, "seed": 1})
+
+
+class _RecordingLayout:
+    """Stands in for a panel's UILayout: records which properties a draw shows."""
+
+    def __init__(self, shown):
+        self.shown = shown
+        self.active = True
+
+    def column(self, **kwargs):
+        return self
+
+    def row(self, **kwargs):
+        return self
+
+    def prop(self, owner, name, **kwargs):
+        self.shown.append(name)
+
+    def label(self, **kwargs):
+        pass
+
+
+def test_settings_table_makes_the_properties_the_dict_and_the_panels():
+    """One table (settings_schema.py) makes scene.smis's properties with its defaults, the engine's
+    settings dict, and the render panels' rows, each shown only where its row says."""
+    import pytest
+    from smis_render import _smis, properties, settings_schema, ui
+    scene = bpy.context.scene
+    s = scene.smis
+    props = s.bl_rna.properties
+    for row in settings_schema.SETTINGS:
+        if not row.prop:
+            continue
+        assert row.prop in props, row.prop
+        expected = row.default
+        if row.kind == "float":
+            assert props[row.prop].default == pytest.approx(expected, rel=1e-6), row.prop
+        elif row.is_enum:
+            assert props[row.prop].default == expected, row.prop
+            assert [i.identifier for i in props[row.prop].enum_items] == row.kind.ids(), row.prop
+        else:
+            assert props[row.prop].default == expected, row.prop
+        assert props[row.prop].description, f"{row.prop} has no tooltip"
+    sent = properties.session_settings(scene)
+    engine_rows = {r.key for r in settings_schema.SETTINGS if r.engine and r.prop}
+    assert engine_rows <= set(sent), engine_rows - set(sent)
+    assert set(sent) - engine_rows == {"film_transparent", "film_transparent_glass"}
+    # The dict's values are the properties' (an enum by its id, the filter by the engine's key).
+    assert sent["filter"] == s.filter_type and sent["sampling_pattern"] == s.sampling_pattern
+
+    def shown(panel):
+        out = []
+        ui.draw_settings(_RecordingLayout(out), scene, panel)
+        return out
+
+    old = (s.integrator, s.direct_light)
+    try:
+        s.integrator = 'PSF_SMIS'
+        assert "psf_radius_px" in shown("psf") and "psf_keller_plane" not in shown("psf")
+        s.integrator = 'PSF_KELLER'
+        assert "psf_keller_plane" in shown("psf")
+        s.direct_light = 'NEE'
+        assert shown("direct_light") == ["direct_light"]
+        s.direct_light = 'RESTIR'
+        assert {"ris_candidates", "restir_mis", "restir_unbiased"} <= set(shown("direct_light"))
+        # The animated-seed toggle is drawn beside the seed, once.
+        assert shown("sampling").count("use_animated_seed") == 1
+        # Every row with a panel and a property is shown on it in some state of the settings.
+        all_shown = set()
+        for panel in {r.panel for r in settings_schema.SETTINGS if r.panel}:
+            all_shown |= set(shown(panel))
+        missing = {r.prop for r in settings_schema.SETTINGS if r.panel and r.prop and not r.show} - all_shown
+        # Light Paths rows the scene gives from Cycles are drawn as Cycles' properties.
+        missing -= {r.prop for r in settings_schema.SETTINGS if r.cycles}
+        assert not missing, missing
+    finally:
+        s.integrator, s.direct_light = old
+    # An out-of-range value is refused by the engine with the table's limits.
+    import numpy as np
+    sc = _smis.Scene()
+    sc.set_camera({"matrix": np.eye(4), "width": 4, "height": 4, "lens": 20.0})
+    sc.commit()
+    with pytest.raises(ValueError, match="psf_block_size must be between 1 and 4"):
+        _smis.RenderSession(sc, {"psf_block_size": 5})
+    with pytest.raises(ValueError, match="integrator must be one of PATH"):
+        _smis.RenderSession(sc, {"integrator": "PTAH"})

@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import native, passes, properties
+from . import native, passes, properties, settings_schema
 from .sync.reports import recent_warnings
 
 ENGINE = 'SMIS'
@@ -13,10 +13,47 @@ class SMISButtonsPanel:
     bl_region_type = 'WINDOW'
     bl_context = "render"
     COMPAT_ENGINES = {ENGINE}
+    settings_panel = None  # a render panel showing just the settings table's rows for it
 
     @classmethod
     def poll(cls, context):
         return context.engine in cls.COMPAT_ENGINES
+
+    def draw(self, context):
+        self.layout.use_property_split = True
+        self.layout.use_property_decorate = False
+        draw_settings(self.layout, context.scene, self.settings_panel)
+
+
+def draw_settings(layout, scene, panel, heading=None):
+    """The settings the table (settings_schema.py) puts on `panel`, in its order: hidden where their
+    row's `show` says so, greyed out where `active` does, an icon toggle beside the setting its row
+    names (`beside`), and a Light Paths setting from where the render takes it (a Cycles setting the
+    scene sets is shown, and edited, as Cycles' own: properties.light_path_source)."""
+    settings = scene.smis
+    col = layout.column(align=True, heading=heading) if heading else layout.column()
+    rows = [s for s in settings_schema.SETTINGS if s.panel == panel and s.prop]
+    for setting in rows:
+        if setting.beside or (setting.show and not setting.show(settings)):
+            continue
+        sub = col
+        if setting.active:
+            sub = col.column()
+            sub.active = bool(setting.active(settings))
+        toggles = [t for t in rows if t.beside == setting.prop]
+        if toggles:
+            sub = sub.row(align=True)
+        if setting.cycles:
+            owner, name = properties.light_path_source(scene, setting.prop, setting.cycles)
+            if isinstance(owner, bpy.types.bpy_struct):
+                sub.prop(owner, name, text=setting.name)
+            else:
+                sub.label(text="%s: %s (Cycles)" % (setting.name, owner[name]))
+        else:
+            sub.prop(settings, setting.prop)
+        for toggle in toggles:
+            sub.prop(settings, toggle.prop, text="", icon='TIME')
+    return col
 
 
 class SMIS_RENDER_PT_sampling(SMISButtonsPanel, bpy.types.Panel):
@@ -30,7 +67,6 @@ class SMIS_RENDER_PT_sampling(SMISButtonsPanel, bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         layout.use_property_decorate = False
-        settings = context.scene.smis
 
         err = native.problem()
         if err:
@@ -41,59 +77,18 @@ class SMIS_RENDER_PT_sampling(SMISButtonsPanel, bpy.types.Panel):
             for chunk in _wrap(err, 60):
                 box.label(text=chunk)
 
-        col = layout.column()
-        col.prop(settings, "samples")
-        col.prop(settings, "time_limit")
-        sub = col.column(align=True)
-        sub.prop(settings, "viewport_samples")
-        sub.prop(settings, "viewport_resolution_divider")
-        # As Cycles lays it out: the seed with the animated-seed toggle beside it.
-        row = col.row(align=True)
-        row.prop(settings, "seed")
-        row.prop(settings, "use_animated_seed", text="", icon='TIME')
-        col.prop(settings, "sampling_pattern")
-        col = layout.column(align=True)
-        col.prop(settings, "filter_type")
-        col.prop(settings, "filter_width")
+        draw_settings(layout, context.scene, "sampling")
         # Cycles' Film > Exposure, which SMIS applies too (properties.film_exposure); Cycles' own
         # Film panel is not shown for SMIS.
         cycles = getattr(context.scene, "cycles", None)
         if cycles is not None and hasattr(cycles, "film_exposure"):
             layout.column().prop(cycles, "film_exposure", text="Film Exposure")
-        col = layout.column(align=True)
-        col.prop(settings, "spectral")
-        sub = col.column()
-        sub.active = settings.spectral in {'AUTO', 'HERO', 'SMIS', 'SMIS_INDEPENDENT'}
-        sub.prop(settings, "wavelengths")
 
 
 class SMIS_RENDER_PT_light_paths(SMISButtonsPanel, bpy.types.Panel):
     bl_label = "Light Paths"
 
-    def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        settings = context.scene.smis
-
-        col = layout.column()
-        col.prop(settings, "integrator")
-        col.prop(settings, "max_bounces")
-        col.prop(settings, "mis_heuristic")
-
-
-def _light_path_props(layout, scene, names, heading=None):
-    """Each setting from where the render takes it (properties.light_path_source): a Cycles
-    setting the scene sets is shown, and edited, as Cycles' own."""
-    col = layout.column(align=True, heading=heading) if heading else layout.column(align=True)
-    for ours, cycles_name in properties.LIGHT_PATH_SETTINGS:
-        if ours not in names:
-            continue
-        owner, name = properties.light_path_source(scene, ours, cycles_name)
-        if isinstance(owner, bpy.types.bpy_struct):
-            col.prop(owner, name, text=scene.smis.bl_rna.properties[ours].name)
-        else:
-            col.label(text="%s: %s (Cycles)" % (scene.smis.bl_rna.properties[ours].name, owner[name]))
+    settings_panel = "light_paths"
 
 
 class SMIS_RENDER_PT_max_bounces(SMISButtonsPanel, bpy.types.Panel):
@@ -102,12 +97,7 @@ class SMIS_RENDER_PT_max_bounces(SMISButtonsPanel, bpy.types.Panel):
     bl_parent_id = "SMIS_RENDER_PT_light_paths"
     bl_options = {'DEFAULT_CLOSED'}
 
-    def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        _light_path_props(layout, context.scene,
-                          {"diffuse_bounces", "glossy_bounces", "transmission_bounces", "transparent_bounces"})
+    settings_panel = "max_bounces"
 
 
 class SMIS_RENDER_PT_clamping(SMISButtonsPanel, bpy.types.Panel):
@@ -120,9 +110,8 @@ class SMIS_RENDER_PT_clamping(SMISButtonsPanel, bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         layout.use_property_decorate = False
-        _light_path_props(layout, context.scene, {"clamp_direct", "clamp_indirect"}, heading="Clamp")
-        _light_path_props(layout, context.scene, {"filter_glossy", "caustics_reflective", "caustics_refractive"},
-                          heading="Caustics")
+        draw_settings(layout, context.scene, "clamp", heading="Clamp")
+        draw_settings(layout, context.scene, "caustics", heading="Caustics")
 
 
 class SMIS_RENDER_PT_path_space_filtering(SMISButtonsPanel, bpy.types.Panel):
@@ -134,21 +123,7 @@ class SMIS_RENDER_PT_path_space_filtering(SMISButtonsPanel, bpy.types.Panel):
     def poll(cls, context):
         return super().poll(context) and context.scene.smis.integrator.startswith("PSF_")
 
-    def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        settings = context.scene.smis
-        col = layout.column()
-        col.prop(settings, "psf_radius_px")
-        col.prop(settings, "psf_radius_alpha")
-        col.prop(settings, "psf_max_neighbors")
-        col.prop(settings, "psf_light_samples")
-        col.prop(settings, "psf_extra_paths")
-        col.prop(settings, "psf_block_size")
-        if settings.integrator == 'PSF_KELLER':
-            col.prop(settings, "psf_keller_normal_cos")
-            col.prop(settings, "psf_keller_plane")
+    settings_panel = "psf"
 
 
 class SMIS_RENDER_PT_volumes(SMISButtonsPanel, bpy.types.Panel):
@@ -156,19 +131,7 @@ class SMIS_RENDER_PT_volumes(SMISButtonsPanel, bpy.types.Panel):
     bl_label = "Volumes"
     bl_parent_id = "SMIS_RENDER_PT_light_paths"
 
-    def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        settings = context.scene.smis
-        col = layout.column()
-        col.prop(settings, "volume_estimator")
-        if settings.volume_estimator.startswith("PLANES_"):
-            col.prop(settings, "photon_planes")
-            col.prop(settings, "plane_shadow_rays")
-            col.prop(settings, "plane_surface_samples")
-        if settings.volume_estimator.startswith("PLANES_SMIS"):
-            col.prop(settings, "smis_planes")
+    settings_panel = "volumes"
 
 
 class SMIS_RENDER_PT_direct_light(SMISButtonsPanel, bpy.types.Panel):
@@ -185,23 +148,9 @@ class SMIS_RENDER_PT_direct_light(SMISButtonsPanel, bpy.types.Panel):
         layout.use_property_split = True
         layout.use_property_decorate = False
         settings = context.scene.smis
-        col = layout.column()
-        col.prop(settings, "direct_light")
-        if settings.direct_light == 'NEE':
-            return
-        col.prop(settings, "ris_candidates")
-        if settings.direct_light != 'RESTIR':
-            return
-        col = layout.column()
-        col.prop(settings, "restir_mis")
-        col.prop(settings, "restir_neighbors")
-        col.prop(settings, "restir_radius_px")
-        col.prop(settings, "restir_history_cap")
-        col.prop(settings, "restir_visibility_reuse")
-        sub = col.column()
-        sub.active = settings.restir_visibility_reuse and settings.restir_mis != 'NONE'
-        sub.prop(settings, "restir_unbiased")
-        if settings.restir_mis == 'NONE' or (settings.restir_visibility_reuse and not settings.restir_unbiased):
+        col = draw_settings(layout, context.scene, "direct_light")
+        if settings.direct_light == 'RESTIR' and (
+                settings.restir_mis == 'NONE' or (settings.restir_visibility_reuse and not settings.restir_unbiased)):
             col.label(text="Biased: darker near shadows", icon='ERROR')
 
 
@@ -216,8 +165,7 @@ class SMIS_RENDER_PT_performance(SMISButtonsPanel, bpy.types.Panel):
         settings = context.scene.smis
         rd = context.scene.render
 
-        col = layout.column()
-        col.prop(settings, "threads")
+        col = draw_settings(layout, context.scene, "performance")
         if settings.threads == 0:
             # Say what 0 resolves to, since Blender's own thread setting can override it.
             if rd.threads_mode == 'FIXED':

@@ -1,18 +1,16 @@
 #include "film/pixel_filter.h"
 
 #include <cmath>
-#include <stdexcept>
 
 namespace smis {
 
-PixelFilter::PixelFilter(const std::string& type, float width) : width_(width) {
+PixelFilter::PixelFilter(PixelFilterKind kind, float width) : width_(width) {
     if (!(width > 0.0f) || !std::isfinite(width)) width_ = 1.0f;
-    if (type == "BOX") return;
-    if (type != "BLACKMAN_HARRIS" && type != "GAUSSIAN") throw std::invalid_argument("unknown pixel filter " + type);
+    if (kind == PixelFilterKind::Box) return;
     const int n = 1024;
-    float support = type == "BLACKMAN_HARRIS" ? 2.0f * width_ : width_;
+    float support = kind == PixelFilterKind::BlackmanHarris ? 2.0f * width_ : width_;
     auto f = [&](float x) {  // x in [-support/2, support/2]
-        if (type == "GAUSSIAN") return std::exp(-2.0f * sqr(x / (0.5f * width_)));
+        if (kind == PixelFilterKind::Gaussian) return std::exp(-2.0f * sqr(x / (0.5f * width_)));
         float t = 2.0f * kPi * (x / support + 0.5f);
         return 0.35875f - 0.48829f * std::cos(t) + 0.14128f * std::cos(2 * t) - 0.01168f * std::cos(3 * t);
     };

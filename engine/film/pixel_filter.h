@@ -1,18 +1,20 @@
 // Pixel reconstruction by filter importance sampling, as Cycles does it: each camera sample is offset
 // from the pixel centre by a draw from the (separable) filter, and all samples weigh the same.
 #pragma once
-#include <string>
 #include <vector>
 
 #include "core/sampling.h"
 
 namespace smis {
 
+// The filter shapes (the render setting `filter`, addon/smis_render/settings_schema.py).
+enum class PixelFilterKind { BlackmanHarris, Gaussian, Box };
+
 class PixelFilter {
 public:
-    // type: "BOX" or "BLACKMAN_HARRIS" (Cycles' default, width 1.5 px; Cycles doubles the width of
-    // Blackman-Harris internally so its support matches a Gaussian of the same nominal width).
-    PixelFilter(const std::string& type = "BOX", float width = 1.0f);
+    // Blackman-Harris is Cycles' default (width 1.5 px; Cycles doubles the width of Blackman-Harris
+    // internally so its support matches a Gaussian of the same nominal width).
+    explicit PixelFilter(PixelFilterKind kind = PixelFilterKind::Box, float width = 1.0f);
     // Offset from the pixel centre, in pixels.
     Point2 sample(Point2 u) const { return {warp(u.x), warp(u.y)}; }
 

@@ -443,7 +443,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
 
     // Stage 1: one full path per pixel, and the pixel's extra paths.
     const bool extra_strata =
-        kWithStratified && settings.stratified && (settings.psf_light_samples > 1 || max_extra > 0);
+        kWithStratified && settings.sampling_pattern == SamplingPattern::Stratified && (settings.psf_light_samples > 1 || max_extra > 0);
     auto t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         Rng rng;

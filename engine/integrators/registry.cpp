@@ -1,6 +1,4 @@
 // Maps the integrator names exposed in Blender (scene.smis.integrator) to their implementations.
-#include <functional>
-#include <map>
 #include <stdexcept>
 
 #include "integrators/integrator.h"
@@ -12,86 +10,100 @@
 
 namespace smis {
 
-std::string resolve_spectral_mode(const RenderSettings& settings, const Scene& scene) {
+SpectralSetting resolve_spectral_mode(const RenderSettings& settings, const Scene& scene) {
     // The spectral path tracer has no medium tracking: scenes with media render in RGB under AUTO
     // (the stats line says so) and refuse an explicit spectral mode rather than lose the media.
-    if (settings.spectral == "AUTO") return scene.has_spectral_content() && !scene.has_media() ? "SMIS" : "RGB";
-    spectral::SpectralMode mode;
-    if (!spectral::parse_spectral_mode(settings.spectral, &mode))
-        throw std::invalid_argument("unknown spectral mode '" + settings.spectral + "'");
-    if (settings.spectral != "RGB" && scene.has_media())
-        throw std::invalid_argument("spectral rendering (" + settings.spectral +
+    if (settings.spectral == SpectralSetting::Auto)
+        return scene.has_spectral_content() && !scene.has_media() ? SpectralSetting::Smis : SpectralSetting::Rgb;
+    if (settings.spectral != SpectralSetting::Rgb && scene.has_media())
+        throw std::invalid_argument(std::string("spectral rendering (") + setting_name(settings.spectral) +
                                     ") does not support participating media yet: set Spectral to AUTO or RGB");
     return settings.spectral;
 }
 
 namespace {
 
+spectral::SpectralMode spectral_mode(SpectralSetting s) {
+    switch (s) {
+        case SpectralSetting::Uniform: return spectral::SpectralMode::Uniform;
+        case SpectralSetting::SpectralIs: return spectral::SpectralMode::SpectralIs;
+        case SpectralSetting::Hero: return spectral::SpectralMode::Hero;
+        case SpectralSetting::Smis: return spectral::SpectralMode::Smis;
+        case SpectralSetting::SmisIndependent: return spectral::SpectralMode::SmisIndependent;
+        case SpectralSetting::BruteForce: return spectral::SpectralMode::BruteForce;
+        case SpectralSetting::Auto:
+        case SpectralSetting::Rgb: break;
+    }
+    return spectral::SpectralMode::Rgb;
+}
+
 // settings.volume_estimator: PATH keeps the path tracer's own single scattering; the photon-plane
 // estimators replace the camera rays' scattering from rectangular lights (West et al. 2020, §6).
 std::unique_ptr<Integrator> make_volume_integrator(const RenderSettings& settings) {
-    static const std::map<std::string, PlaneWeighting> planes = {
-        {"PLANES_UNWEIGHTED", PlaneWeighting::Unweighted},
-        {"PLANES_CMIS", PlaneWeighting::Cmis},
-        {"PLANES_SMIS_COS", PlaneWeighting::SmisCos},
-        {"PLANES_SMIS_EXACT", PlaneWeighting::SmisExact},
-    };
-    auto it = planes.find(settings.volume_estimator);
-    if (it == planes.end())
-        throw std::invalid_argument("unknown volume estimator '" + settings.volume_estimator + "'");
-    if (settings.integrator != "PATH")
-        throw std::invalid_argument("photon planes (" + settings.volume_estimator + ") need the PATH integrator");
+    if (settings.integrator != IntegratorKind::Path)
+        throw std::invalid_argument(std::string("photon planes (") + setting_name(settings.volume_estimator) +
+                                    ") need the PATH integrator");
     if (settings.smis_planes < 1 || settings.smis_planes > 64)
         throw std::invalid_argument("smis_planes must be between 1 and 64");
-    return std::make_unique<PhotonPlanesIntegrator>(it->second);
+    switch (settings.volume_estimator) {
+        case VolumeEstimator::PlanesUnweighted: return std::make_unique<PhotonPlanesIntegrator>(PlaneWeighting::Unweighted);
+        case VolumeEstimator::PlanesCmis: return std::make_unique<PhotonPlanesIntegrator>(PlaneWeighting::Cmis);
+        case VolumeEstimator::PlanesSmisCos: return std::make_unique<PhotonPlanesIntegrator>(PlaneWeighting::SmisCos);
+        case VolumeEstimator::PlanesSmisExact: return std::make_unique<PhotonPlanesIntegrator>(PlaneWeighting::SmisExact);
+        case VolumeEstimator::Path: break;
+    }
+    throw std::invalid_argument("the path tracer's single scattering is no photon-plane estimator");
+}
+
+// Adding an integrator: its folder or file, an item in the settings table's INTEGRATOR enum
+// (addon/smis_render/settings_schema.py) and its line here.
+std::unique_ptr<Integrator> make_surface_integrator(IntegratorKind kind) {
+    switch (kind) {
+        case IntegratorKind::Path: return std::make_unique<PathIntegrator>();
+        // The path-space filtering family: PSF_PATH is the path tracer on the same two-stage paths.
+        case IntegratorKind::PsfPath: return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::Path);
+        case IntegratorKind::PsfKeller: return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::Keller);
+        case IntegratorKind::PsfSmis: return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::Smis);
+        case IntegratorKind::PsfSmisUnbiased:
+            return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::SmisUnbiased);
+    }
+    throw std::invalid_argument("unknown integrator");
 }
 
 }  // namespace
 
 std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, const Scene& scene) {
-    std::string spectral = resolve_spectral_mode(settings, scene);
+    const SpectralSetting spectral = resolve_spectral_mode(settings, scene);
+    const bool path = settings.integrator == IntegratorKind::Path;
     // Measurement builds without some feature (core/features.h) refuse the settings that need it.
-    if (spectral != "RGB") require_feature(kWithSpectral, "spectral rendering", "spectral");
+    if (spectral != SpectralSetting::Rgb) require_feature(kWithSpectral, "spectral rendering", "spectral");
     if (settings.direct_light != DirectLightStrategy::Nee)
         require_feature(kWithResampledLights, "RIS/ReSTIR", "resampled_lights");
-    if (settings.volume_estimator != "PATH") require_feature(kWithVolumes, "photon planes", "volumes");
-    if (settings.stratified) require_feature(kWithStratified, "the stratified sampling pattern", "stratified");
+    if (settings.volume_estimator != VolumeEstimator::Path) require_feature(kWithVolumes, "photon planes", "volumes");
+    if (settings.sampling_pattern == SamplingPattern::Stratified)
+        require_feature(kWithStratified, "the stratified sampling pattern", "stratified");
     // RIS / ReSTIR live in the RGB surface path tracer: their resampling knows neither transmittance
     // nor spectra, so those combinations are refused rather than rendered wrong.
-    if (settings.direct_light != DirectLightStrategy::Nee && (scene.has_media() || spectral != "RGB"))
+    if (settings.direct_light != DirectLightStrategy::Nee && (scene.has_media() || spectral != SpectralSetting::Rgb))
         throw std::invalid_argument("RIS/ReSTIR direct lighting does not support participating media or spectral "
                                     "rendering yet: use NEE (or set Spectral to RGB)");
-    if (settings.volume_estimator != "PATH") return make_volume_integrator(settings);
+    if (settings.volume_estimator != VolumeEstimator::Path) return make_volume_integrator(settings);
     if (settings.spectral_wavelength != 0.0f) {
         if (!(settings.spectral_wavelength >= spectral::kLambdaMin && settings.spectral_wavelength <= spectral::kLambdaMax))
             throw std::invalid_argument("spectral_wavelength must lie within [360, 830] nm (or be 0: off)");
-        if (settings.integrator != "PATH") throw std::invalid_argument("spectral_wavelength applies to PATH only");
+        if (!path) throw std::invalid_argument("spectral_wavelength applies to PATH only");
         require_feature(kWithSpectral, "spectral rendering", "spectral");
         return std::make_unique<SpectralPathIntegrator>(scene, spectral::SpectralMode::Uniform, 1,
                                                         settings.spectral_wavelength);
     }
-    if (settings.integrator == "PATH" && spectral != "RGB") {
-        spectral::SpectralMode mode;
-        spectral::parse_spectral_mode(spectral, &mode);
-        return std::make_unique<SpectralPathIntegrator>(scene, mode, settings.wavelengths);
-    }
-    static const std::map<std::string, std::function<std::unique_ptr<Integrator>()>> factories = {
-        {"PATH", [] { return std::make_unique<PathIntegrator>(); }},
-        // The path-space filtering family: PSF_PATH is the path tracer on the same two-stage paths.
-        {"PSF_PATH", [] { return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::Path); }},
-        {"PSF_KELLER", [] { return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::Keller); }},
-        {"PSF_SMIS", [] { return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::Smis); }},
-        {"PSF_SMIS_UNBIASED",
-         [] { return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::SmisUnbiased); }},
-    };
+    if (path && spectral != SpectralSetting::Rgb)
+        return std::make_unique<SpectralPathIntegrator>(scene, spectral_mode(spectral), settings.wavelengths);
     // ReSTIR turns the path tracer into a multi-stage integrator (per-pixel reservoirs are reused).
-    if (settings.integrator == "PATH" && settings.direct_light == DirectLightStrategy::Restir)
-        return std::make_unique<RestirIntegrator>();
-    auto it = factories.find(settings.integrator);
-    if (it == factories.end()) throw std::invalid_argument("unknown integrator '" + settings.integrator + "'");
-    if (settings.integrator != "PATH" && scene.has_media())
-        throw std::invalid_argument(settings.integrator + " does not support participating media: use PATH");
-    return it->second();
+    if (path && settings.direct_light == DirectLightStrategy::Restir) return std::make_unique<RestirIntegrator>();
+    if (!path && scene.has_media())
+        throw std::invalid_argument(std::string(setting_name(settings.integrator)) +
+                                    " does not support participating media: use PATH");
+    return make_surface_integrator(settings.integrator);
 }
 
 }  // namespace smis

@@ -99,7 +99,7 @@ inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s, Rng* r
     const Camera& cam = ctx.scene.camera();
     int fx = x + cam.window_x0(), fy = y + cam.window_y0();
     *rng = pixel_sample_rng(fx, fy, s, ctx.settings.seed);
-    if (kWithStratified && ctx.settings.stratified) set_stratified_prefix(rng, fx, fy, s, ctx.settings.seed, cam.has_aperture());
+    if (kWithStratified && ctx.settings.sampling_pattern == SamplingPattern::Stratified) set_stratified_prefix(rng, fx, fy, s, ctx.settings.seed, cam.has_aperture());
     Point2 off = ctx.filter.sample({rng->next_float(), rng->next_float()});
     if (!ctx.scene.has_motion()) {
         if (!cam.has_aperture()) return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y);
@@ -112,7 +112,7 @@ inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s, Rng* r
     Point2 u_lens{0.5f, 0.5f};
     if (cam.has_aperture()) u_lens = {rng->next_float(), rng->next_float()};
     float u_time;
-    if (kWithStratified && ctx.settings.stratified) {
+    if (kWithStratified && ctx.settings.sampling_pattern == SamplingPattern::Stratified) {
         float v[2];
         stratified::sample_2d(s, stratified_pixel_key(fx, fy, ctx.settings.seed), kTimeDimensionGroup, v);
         u_time = v[0];

@@ -3,6 +3,8 @@
 // native code runs for long.
 #include <map>
 #include <set>
+#include <sstream>
+#include <type_traits>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -46,7 +48,45 @@ public:
         if (!unknown.empty()) throw py::value_error("unknown render setting(s) " + unknown);
     }
 
+    // The settings table's readers (render_settings.h, read_settings): a number within its limits
+    // (NaN: none), finite; an enum by its name.
+    template <class T>
+    void read(const char* key, T* field, double min, double max) const {
+        if (!contains(key)) return;
+        if constexpr (std::is_same_v<T, bool>) {
+            *field = dict_[key].template cast<bool>();
+        } else {
+            const double v = std::is_integral_v<T> ? double(dict_[key].template cast<long long>())
+                                                   : dict_[key].template cast<double>();
+            if (!std::isfinite(v) || v < min || v > max) {  // comparisons with a NaN limit are false
+                std::string range = std::isnan(max) ? " or more" : std::isnan(min) ? " or less" : "";
+                std::string text = std::isnan(min) && std::isnan(max) ? "finite"
+                                   : std::isnan(min) || std::isnan(max)
+                                       ? number(std::isnan(min) ? max : min) + range
+                                       : "between " + number(min) + " and " + number(max);
+                throw py::value_error(std::string(key) + " must be " + text + ", not " + number(v));
+            }
+            *field = static_cast<T>(v);
+        }
+    }
+    template <class E>
+    void read_enum(const char* key, E* field) const {
+        if (!contains(key)) return;
+        const auto name = dict_[key].template cast<std::string>();
+        std::string valid;
+        for (const auto& item : SettingNames<E>::items) {
+            if (name == item.first) return void(*field = item.second);
+            valid += (valid.empty() ? "" : ", ") + std::string(item.first);
+        }
+        throw py::value_error(std::string(key) + " must be one of " + valid + ", not '" + name + "'");
+    }
+
 private:
+    static std::string number(double v) {
+        std::ostringstream out;
+        out << v;
+        return out.str();
+    }
     const py::dict& dict_;
     mutable std::set<std::string> asked_;
 };
@@ -137,18 +177,6 @@ const float* image_data(const py::array_t<float, py::array::c_style | py::array:
     return a.data();
 }
 
-// An enum setting given by name; unknown names are a ValueError listing the valid ones.
-template <class E, class Dict>
-E parse_enum(const Dict& d, const char* key, E fallback, const std::map<std::string, E>& names) {
-    if (!d.contains(key)) return fallback;
-    auto name = d[key].template cast<std::string>();
-    auto it = names.find(name);
-    if (it != names.end()) return it->second;
-    std::string valid;
-    for (auto& kv : names) valid += (valid.empty() ? "" : ", ") + kv.first;
-    throw py::value_error(std::string(key) + " must be one of " + valid + ", not '" + name + "'");
-}
-
 // Cycles' Ray Visibility as the engine's bits (scene/ray_visibility.h): a dict of booleans camera,
 // diffuse, glossy, transmission, shadow, volume_scatter (absent: visible).
 uint32_t parse_visibility(const py::dict& d) {
@@ -161,74 +189,11 @@ uint32_t parse_visibility(const py::dict& d) {
     return bits;
 }
 
-// A per-type bounce limit: a non-negative count.
-int bounce_limit(const SettingsDict& d, const char* key, int fallback) {
-    const int n = get<int>(d, key, fallback);
-    if (n < 0) throw py::value_error(std::string(key) + " must be 0 or more, not " + std::to_string(n));
-    return n;
-}
-
+// Every key the settings table knows (render_settings.h); any other key is an error.
 RenderSettings parse_settings(const py::dict& dict) {
     const SettingsDict d(dict);
     RenderSettings s;
-    s.samples = get<uint32_t>(d, "samples", s.samples);
-    s.max_bounces = get<int>(d, "max_bounces", s.max_bounces);
-    s.max_diffuse_bounces = bounce_limit(d, "diffuse_bounces", s.max_diffuse_bounces);
-    s.max_glossy_bounces = bounce_limit(d, "glossy_bounces", s.max_glossy_bounces);
-    s.max_transmission_bounces = bounce_limit(d, "transmission_bounces", s.max_transmission_bounces);
-    s.max_transparent_bounces = bounce_limit(d, "transparent_bounces", s.max_transparent_bounces);
-    s.clamp_direct = get<float>(d, "clamp_direct", s.clamp_direct);
-    s.clamp_indirect = get<float>(d, "clamp_indirect", s.clamp_indirect);
-    s.caustics_reflective = get<bool>(d, "caustics_reflective", s.caustics_reflective);
-    s.caustics_refractive = get<bool>(d, "caustics_refractive", s.caustics_refractive);
-    s.filter_glossy = get<float>(d, "filter_glossy", s.filter_glossy);
-    if (!(s.filter_glossy >= 0.0f) || !std::isfinite(s.filter_glossy))
-        throw py::value_error("filter_glossy must be 0 (off) or more, not " + std::to_string(s.filter_glossy));
-    s.seed = get<uint32_t>(d, "seed", s.seed);
-    s.stratified = get<bool>(d, "stratified", s.stratified);
-    auto mis = get<std::string>(d, "mis_heuristic", "POWER");
-    if (mis == "BALANCE") s.mis = MisHeuristic::Balance;
-    else if (mis == "POWER") s.mis = MisHeuristic::Power;
-    else throw py::value_error("mis_heuristic must be BALANCE or POWER");
-    s.time_limit = get<double>(d, "time_limit", s.time_limit);
-    s.threads = get<int>(d, "threads", s.threads);
-    s.integrator = get<std::string>(d, "integrator", s.integrator);
-    s.filter = get<std::string>(d, "filter", s.filter);
-    s.filter_width = get<float>(d, "filter_width", s.filter_width);
-    s.aux_passes = get<bool>(d, "aux_passes", s.aux_passes);
-    s.aux_shading = get<bool>(d, "aux_shading", s.aux_shading);
-    s.film_transparent = get<bool>(d, "film_transparent", s.film_transparent);
-    s.film_transparent_glass = get<float>(d, "film_transparent_glass", s.film_transparent_glass);
-    s.psf_radius_px = get<float>(d, "psf_radius_px", s.psf_radius_px);
-    s.psf_radius_alpha = get<float>(d, "psf_radius_alpha", s.psf_radius_alpha);
-    s.psf_max_neighbors = get<int>(d, "psf_max_neighbors", s.psf_max_neighbors);
-    s.psf_light_samples = get<int>(d, "psf_light_samples", s.psf_light_samples);
-    s.psf_extra_paths = get<int>(d, "psf_extra_paths", s.psf_extra_paths);
-    s.psf_block_size = get<int>(d, "psf_block_size", s.psf_block_size);
-    s.psf_keller_normal_cos = get<float>(d, "psf_keller_normal_cos", s.psf_keller_normal_cos);
-    s.psf_keller_plane = get<float>(d, "psf_keller_plane", s.psf_keller_plane);
-    s.spectral = get<std::string>(d, "spectral", s.spectral);
-    s.wavelengths = get<int>(d, "wavelengths", s.wavelengths);
-    s.spectral_pixel_sequence = get<bool>(d, "spectral_pixel_sequence", s.spectral_pixel_sequence);
-    s.volume_estimator = get<std::string>(d, "volume_estimator", s.volume_estimator);
-    s.photon_planes = get<uint32_t>(d, "photon_planes", s.photon_planes);
-    s.smis_planes = get<int>(d, "smis_planes", s.smis_planes);
-    s.plane_shadow_rays = get<uint32_t>(d, "plane_shadow_rays", s.plane_shadow_rays);
-    s.plane_surface_samples = get<uint32_t>(d, "plane_surface_samples", s.plane_surface_samples);
-    s.camera_volume_only = get<bool>(d, "camera_volume_only", s.camera_volume_only);
-    s.direct_light = parse_enum<DirectLightStrategy>(
-        d, "direct_light", s.direct_light,
-        {{"NEE", DirectLightStrategy::Nee}, {"RIS", DirectLightStrategy::Ris}, {"RESTIR", DirectLightStrategy::Restir}});
-    s.restir_mis = parse_enum<RestirMis>(d, "restir_mis", s.restir_mis,
-                                         {{"SEED", RestirMis::Seed}, {"TALBOT", RestirMis::Talbot}, {"NONE", RestirMis::None}});
-    s.ris_candidates = get<int>(d, "ris_candidates", s.ris_candidates);
-    s.restir_neighbors = get<int>(d, "restir_neighbors", s.restir_neighbors);
-    s.restir_radius_px = get<float>(d, "restir_radius_px", s.restir_radius_px);
-    s.restir_history_cap = get<int>(d, "restir_history_cap", s.restir_history_cap);
-    s.restir_unbiased = get<bool>(d, "restir_unbiased", s.restir_unbiased);
-    s.restir_visibility_reuse = get<bool>(d, "restir_visibility_reuse", s.restir_visibility_reuse);
-    if (s.ris_candidates < 1 || s.restir_neighbors < 0 || s.restir_history_cap < 0 || !(s.restir_radius_px > 0.0f))
-        throw py::value_error("ReSTIR settings: candidates >= 1, neighbours >= 0, history cap >= 0, radius > 0");
+    read_settings(d, &s);
     d.reject_unknown_keys();
     return s;
 }
@@ -764,7 +729,7 @@ PYBIND11_MODULE(_smis, m) {
     m.def(
         "resolve_spectral_mode",
         [](const Scene& scene, const py::dict& settings) {
-            return value_errors([&] { return resolve_spectral_mode(parse_settings(settings), scene); });
+            return value_errors([&] { return setting_name(resolve_spectral_mode(parse_settings(settings), scene)); });
         },
         "The spectral mode scene.smis.spectral selects for a committed scene (AUTO resolved).");
 

@@ -25,14 +25,14 @@ std::vector<std::string> RenderSession::skipped() const {
     std::vector<std::string> out = scene_->skipped();
     // Spectral rendering is a mode of the path tracer; AUTO resolves to RGB without spectral content
     // (and with media, which the spectral path tracer does not track).
-    if (resolve_spectral_mode(settings_, *scene_) == "RGB")
+    if (resolve_spectral_mode(settings_, *scene_) == SpectralSetting::Rgb)
         out.push_back(scene_->has_spectral_content() && scene_->has_media() ? "spectral (not with media: RGB)"
                                                                              : "spectral");
-    else if (settings_.integrator != "PATH")
+    else if (settings_.integrator != IntegratorKind::Path)
         out.push_back("spectral (only PATH renders spectrally: RGB here)");
     if (!scene_->has_media()) out.push_back("volumes");
     if (!settings_.aux_passes) out.push_back("passes");
-    if (!settings_.stratified) out.push_back("stratified sampling");
+    if (settings_.sampling_pattern != SamplingPattern::Stratified) out.push_back("stratified sampling");
     integrator_->add_skipped(settings_, &out);
     return out;
 }

@@ -312,7 +312,7 @@ TEST(EnvironmentLight, GradientWorldLightsASphereExactly) {
     RenderSettings st;
     st.samples = 256;
     st.max_bounces = 3;
-    st.filter = "BOX";
+    st.filter = PixelFilterKind::Box;
     st.filter_width = 1.0f;
     auto img = render(s, st);
     // Expected per pixel from the normal where the pixel's centre ray meets the unit sphere.
@@ -356,7 +356,7 @@ TEST(EnvironmentLight, BackplateSeenByCameraRaysOnly) {
     RenderSettings st;
     st.samples = 64;
     st.max_bounces = 2;
-    st.filter = "BOX";
+    st.filter = PixelFilterKind::Box;
     st.filter_width = 1.0f;
     auto img = render(s, st);
     auto px = [&](int x, int y, int c) { return img[4 * (size_t(y) * 16 + x) + c]; };

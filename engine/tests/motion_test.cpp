@@ -204,11 +204,11 @@ TEST(Motion, RenderedPixelsSeeTheBoxForTheTimeItCoversThem) {
     RenderSettings st;
     st.samples = 64;
     st.max_bounces = 0;
-    st.filter = "BOX";
+    st.filter = PixelFilterKind::Box;
     st.filter_width = 1.0f;
     testing::expect_same_image_whatever_the_thread_count(scene, st, 2, "moving box");
     for (bool stratified : {true, false}) {
-        st.stratified = stratified;
+        st.sampling_pattern = stratified ? SamplingPattern::Stratified : SamplingPattern::Random;
         std::vector<float> img = testing::render(scene, st);
         // Covered at x while the box centre -1 + 2t is within 0.5 of it.
         auto covered = [](double x) { return std::max(0.0, std::min(x + 0.5, 1.0) - std::max(x - 0.5, -1.0)) / 2.0; };

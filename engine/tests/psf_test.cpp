@@ -37,13 +37,13 @@ void expect_agreement(const PixelStats& p, const PixelStats& ref, const std::str
 PixelStats psf_renders(const std::shared_ptr<Scene>& scene, const std::string& integrator, int renders,
                        uint32_t spp, uint32_t seed0, float radius_px = 12.0f, bool all_channels = true) {
     RenderSettings st = reuse_settings(4, radius_px);
-    st.integrator = integrator;
+    st.integrator = setting_value<IntegratorKind>(integrator);
     return across_renders(scene, st, renders, spp, seed0, all_channels);
 }
 
 PixelStats psf_renders_with(const std::shared_ptr<Scene>& scene, RenderSettings st, const std::string& integrator,
                             int renders, uint32_t spp, uint32_t seed0) {
-    st.integrator = integrator;
+    st.integrator = setting_value<IntegratorKind>(integrator);
     return across_renders(scene, st, renders, spp, seed0, true);
 }
 
@@ -86,7 +86,7 @@ TEST(PathSpaceFiltering, UnbiasedSmisConvergesToThePathTracer) {
     // the shared denominators and the per-pixel parts of eq. 17 (checked: with a block's other
     // pixels' techniques missing from the shared denominators, 95% of the pixels agree).
     RenderSettings st;
-    st.integrator = "PSF_SMIS_UNBIASED";
+    st.integrator = IntegratorKind::PsfSmisUnbiased;
     st.samples = 1;
     RenderSession probe(scene, st);
     probe.run();
@@ -148,9 +148,9 @@ TEST(PathSpaceFiltering, ExtraLightSamplesKeepTheDirectLightUnbiased) {
     s->commit();
     RenderSettings st;
     st.max_bounces = 0;
-    st.integrator = "PATH";
+    st.integrator = IntegratorKind::Path;
     PixelStats ref = across_renders(s, st, 24, 64, 1000, true);
-    st.integrator = "PSF_PATH";
+    st.integrator = IntegratorKind::PsfPath;
     st.psf_light_samples = 4;
     PixelStats four = across_renders(s, st, 24, 16, 2000, true);
     double acc = accepted_fraction(four, ref);
@@ -191,7 +191,7 @@ TEST(PathSpaceFiltering, ExtraPathsKeepTheUnbiasedVariantUnbiased) {
     st.psf_max_neighbors = 32;
     st.psf_radius_alpha = 1.0f;
     st.psf_extra_paths = 4;
-    st.integrator = "PSF_SMIS_UNBIASED";
+    st.integrator = IntegratorKind::PsfSmisUnbiased;
     st.samples = 8;
     RenderSession probe(s, st);
     probe.run();
@@ -217,7 +217,7 @@ TEST(PathSpaceFiltering, SameSeedSameImageWhateverTheThreadCount) {
     auto scene = small_room(kW, kH);
     for (const char* integrator : {"PSF_SMIS", "PSF_KELLER", "PSF_SMIS_UNBIASED"}) {
         RenderSettings st;
-        st.integrator = integrator;
+        st.integrator = setting_value<IntegratorKind>(integrator);
         st.samples = 4;
         st.seed = 7;
         expect_same_image_whatever_the_thread_count(scene, st, 3, integrator);

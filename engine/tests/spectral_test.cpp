@@ -177,7 +177,7 @@ std::vector<float> render_mode(const std::shared_ptr<Scene>& scene, const std::s
     st.samples = spp;
     st.seed = seed;
     st.max_bounces = 6;
-    st.spectral = mode;
+    st.spectral = setting_value<SpectralSetting>(mode);
     return render(scene, st);
 }
 
@@ -185,12 +185,11 @@ std::vector<float> render_mode(const std::shared_ptr<Scene>& scene, const std::s
 
 TEST(Spectral, AutoSelectsRgbWithoutSpectralContent) {
     RenderSettings st;
-    EXPECT_EQ(resolve_spectral_mode(st, *spectral_scene(4, false)), "RGB");
-    EXPECT_EQ(resolve_spectral_mode(st, *spectral_scene(4, true)), "SMIS");
-    st.spectral = "HERO";
-    EXPECT_EQ(resolve_spectral_mode(st, *spectral_scene(4, false)), "HERO");
-    st.spectral = "NOPE";
-    EXPECT_THROW(resolve_spectral_mode(st, *spectral_scene(4, false)), std::invalid_argument);
+    EXPECT_EQ(resolve_spectral_mode(st, *spectral_scene(4, false)), SpectralSetting::Rgb);
+    EXPECT_EQ(resolve_spectral_mode(st, *spectral_scene(4, true)), SpectralSetting::Smis);
+    st.spectral = SpectralSetting::Hero;
+    EXPECT_EQ(resolve_spectral_mode(st, *spectral_scene(4, false)), SpectralSetting::Hero);
+    EXPECT_THROW(setting_value<SpectralSetting>("NOPE"), std::invalid_argument);
 }
 
 TEST(Spectral, UnknownSpectralNamesAreClearErrors) {
@@ -249,7 +248,7 @@ TEST(Spectral, SameSeedSameImageWhateverTheThreadCount) {
         st.samples = 8;
         st.seed = 5;
         st.max_bounces = 6;
-        st.spectral = mode;
+        st.spectral = setting_value<SpectralSetting>(mode);
         expect_same_image_whatever_the_thread_count(scene, st, 2, mode);
     }
 }

@@ -74,7 +74,7 @@ TEST(Stratified, LessNoiseThanIndependentNumbersAndTheSameMean) {
     st.max_bounces = 3;
     st.samples = 1024;
     st.seed = 999;
-    st.stratified = false;
+    st.sampling_pattern = SamplingPattern::Random;
     const std::vector<float> ref = testing::render(scene, st);
     double mse[2] = {0.0, 0.0};
     stats::MeanEstimator mean[2];
@@ -82,7 +82,7 @@ TEST(Stratified, LessNoiseThanIndependentNumbersAndTheSameMean) {
         for (uint32_t seed = 1; seed <= 4; ++seed) {
             st.samples = 16;
             st.seed = seed;
-            st.stratified = strat == 1;
+            st.sampling_pattern = strat == 1 ? SamplingPattern::Stratified : SamplingPattern::Random;
             auto img = testing::render(scene, st);
             for (size_t i = 0; i < img.size(); i += 4)
                 for (int c = 0; c < 3; ++c) mse[strat] += double(img[i + c] - ref[i + c]) * (img[i + c] - ref[i + c]);

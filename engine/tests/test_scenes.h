@@ -89,7 +89,7 @@ inline const std::vector<std::string>& all_integrators() {
     return names;
 }
 inline void select_integrator(RenderSettings& rs, const std::string& name) {
-    rs.integrator = name.substr(0, name.find('+'));
+    rs.integrator = setting_value<IntegratorKind>(name.substr(0, name.find('+')));
     if (name == "PATH+RIS") rs.direct_light = DirectLightStrategy::Ris;
     if (name.rfind("PATH+RESTIR_", 0) == 0) {
         rs.direct_light = DirectLightStrategy::Restir;

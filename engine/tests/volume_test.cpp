@@ -388,7 +388,7 @@ BlockStats across_renders(const std::shared_ptr<Scene>& scene, const std::string
     bs.blocks.resize((kW / kBlock) * (kH / kBlock));
     for (int r = 0; r < renders; ++r) {
         RenderSettings s;
-        s.volume_estimator = estimator;
+        s.volume_estimator = setting_value<VolumeEstimator>(estimator);
         s.samples = samples;
         s.seed = seed0 + r;
         s.max_bounces = 0;
@@ -396,7 +396,7 @@ BlockStats across_renders(const std::shared_ptr<Scene>& scene, const std::string
         s.smis_planes = smis_planes;
         s.plane_shadow_rays = plane_shadow_rays;
         s.plane_surface_samples = plane_surface_samples;
-        s.filter = "BOX";
+        s.filter = PixelFilterKind::Box;
         s.filter_width = 1.0f;
         auto img = render(scene, s);
         std::vector<double> sum(bs.blocks.size(), 0.0);
@@ -536,7 +536,7 @@ TEST(PhotonPlanes, StressCasesStayFinite) {
         auto scene = fog_box(16, 16, c.fog, c.lights);
         for (const char* e : estimators) {
             RenderSettings s;
-            s.volume_estimator = e;
+            s.volume_estimator = setting_value<VolumeEstimator>(e);
             s.samples = 2;
             s.max_bounces = 1;
             s.photon_planes = 4096;
@@ -560,17 +560,16 @@ TEST(PhotonPlanes, StressCasesStayFinite) {
 TEST(PhotonPlanes, UnknownEstimatorAndBadSettingsAreRefused) {
     auto scene = fog_box(8, 8, make_medium(Color(0.1f), Color(0.1f)));
     RenderSettings s;
-    s.volume_estimator = "PLANES_BOGUS";
+    EXPECT_THROW(setting_value<VolumeEstimator>("PLANES_BOGUS"), std::invalid_argument);
+    s.volume_estimator = VolumeEstimator::PlanesCmis;
+    s.integrator = IntegratorKind::PsfSmis;
     EXPECT_THROW(RenderSession(scene, s), std::invalid_argument);
-    s.volume_estimator = "PLANES_CMIS";
-    s.integrator = "PSF_SMIS";
-    EXPECT_THROW(RenderSession(scene, s), std::invalid_argument);
-    s.integrator = "PATH";
+    s.integrator = IntegratorKind::Path;
     s.smis_planes = 0;
     EXPECT_THROW(RenderSession(scene, s), std::invalid_argument);
     // Path-space filtering has no media support: refused, not silently wrong.
     RenderSettings psf;
-    psf.integrator = "PSF_SMIS";
+    psf.integrator = IntegratorKind::PsfSmis;
     EXPECT_THROW(RenderSession(scene, psf), std::invalid_argument);
 }
 
