@@ -208,7 +208,8 @@ class SMISRenderSettings(bpy.types.PropertyGroup):
         description="Spectral rendering and its wavelength sampling (West et al. 2020, §5)",
         items=[
             ('AUTO', "Auto", "RGB when nothing in the scene has a spectrum (light or emission "
-                             "spectra, measured metals, dispersion), otherwise SMIS"),
+                             "spectra, measured metals, dispersion) or with photon planes, "
+                             "otherwise SMIS"),
             ('RGB', "RGB", "No spectral sampling: fastest, ignores spectra"),
             ('UNIFORM', "Uniform", "One wavelength per path, uniformly sampled"),
             ('SPECTRAL_IS', "Spectral IS", "One wavelength per path, importance sampled from the "

@@ -13,15 +13,13 @@
 namespace smis {
 
 std::string resolve_spectral_mode(const RenderSettings& settings, const Scene& scene) {
-    // The spectral path tracer has no medium tracking: scenes with media render in RGB under AUTO
-    // (the stats line says so) and refuse an explicit spectral mode rather than lose the media.
-    if (settings.spectral == "AUTO") return scene.has_spectral_content() && !scene.has_media() ? "SMIS" : "RGB";
+    // Photon planes (volume estimators other than PATH) are RGB estimators: AUTO renders them in RGB
+    // and an explicit spectral mode is refused (make_integrator).
+    if (settings.spectral == "AUTO")
+        return scene.has_spectral_content() && settings.volume_estimator == "PATH" ? "SMIS" : "RGB";
     spectral::SpectralMode mode;
     if (!spectral::parse_spectral_mode(settings.spectral, &mode))
         throw std::invalid_argument("unknown spectral mode '" + settings.spectral + "'");
-    if (settings.spectral != "RGB" && scene.has_media())
-        throw std::invalid_argument("spectral rendering (" + settings.spectral +
-                                    ") does not support participating media yet: set Spectral to AUTO or RGB");
     return settings.spectral;
 }
 
@@ -61,6 +59,9 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, cons
     if (settings.direct_light != DirectLightStrategy::Nee && (scene.has_media() || spectral != "RGB"))
         throw std::invalid_argument("RIS/ReSTIR direct lighting does not support participating media or spectral "
                                     "rendering yet: use NEE (or set Spectral to RGB)");
+    if (settings.volume_estimator != "PATH" && (spectral != "RGB" || settings.spectral_wavelength != 0.0f))
+        throw std::invalid_argument("photon planes (" + settings.volume_estimator +
+                                    ") render in RGB only: set Spectral to RGB or AUTO, or the volume estimator to PATH");
     if (settings.volume_estimator != "PATH") return make_volume_integrator(settings);
     if (settings.spectral_wavelength != 0.0f) {
         if (!(settings.spectral_wavelength >= spectral::kLambdaMin && settings.spectral_wavelength <= spectral::kLambdaMax))
