@@ -113,7 +113,7 @@ SAMPLING_PATTERN = Enum("SamplingPattern", [
 
 SPECTRAL = Enum("SpectralSetting", [
     ("AUTO", "Auto", "Auto", "RGB when nothing in the scene has a spectrum (light or emission spectra, "
-                             "measured metals, dispersion), otherwise SMIS"),
+                             "measured metals, dispersion) or with photon planes, otherwise SMIS"),
     ("RGB", "Rgb", "RGB", "No spectral sampling: fastest, ignores spectra"),
     ("UNIFORM", "Uniform", "Uniform", "One wavelength per path, uniformly sampled"),
     ("SPECTRAL_IS", "SpectralIs", "Spectral IS", "One wavelength per path, importance sampled from the "

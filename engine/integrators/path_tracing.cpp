@@ -1,5 +1,6 @@
 #include "integrators/path_tracing.h"
 
+#include "integrators/path_loop.h"
 #include "integrators/volume.h"
 #include "integrators/direct_lighting.h"
 #include "integrators/subsurface_walk.h"
@@ -38,46 +39,10 @@ ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const
 
 DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
                            LocalCounters& counters, int32_t medium, int light_samples, int bsdf_samples) {
-    DirectSample ds;
-    const DiscreteDistribution& selection = scene.light_selection();
-    // Draw the random numbers even when unused, so later decisions of the path keep their streams.
-    float u_select = rng.next_float();
-    Point2 u{rng.next_float(), rng.next_float()};
-    if (sp.bsdf.is_delta() || selection.empty()) return ds;
-    uint32_t li = static_cast<uint32_t>(selection.sample(u_select));
-    float pmf = selection.pmf(li);
-    const Light& light = scene.light(li);
-    // A light hidden from some ray types lights only the other lobes (Cycles' light visibility);
-    // their mixture is also the BSDF density its MIS weight counts.
-    ds.hidden = ~light.visibility & kRayBounceTypes;
-    if (ds.hidden && hidden_light_lights_nothing(sp.bsdf, ds.hidden)) return ds;
-    LightSample ls = light.sample_at(sp.hit.p, u, sp.hit.time);
-    if (!ls.valid()) {
-        // A light seen from behind is simply dark; only numerical failures count as rejected.
-        if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;
-        return ds;
-    }
-    const ShadowRay shadow = shadow_ray(sp, ls.wi, ls.dist);
-    Color tr(1.0f);
-    if (light.cast_shadow) {  // Cycles' Cast Shadow off: no shadow ray at all
-        if (!scene.has_media()) {
-            if (scene.occluded(shadow.o, shadow.d, shadow.tmax, shadow.time) || !reaches_mesh_light(scene, shadow, ls))
-                return ds;
-        } else {
-            tr = shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, medium_towards(scene, sp, ls.wi, medium));
-            if (is_black(tr) || !reaches_mesh_light(scene, shadow, ls)) return ds;
-        }
-    }
-    float light_pdf = pmf * ls.pdf;
-    const float n = float(light_samples);
-    float w = ls.delta || !light.use_mis ? 1.0f : mis_weight(settings.mis, n * light_pdf,
-                         float(bsdf_samples) * (ds.hidden ? hidden_light_pdf(sp.bsdf, ds.hidden, sp.wo, ls.wi)
-                                                          : sp.bsdf.pdf(sp.wo, ls.wi)));
-    ds.wi = ls.wi;
-    ds.light = li;
-    ds.weighted = ls.L * tr * (w / (n * light_pdf));
-    ds.valid = true;
-    return ds;
+    return sample_direct_through(scene, settings, sp, rng, counters, medium, light_samples, bsdf_samples,
+                                 [&](const ShadowRay& shadow, int32_t towards) {
+                                     return shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, towards);
+                                 });
 }
 
 Color hidden_light_eval(const Bsdf& bsdf, uint32_t hidden, const Vec3& wo, const Vec3& wi) {
@@ -141,99 +106,60 @@ namespace {
     return true;
 }
 
-// The path tracer; kMedia adds transmittance, medium tracking and single scattering, and is only
-// instantiated for scenes with media, so the surface-only loop is unchanged for the others. kRules
-// adds Cycles' ray types, per-type bounce limits, clamping and caustics toggles, only for scenes
-// that hide something from some rays or settings that use them (uses_light_path_rules): without,
-// every ray sees every object and light, so the types cannot change what a ray finds. It also
-// carries subsurface scattering (walks, the diffuse ancestor), so scenes without pay nothing.
+// The RGB path tracer's spectrum: one Color throughput (path_loop.h describes the policy).
+struct RgbThroughput {
+    static constexpr bool kResampledLights = true;
+    static constexpr bool kSubsurfaceWalks = true;
+    Color beta{1.0f};
+
+    template <class Clamp>
+    void emission(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const Ray& ray,
+                  bool found, const SurfaceHit& hit, const PathState& state, const RayMedia* media,
+                  const ShaderRay* sray) const {
+        L += clamped(beta * emission_along(scene, settings, ray, found, hit, state, media, sray), state.depth <= 1);
+    }
+    void scattering(Color& L, const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
+                    LocalCounters& counters, bool skip_rectangles) const {
+        L += beta * single_scattering(scene, ray, media, rng, counters, skip_rectangles);
+    }
+    void attenuate(const RayMedia& media) { beta *= media.transmittance_to_end(); }
+    const Color& transparency_beta() const { return beta; }
+    bool is_black() const { return smis::is_black(beta); }
+    void prepare(ShadingPoint&) const {}
+    template <class Clamp>
+    void resampled_direct(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings,
+                          const ShadingPoint& sp, Rng& rng, const PathState& state) const {
+        L += clamped(beta * ris_direct(scene, settings, sp, rng), state.depth == 0);
+    }
+    template <class Clamp>
+    void direct(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                Rng& rng, LocalCounters& counters, const PathState& state) const {
+        DirectSample ds = sample_direct(scene, settings, sp, rng, counters, state.medium);
+        if (ds.valid) L += clamped(beta * direct_eval(sp, ds) * ds.weighted, state.depth == 0);
+    }
+    template <class Clamp>
+    bool subsurface(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, ShadingPoint& sp,
+                    BsdfSample& bs, Rng& rng, LocalCounters& counters, const PathState& state) {
+        Color direct;
+        if (!subsurface_bounce(scene, settings, sp, bs, beta, rng, counters, state.medium, &direct)) return false;
+        L += clamped(direct, state.depth == 0);
+        return true;
+    }
+    bool scatter(const ShadingPoint&, const BsdfSample& bs) {
+        beta *= bs.value / bs.pdf;
+        return true;
+    }
+    void after_scatter(const PathState&, const BsdfSample&) const {}
+    bool roulette(int depth, float eta_scale, Rng& rng) {
+        return russian_roulette(depth, beta, eta_scale, rng) && !smis::is_black(beta);
+    }
+    void finish(LocalCounters&) const {}
+};
+
 template <bool kMedia, bool kRules>
 Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,
                       LocalCounters& counters) {
-    auto clamped = [&](const Color& c, bool direct) {
-        return kRules ? clamp_contribution(settings, c, direct, state.clamp_beta) : c;
-    };
-    Color L(0.0f), beta(1.0f);
-    float eta_scale = 1.0f;
-    ShaderRay sray;  // what the Light Path node reports for the next hit (scenes with programs)
-    sray.camera = state.depth == 0;
-    const bool programs = scene.has_programs() || scene.world_has_program();
-    for (;; ++state.depth) {
-        SurfaceHit hit;
-        bool found;
-        if constexpr (kMedia) {
-            RayMedia media;
-            found = intersect_through(scene, ray, state.medium, &hit, &media);
-            L += clamped(beta * emission_along(scene, settings, ray, found, hit, state, &media, &sray), state.depth <= 1);
-            // Single scattering at this bounce (Cycles' volume bounces = 0: no path continues from
-            // a scattering vertex, so only its next-event estimate counts).
-            if (state.depth <= settings.max_bounces)
-                L += beta * single_scattering(scene, ray, media, rng, counters,
-                                              state.depth == 0 && state.planes_on_camera_ray);
-            beta *= media.transmittance_to_end();
-            if (add_transparency(settings, state, found, hit, beta, counters)) break;
-            state.medium = media.end_medium;
-            if (is_black(beta)) break;
-        } else {
-            found = scene.intersect(ray, &hit);
-            if (state.depth == 0 && settings.aux_passes && !settings.aux_shading)  // the Z pass alone
-                counters.camera_depth = found ? scene.camera().view_depth(hit.p) : kBackgroundDepth;
-            L += clamped(beta * emission_along(scene, settings, ray, found, hit, state, nullptr, &sray), state.depth <= 1);
-            if (add_transparency(settings, state, found, hit, beta, counters)) break;
-        }
-        // The ray leaving the last allowed bounce only collects emission (Cycles' bounce limits).
-        if (!found || (kRules ? beyond_bounce_limits(settings, state) : state.depth > settings.max_bounces)) break;
-        if (programs) {
-            sray.depth = state.depth;
-            sray.length = hit.t;
-        }
-        ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
-        if (holdout_ends_path(state, sp, beta, counters)) break;
-        if constexpr (kRules) {
-            light_path_lobes(settings, state, sp);
-            if (state.diffuse_ancestor && scene.has_subsurface()) sp.bsdf.subsurface_as_diffuse();
-        }
-        if (sp.bsdf.empty()) break;
-
-        bool resample = false;
-        if (kWithResampledLights && state.first_vertex_ahead && !sp.bsdf.is_delta()) {
-            state.first_vertex_ahead = false;
-            resample = settings.direct_light == DirectLightStrategy::Ris;
-        }
-        state.light_pdf_scale = resample ? resampled_light_pdf_scale(settings) : 1.0f;
-        if (resample) {
-            L += clamped(beta * ris_direct(scene, settings, sp, rng), state.depth == 0);
-        } else {
-            DirectSample ds = sample_direct(scene, settings, sp, rng, counters, state.medium);
-            if (ds.valid)
-                L += clamped(beta * direct_eval(sp, ds) * ds.weighted, state.depth == 0);
-        }
-
-        BsdfSample bs = sample_bsdf(sp, rng);
-        if constexpr (kRules) {
-            if (bs.delta && bs.lobe >= 0 && sp.bsdf.lobe(bs.lobe).kind == LobeKind::Subsurface) {
-                Color direct;
-                if (!subsurface_bounce(scene, settings, sp, bs, beta, rng, counters, state.medium, &direct)) break;
-                L += clamped(direct, state.depth == 0);
-            }
-        }
-        if (!bs.valid()) {
-            ++counters.samples_rejected;
-            break;
-        }
-        beta *= bs.value / bs.pdf;
-        if (bs.transmission) eta_scale *= sqr(bs.eta);
-        if (programs) next_shader_ray(sp.bsdf, bs, &sray);
-        update_transparent_background(settings, state, sp.bsdf, bs);
-        if constexpr (kRules) advance_ray_type(state, sp.bsdf, bs);
-        if constexpr (kMedia) state.medium = medium_towards(scene, sp, bs.wi, state.medium);
-        state.prev_delta = bs.delta;
-        state.prev_pdf = bs.pdf;
-        state.prev_p = sp.hit.p;
-        ray = kRules ? bounce_ray(sp, bs, state) : Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time};
-        if (!russian_roulette(state.depth, beta, eta_scale * state.rr_scale, rng) || is_black(beta)) break;
-    }
-    return L;
+    return trace_path_loop<RgbThroughput, kMedia, kRules>(scene, settings, ray, state, rng, counters, RgbThroughput{});
 }
 
 // The loops with the light path rules, out of line: they leave trace_path's inlining budget to

@@ -2,6 +2,8 @@
 // that reuse parts of paths (path-space filtering): shading-point set-up, next-event estimation,
 // emission found along a ray with its MIS weight, and tracing the rest of a path.
 #pragma once
+#include <type_traits>
+
 #include "integrators/integrator.h"
 #include "scene/lobe_ray_types.h"
 
@@ -298,12 +300,15 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
 // of the first hit, from that hit if it emits, or from lights at infinity when nothing is hit;
 // MIS-weighted against next-event estimation from the previous vertex, attenuated by `media` when
 // given. Calls add(light index, weighted radiance) once per light found (spectral rendering needs
-// to know which light). `kind`: the ray's Light Path state, for a World program that reads it (a
+// to know which light); an `add` that also takes a distance, add(light, radiance, t), is called with
+// the radiance before the media and how far along the ray it was found (kInf: at the ray's end), to
+// attenuate it per wavelength itself. `kind`: the ray's Light Path state, for a World program that reads it (a
 // backplate seen by camera rays only); null: a camera ray at depth 0, an indirect ray after.
 template <class Add>
 void for_each_emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
                              const SurfaceHit& hit, const PathState& state, Add&& add,
                              const RayMedia* media = nullptr, const ShaderRay* kind = nullptr) {
+    constexpr bool kAttenuates = std::is_invocable_v<Add&, uint32_t, const Color&, float>;
     auto weight = [&](float light_pmf, float light_pdf) {
         return state.prev_delta ? 1.0f
                                 : mis_weight(settings.mis, state.prev_pdf, state.light_pdf_scale * light_pmf * light_pdf);
@@ -317,10 +322,14 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
                                            : !light.use_mis || light_hidden_from(light.visibility, state.ray_flags))
             return;
         Color Le = h.L * weight(scene.light_pmf(i), h.pdf);
-        add(i, media ? Le * media_transmittance(*media, scene, h.t) : Le);
+        if constexpr (kAttenuates) add(i, Le, h.t);
+        else add(i, media ? Le * media_transmittance(*media, scene, h.t) : Le);
     });
     // Emission at the end of the ray is attenuated by the whole ray's media.
-    auto far = [&](const Color& Le) { return media ? Le * media_transmittance_to_end(*media) : Le; };
+    auto far = [&](uint32_t i, const Color& Le) {
+        if constexpr (kAttenuates) add(i, Le, kInf);
+        else add(i, media ? Le * media_transmittance_to_end(*media) : Le);
+    };
     if (!found) {
         LightHit h;
         ShaderRay k = kind ? *kind : ShaderRay{};
@@ -333,11 +342,11 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
                 scene.light(i).use_mis &&
                 !(settings.film_transparent && state.transparent_background && scene.light(i).is_background()) &&
                 scene.light(i).intersect_as(to_hit, k, &h))
-                add(i, far(h.L * weight(scene.light_pmf(i), h.pdf)));
+                far(i, h.L * weight(scene.light_pmf(i), h.pdf));
     } else if (hit.light >= 0 && !(hit.holdout && state.transparent_background)) {
         auto& tri = static_cast<const TriangleLight&>(scene.light(hit.light));
-        add(uint32_t(hit.light), far(scene.emission_at(hit, -ray.d) *
-                                     weight(scene.light_pmf(hit.light), tri.pdf_at(state.prev_p, hit.p, hit.time))));
+        far(uint32_t(hit.light), scene.emission_at(hit, -ray.d) *
+                                     weight(scene.light_pmf(hit.light), tri.pdf_at(state.prev_p, hit.p, hit.time)));
     }
 }
 inline Color emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,

@@ -11,13 +11,11 @@
 namespace smis {
 
 SpectralSetting resolve_spectral_mode(const RenderSettings& settings, const Scene& scene) {
-    // The spectral path tracer has no medium tracking: scenes with media render in RGB under AUTO
-    // (the stats line says so) and refuse an explicit spectral mode rather than lose the media.
+    // Photon planes (volume estimators other than PATH) are RGB estimators: AUTO renders them in RGB
+    // and an explicit spectral mode is refused (make_integrator).
     if (settings.spectral == SpectralSetting::Auto)
-        return scene.has_spectral_content() && !scene.has_media() ? SpectralSetting::Smis : SpectralSetting::Rgb;
-    if (settings.spectral != SpectralSetting::Rgb && scene.has_media())
-        throw std::invalid_argument(std::string("spectral rendering (") + setting_name(settings.spectral) +
-                                    ") does not support participating media yet: set Spectral to AUTO or RGB");
+        return scene.has_spectral_content() && settings.volume_estimator == VolumeEstimator::Path ? SpectralSetting::Smis
+                                                                                                 : SpectralSetting::Rgb;
     return settings.spectral;
 }
 
@@ -87,6 +85,10 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, cons
     if (settings.direct_light != DirectLightStrategy::Nee && (scene.has_media() || spectral != SpectralSetting::Rgb))
         throw std::invalid_argument("RIS/ReSTIR direct lighting does not support participating media or spectral "
                                     "rendering yet: use NEE (or set Spectral to RGB)");
+    if (settings.volume_estimator != VolumeEstimator::Path &&
+        (spectral != SpectralSetting::Rgb || settings.spectral_wavelength != 0.0f))
+        throw std::invalid_argument(std::string("photon planes (") + setting_name(settings.volume_estimator) +
+                                    ") render in RGB only: set Spectral to RGB or AUTO, or the volume estimator to PATH");
     if (settings.volume_estimator != VolumeEstimator::Path) return make_volume_integrator(settings);
     if (settings.spectral_wavelength != 0.0f) {
         if (!(settings.spectral_wavelength >= spectral::kLambdaMin && settings.spectral_wavelength <= spectral::kLambdaMax))

@@ -1,7 +1,7 @@
 #include "integrators/spectral_path.h"
 
 #include "core/pixel_sequence.h"
-#include "integrators/path_tracing.h"
+#include "integrators/path_loop.h"
 
 namespace smis {
 
@@ -183,6 +183,180 @@ bool delta_event(const ShadingPoint& sp, const SpectralMaterial& sm, const BsdfS
     return p.inv_mix > 0.0f;
 }
 
+// Optical depth of `media` over [0, t) at wavelength lambda (t = kInf: the whole ray), from its
+// stored segments (RayMedia keeps the first kMaxSegments; RGB's tau_end counts the rest too).
+float spectral_optical_depth(const SpectralScene& spectral, const RayMedia& media, float t, float lambda) {
+    float tau = 0.0f;
+    for (int i = 0; i < media.count && media.seg[i].t0 < t; ++i) {
+        const float sigma = spectral.medium(media.seg[i].medium).sigma_t(lambda);
+        if (sigma > 0.0f) tau += sigma * (std::min(t, media.seg[i].t1) - media.seg[i].t0);  // 0 * inf = 0
+    }
+    return tau;
+}
+
+// The spectral path tracer's spectrum (path_loop.h describes the policy): the n wavelengths of a
+// SpectralPath. Directions are sampled as in RGB rendering; every BSDF, light and emission is
+// evaluated at all n wavelengths. Subsurface lobes render as their diffuse fallback (the caller
+// starts the path with the diffuse ancestor set) and the first vertex takes plain NEE.
+// Media (spectral/spectral_scene.h, SpectralMedium): each wavelength has its own transmittance along
+// rays and shadow rays. No direction of the path depends on a medium (volume bounces = 0: a path
+// never continues from a scattering vertex), so media leave the relative densities r_j as they are;
+// the distance of a single-scattering sample is drawn from the one-sample mixture over the path's
+// wavelengths of their truncated exponentials (as RGB mixes its three channels), a density that is
+// positive wherever any wavelength's integrand is, so the estimate is unbiased at every wavelength.
+class SpectralThroughput {
+public:
+    static constexpr bool kResampledLights = false;
+    static constexpr bool kSubsurfaceWalks = false;
+    SpectralThroughput(const SpectralScene& spectral, SpectralPath& p) : spectral_(spectral), p_(p) {}
+
+    template <class Clamp>
+    void emission(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const Ray& ray,
+                  bool found, const SurfaceHit& hit, const PathState& state, const RayMedia* media,
+                  const ShaderRay* sray) {
+        for_each_emission_along(
+            scene, settings, ray, found, hit, state,
+            [&](uint32_t light, const Color& weighted, float t) {
+                float lum = luminance(weighted);
+                if (!(lum > 0.0f)) return;
+                if (media) transmittances(*media, t, f_);
+                L += clamped(p_.emission(spectral_.emitter(light), lum, media ? f_ : nullptr), state.depth <= 1);
+            },
+            media, sray);
+    }
+    // The ray's single scattering, every wavelength with its own coefficients (see above).
+    void scattering(Color& L, const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
+                    LocalCounters& counters, bool skip_rectangles) {
+        Scattering channels{*this, scene, media, L};
+        scattering_samples(scene, ray, media, rng, counters, skip_rectangles, RectangleSampling::kSolidAngle,
+                           channels);
+    }
+    void attenuate(const RayMedia& media) {
+        for (int i = 0; i < p_.n; ++i)
+            if (p_.beta[i] != 0.0f) p_.beta[i] *= std::exp(-spectral_optical_depth(spectral_, media, kInf, p_.ws.lambda[i]));
+        transparent_beta_ *= media.transmittance_to_end();
+    }
+    // Film Transparent: the RGB throughput of the camera path while it passes through transparent
+    // surfaces only (their colour is RGB), for the transparency it adds where it reaches the World.
+    const Color& transparency_beta() const { return transparent_beta_; }
+    bool is_black() const {
+        for (int i = 0; i < p_.n; ++i)
+            if (p_.beta[i] != 0.0f) return false;
+        return true;
+    }
+    void prepare(ShadingPoint& sp) {
+        sm_ = &spectral_.material(sp.hit.material);
+        if (sm_->dispersive) sp.bsdf = dispersed_bsdf(sp, *sm_, p_.lambda_c());
+    }
+    // In media the shadow ray's RGB transmittance is left out of ds.weighted (a stand-in 1 or 0)
+    // and each wavelength's own multiplies f.
+    template <class Clamp>
+    void direct(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                Rng& rng, LocalCounters& counters, const PathState& state) {
+        bool shadowed = false;
+        DirectSample ds = sample_direct_through(
+            scene, settings, sp, rng, counters, state.medium, 1, 1, [&](const ShadowRay& shadow, int32_t medium) {
+                shadowed = true;
+                return shadow_transmittances(scene, shadow.o, shadow.d, shadow.tmax, medium) ? Color(1.0f) : Color(0.0f);
+            });
+        if (ds.valid && (ds.hidden ? eval_spectral(lit_lobes(sp, ds), *sm_, p_, ds.wi, f_)
+                                   : eval_spectral(sp, *sm_, p_, ds.wi, f_))) {
+            float lum = luminance(ds.weighted);
+            if (shadowed)
+                for (int i = 0; i < p_.n; ++i) f_[i] *= tr_[i];
+            if (lum > 0.0f) L += clamped(p_.emission(spectral_.emitter(ds.light), lum, f_), state.depth == 0);
+        }
+    }
+    bool scatter(const ShadingPoint& sp, const BsdfSample& bs) {
+        if (bs.delta) return delta_event(sp, *sm_, bs, p_);
+        if (!eval_spectral(sp, *sm_, p_, bs.wi, f_)) return false;
+        float inv_pdf = 1.0f / bs.pdf;
+        for (int i = 0; i < p_.n; ++i) p_.beta[i] *= f_[i] * inv_pdf;
+        return true;
+    }
+    void after_scatter(const PathState& state, const BsdfSample& bs) {
+        if (state.transparent_background) transparent_beta_ *= bs.value / bs.pdf;
+    }
+    bool roulette(int depth, float eta_scale, Rng& rng) {
+        float survival = russian_roulette_survival(depth, p_.max_beta(), eta_scale, rng);
+        if (survival == 0.0f) return false;
+        transparent_beta_ = transparent_beta_ / survival;
+        bool alive = false;
+        for (int i = 0; i < p_.n; ++i) alive |= (p_.beta[i] /= survival) > 0.0f;
+        return alive;
+    }
+    // Diagnostic pass: the wavelengths this path still carried at its end (n, or 1 after a
+    // dispersive refraction kept only the conditioning wavelength).
+    void finish(LocalCounters& counters) const {
+        int alive = 0;
+        for (int i = 0; i < p_.n; ++i) alive += p_.r[i] > 0.0f;
+        counters.sample_diagnostic = float(alive);
+    }
+
+private:
+    // single_scattering's channels (volume.h, scattering_samples): the path's wavelengths.
+    struct Scattering {
+        SpectralThroughput& path;
+        const Scene& scene;
+        const RayMedia& media;
+        Color& L;
+
+        float sigma_t(int32_t medium, int i) const {
+            return path.spectral_.medium(medium).sigma_t(path.p_.ws.lambda[i]);
+        }
+        DistanceSample sample_distance(int32_t medium, float len, float u_channel, float u) const {
+            DistanceSample ds;
+            if (!(len > 0.0f)) return ds;
+            const float sigma = sigma_t(medium, std::min(path.p_.n - 1, int(u_channel * float(path.p_.n))));
+            if (sample_truncated_exponential(sigma, len, u, &ds.t)) ds.pdf = truncated_exponential_pdf(sigma, len, ds.t);
+            return ds;
+        }
+        float distance_pdf(int32_t medium, float len, float t) const {
+            float sum = 0.0f;
+            for (int i = 0; i < path.p_.n; ++i) sum += truncated_exponential_pdf(sigma_t(medium, i), len, t);
+            return sum / float(path.p_.n);
+        }
+        bool transmit(const Vec3& x, const Vec3& wi, float tmax, int32_t medium, bool cast_shadow) {
+            if (cast_shadow) return path.shadow_transmittances(scene, x, wi, tmax, medium);
+            std::fill(path.tr_, path.tr_ + path.p_.n, 1.0f);
+            return true;
+        }
+        void add(const RayMedia::Segment& s, float t, uint32_t light, const LightSample& ls, float weight) {
+            const float lum = luminance(ls.L);
+            if (!(lum > 0.0f)) return;
+            const SpectralMedium& med = path.spectral_.medium(s.medium);
+            const SpectralPath& p = path.p_;
+            for (int i = 0; i < p.n; ++i) {
+                const float lambda = p.ws.lambda[i];
+                const float tau = spectral_optical_depth(path.spectral_, media, s.t0, lambda) + med.sigma_t(lambda) * t;
+                path.f_[i] = std::exp(-tau) * med.sigma_s(lambda) * path.tr_[i];
+            }
+            L += p.emission(path.spectral_.emitter(light), lum * weight, path.f_);
+        }
+    };
+
+    // Transmittance of `media` over [0, t) at each wavelength of the path, into out.
+    void transmittances(const RayMedia& media, float t, float* out) const {
+        for (int i = 0; i < p_.n; ++i) out[i] = std::exp(-spectral_optical_depth(spectral_, media, t, p_.ws.lambda[i]));
+    }
+    // The shadow ray's transmittance at each wavelength into tr_; false when it is zero at all.
+    bool shadow_transmittances(const Scene& scene, const Vec3& o, const Vec3& d, float tmax, int32_t medium) {
+        RayMedia media;
+        if (!shadow_media(scene, o, d, tmax, medium, &media)) return false;
+        transmittances(media, kInf, tr_);
+        bool any = false;
+        for (int i = 0; i < p_.n; ++i) any |= tr_[i] > 0.0f;
+        return any;
+    }
+
+    const SpectralScene& spectral_;
+    SpectralPath& p_;
+    Color transparent_beta_{1.0f};
+    const SpectralMaterial* sm_ = nullptr;  // the current vertex's spectral material (prepare)
+    float f_[kMaxWavelengths];              // scratch: f(wo, wi) |cos| (or transmittance) per wavelength
+    float tr_[kMaxWavelengths];             // the last shadow ray's transmittance per wavelength
+};
+
 }  // namespace
 
 SpectralPathIntegrator::SpectralPathIntegrator(const Scene& scene, SpectralMode mode, int wavelengths,
@@ -231,79 +405,15 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
     SpectralPath p;
     if (fixed_wavelength_ > 0.0f) p.start_at(fixed_wavelength_);
     else p.start(sampler_, u, v, wavelength_rng);
-    float f[kMaxWavelengths];
-    Color L(0.0f);
-    PathState state = camera_path_state(ray.o);
-    float eta_scale = 1.0f;
-    // Film Transparent: the RGB throughput of the camera path while it passes through transparent
-    // surfaces only (their colour is RGB), for the transparency it adds where it reaches the World.
-    Color transparent_beta(1.0f);
-    auto add_emission = [&](uint32_t light, const Color& weighted) {
-        float lum = luminance(weighted);
-        if (lum > 0.0f) L += clamp_contribution(settings, p.emission(spectral_.emitter(light), lum), state.depth <= 1);
-    };
-    ShaderRay sray;  // what the Light Path node reports for the next hit (scenes with programs)
-    sray.camera = state.depth == 0;
-    const bool programs = scene.has_programs();
-    for (;; ++state.depth) {
-        SurfaceHit hit;
-        bool found = scene.intersect(ray, &hit);
-        for_each_emission_along(scene, settings, ray, found, hit, state, add_emission);
-        if (add_transparency(settings, state, found, hit, transparent_beta, counters)) break;
-        if (!found || beyond_bounce_limits(settings, state)) break;
-        if (programs) {
-            sray.depth = state.depth;
-            sray.length = hit.t;
-        }
-        ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
-        subsurface_fallback(scene, sp);
-        if (holdout_ends_path(state, sp, transparent_beta, counters)) break;
-        light_path_lobes(settings, state, sp);
-        if (sp.bsdf.empty()) break;
-        const SpectralMaterial& sm = spectral_.material(hit.material);
-        if (sm.dispersive) sp.bsdf = dispersed_bsdf(sp, sm, p.lambda_c());
-
-        DirectSample ds = sample_direct(scene, settings, sp, rng, counters);
-        if (ds.valid && (ds.hidden ? eval_spectral(lit_lobes(sp, ds), sm, p, ds.wi, f)
-                                   : eval_spectral(sp, sm, p, ds.wi, f))) {
-            float lum = luminance(ds.weighted);
-            if (lum > 0.0f) L += clamp_contribution(settings, p.emission(spectral_.emitter(ds.light), lum, f), state.depth == 0);
-        }
-
-        BsdfSample bs = sample_bsdf(sp, rng);
-        if (!bs.valid()) {
-            ++counters.samples_rejected;
-            break;
-        }
-        if (bs.delta) {
-            if (!delta_event(sp, sm, bs, p)) break;
-        } else {
-            if (!eval_spectral(sp, sm, p, bs.wi, f)) break;
-            float inv_pdf = 1.0f / bs.pdf;
-            for (int i = 0; i < p.n; ++i) p.beta[i] *= f[i] * inv_pdf;
-        }
-        if (bs.transmission) eta_scale *= sqr(bs.eta);
-        if (programs) next_shader_ray(sp.bsdf, bs, &sray);
-        update_transparent_background(settings, state, sp.bsdf, bs);
-        if (state.transparent_background) transparent_beta *= bs.value / bs.pdf;
-        advance_ray_type(state, sp.bsdf, bs);
-        state.prev_delta = bs.delta;
-        state.prev_pdf = bs.pdf;
-        state.prev_p = hit.p;
-        ray = bounce_ray(sp, bs, state);
-        float survival = russian_roulette_survival(state.depth, p.max_beta(), eta_scale, rng);
-        if (survival == 0.0f) break;
-        transparent_beta = transparent_beta / survival;
-        bool alive = false;
-        for (int i = 0; i < p.n; ++i) alive |= (p.beta[i] /= survival) > 0.0f;
-        if (!alive) break;
-    }
-    // Diagnostic pass: the wavelengths this path still carried at its end (n, or 1 after a
-    // dispersive refraction kept only the conditioning wavelength).
-    int alive = 0;
-    for (int i = 0; i < p.n; ++i) alive += p.r[i] > 0.0f;
-    counters.sample_diagnostic = float(alive);
-    return L;
+    // Always with the Light Path rules (their checks cost little next to n wavelengths), and with
+    // the diffuse ancestor set: no subsurface walks.
+    PathState state = camera_path_state(ray.o, false);
+    state.medium = scene.camera_medium();
+    return scene.has_media()
+               ? trace_path_loop<SpectralThroughput, true, true>(scene, settings, ray, state, rng, counters,
+                                                                 SpectralThroughput(spectral_, p))
+               : trace_path_loop<SpectralThroughput, false, true>(scene, settings, ray, state, rng, counters,
+                                                                  SpectralThroughput(spectral_, p));
 }
 
 }  // namespace smis

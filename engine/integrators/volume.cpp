@@ -96,14 +96,28 @@ Color shadow_transmittance(const Scene& scene, const Vec3& origin, const Vec3& d
     return blocked ? Color(0.0f) : RayMedia::transmittance_from_tau(tau);
 }
 
+bool shadow_media(const Scene& scene, const Vec3& origin, const Vec3& dir, float tmax, int32_t medium,
+                  RayMedia* media) {
+    media->count = 0;
+    media->tau_end = Color(0.0f);
+    if (!scene.occluded(origin, dir, tmax)) {
+        media->add(scene, 0.0f, tmax, medium);
+        media->end_medium = medium;
+        return true;
+    }
+    SurfaceHit hit;
+    return !walk(scene, Ray{origin, dir, 0.0f, tmax, kShutterCentre, kRayShadow}, medium, &hit, &media->end_medium,
+                 [&](float t0, float t1, int32_t m) { media->add(scene, t0, t1, m); });
+}
+
 namespace {
 
 // Below this solid angle a rectangle is sampled by area: the two densities are then proportional to
 // within float precision, and the spherical construction's angles would carry no digits.
 constexpr double kMinSolidAngle = 1e-9;
 
-// Next-event sample of `light` from a point x in a medium: rectangles as `rectangles` says, every
-// other light by its own sample().
+}  // namespace
+
 LightSample sample_light_from_medium(const Light& light, const Vec3& x, Point2 u, float time,
                                      RectangleSampling rectangles) {
     LightRectangle rect;
@@ -125,6 +139,34 @@ LightSample sample_light_from_medium(const Light& light, const Vec3& x, Point2 u
     return light.sample_at(x, u, time);
 }
 
+
+namespace {
+
+// Single scattering's RGB channels (scattering_samples): distance sampling over the medium's three
+// channels, and the sample's contribution with the three transmittances.
+struct RgbScattering {
+    const Scene& scene;
+    const RayMedia& media;
+    Color L{0.0f};
+    Color tr{1.0f};  // the last shadow ray's transmittance
+
+    DistanceSample sample_distance(int32_t medium, float len, float u_channel, float u) const {
+        return sample_segment_distance(scene.medium(medium).sigma_t(), len, u_channel, u);
+    }
+    float distance_pdf(int32_t medium, float len, float t) const {
+        return segment_distance_pdf(scene.medium(medium).sigma_t(), len, t);
+    }
+    bool transmit(const Vec3& x, const Vec3& wi, float tmax, int32_t medium, bool cast_shadow) {
+        tr = cast_shadow ? shadow_transmittance(scene, x, wi, tmax, medium) : Color(1.0f);
+        return !is_black(tr);
+    }
+    void add(const RayMedia::Segment& s, float t, uint32_t, const LightSample& ls, float weight) {
+        const Medium& med = scene.medium(s.medium);
+        Color t_cam = media.transmittance(scene, s.t0) * transmittance(med.sigma_t(), t);
+        L += t_cam * med.sigma_s * (ls.L * tr) * weight;
+    }
+};
+
 }  // namespace
 
 Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
@@ -144,61 +186,9 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
     // the focus is the very point next-event estimation then connects to, so the joint density of
     // (distance, light point) cancels the 1/d^2 of the connection; for the rest the focus is drawn
     // independently, which keeps the estimator unbiased for every light type.
-    Color L(0.0f);
-    const DiscreteDistribution& selection = scene.light_selection();
-    for (int i = 0; i < media.count; ++i) {
-        const RayMedia::Segment& s = media.seg[i];
-        const Medium& med = scene.medium(s.medium);
-        // The same numbers per segment whatever happens, so later decisions keep their streams.
-        float u_select = rng.next_float(), u_technique = rng.next_float(), u_channel = rng.next_float(),
-              u_dist = rng.next_float();
-        Point2 u_focus{rng.next_float(), rng.next_float()}, u{rng.next_float(), rng.next_float()};
-        if (!med.scatters() || selection.empty()) continue;
-        uint32_t li = static_cast<uint32_t>(selection.sample(u_select));
-        const Light& light = scene.light(li);
-        const bool rectangle = light.rectangle(nullptr);
-        if (skip_rectangles && rectangle) continue;
-        if (!(light.visibility & kRayVolumeScatter)) continue;  // Ray Visibility > Volume Scatter off
-        const float len = s.t1 - s.t0;
-        const Vec3 o = ray.o + ray.d * s.t0;
-        EquiangularFrame eq;
-        if (!light.at_infinity()) {
-            Vec3 mid = o + ray.d * (std::isinf(len) ? 1.0f : 0.5f * len);
-            // The focus is the light point even when mid sees the light from behind (pdf 0): the ray
-            // may still pass in front of it, close to the point.
-            bool any_point = light.point_independent_of_reference();
-            bool same_point = any_point && !(rectangle && rectangles == RectangleSampling::kSolidAngle);
-            LightSample focus = light.sample_at(mid, same_point ? u : u_focus, ray.time);
-            if ((focus.pdf > 0.0f || any_point) && focus.dist > 0.0f && std::isfinite(focus.dist))
-                eq = equiangular_frame(o, ray.d, len, mid + focus.wi * focus.dist);
-        }
-        DistanceSample ds = eq.valid && u_technique < 0.5f ? sample_equiangular(eq, u_dist)
-                                                           : sample_segment_distance(med.sigma_t(), len, u_channel, u_dist);
-        float pdf = segment_distance_pdf(med.sigma_t(), len, ds.t);
-        if (eq.valid) pdf = 0.5f * (pdf + equiangular_pdf(eq, ds.t));
-        if (!(ds.pdf > 0.0f) || !(pdf > 0.0f) || !std::isfinite(pdf)) {
-            // A clear channel of an infinite segment cannot sample: part of the one-sample MIS.
-            if (!std::isinf(s.t1)) ++counters.samples_rejected;
-            continue;
-        }
-        Vec3 x = o + ray.d * ds.t;
-        LightSample ls = sample_light_from_medium(light, x, u, ray.time, rectangles);
-        if (!ls.valid()) {
-            if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;
-            continue;
-        }
-        float tmax = std::isinf(ls.dist) ? kInf : ls.dist * (1.0f - 1e-4f);
-        // Cast Shadow off: no shadow ray, so neither occlusion nor the media on the way (Cycles).
-        if (light.cast_shadow) {
-            Color tr = shadow_transmittance(scene, x, ls.wi, tmax, s.medium);
-            if (is_black(tr) || !reaches_mesh_light(scene, ShadowRay{x, ls.wi, tmax, ray.time}, ls)) continue;
-            ls.L *= tr;
-        }
-        float phase = med.phase.eval(-ray.d, ls.wi);
-        Color t_cam = media.transmittance(scene, s.t0) * transmittance(med.sigma_t(), ds.t);
-        L += t_cam * med.sigma_s * ls.L * (phase / (selection.pmf(li) * ls.pdf * pdf));
-    }
-    return L;
+    RgbScattering rgb{scene, media};
+    scattering_samples(scene, ray, media, rng, counters, skip_rectangles, rectangles, rgb);
+    return rgb.L;
 }
 
 }  // namespace smis

@@ -46,6 +46,12 @@ bool intersect_through(const Scene& scene, const Ray& ray, int32_t medium, Surfa
 // Transmittance from origin along unit dir up to tmax; zero when an opaque surface blocks it.
 Color shadow_transmittance(const Scene& scene, const Vec3& origin, const Vec3& dir, float tmax, int32_t medium);
 
+// The media along a shadow ray from origin along unit dir up to tmax, into *media (its segments and
+// RGB optical depth); false when an opaque surface blocks it. For spectra other than RGB, which
+// take their own transmittance from the segments.
+bool shadow_media(const Scene& scene, const Vec3& origin, const Vec3& dir, float tmax, int32_t medium,
+                  RayMedia* media);
+
 // How single scattering samples rectangular area lights from a scattering point: uniformly in the
 // solid angle they subtend (bounded weights), or uniformly by area (the previous estimator, kept for
 // the tests that compare the two).
@@ -59,5 +65,74 @@ enum class RectangleSampling { kSolidAngle, kArea };
 Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
                         LocalCounters& counters, bool skip_rectangles = false,
                         RectangleSampling rectangles = RectangleSampling::kSolidAngle);
+
+// Next-event sample of `light` from a point x in a medium: rectangles as `rectangles` says, every
+// other light by its own sample().
+LightSample sample_light_from_medium(const Light& light, const Vec3& x, Point2 u, float time,
+                                     RectangleSampling rectangles);
+
+// single_scattering's estimator for any set of channels (RGB's three, a spectral path's wavelengths):
+// per scattering segment of `media`, one light, one distance and one light sample, as described at
+// single_scattering. `channels` provides
+//   sample_distance(medium, len, u_channel, u), distance_pdf(medium, len, t): distance sampling
+//       over its channels (a one-sample mixture: its pdf is the channels' average),
+//   transmit(x, wi, tmax, medium, cast_shadow): the shadow ray's transmittance, false when zero,
+//   add(segment, t, light, light sample, weight): the sample's contribution, weight being
+//       phase / (light pmf x light pdf x distance pdf), to be multiplied by the transmittance to
+//       the scattering point, sigma_s and the shadow ray's transmittance per channel.
+template <class Channels>
+void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng, LocalCounters& counters,
+                        bool skip_rectangles, RectangleSampling rectangles, Channels& channels) {
+    const DiscreteDistribution& selection = scene.light_selection();
+    for (int i = 0; i < media.count; ++i) {
+        const RayMedia::Segment& s = media.seg[i];
+        const Medium& med = scene.medium(s.medium);
+        // The same numbers per segment whatever happens, so later decisions keep their streams.
+        float u_select = rng.next_float(), u_technique = rng.next_float(), u_channel = rng.next_float(),
+              u_dist = rng.next_float();
+        Point2 u_focus{rng.next_float(), rng.next_float()}, u{rng.next_float(), rng.next_float()};
+        if (!med.scatters() || selection.empty()) continue;
+        uint32_t li = static_cast<uint32_t>(selection.sample(u_select));
+        const Light& light = scene.light(li);
+        const bool rectangle = light.rectangle(nullptr);
+        if (skip_rectangles && rectangle) continue;
+        if (!(light.visibility & kRayVolumeScatter)) continue;  // Ray Visibility > Volume Scatter off
+        const float len = s.t1 - s.t0;
+        const Vec3 o = ray.o + ray.d * s.t0;
+        EquiangularFrame eq;
+        if (!light.at_infinity()) {
+            Vec3 mid = o + ray.d * (std::isinf(len) ? 1.0f : 0.5f * len);
+            // The focus is the light point even when mid sees the light from behind (pdf 0): the ray
+            // may still pass in front of it, close to the point.
+            bool any_point = light.point_independent_of_reference();
+            bool same_point = any_point && !(rectangle && rectangles == RectangleSampling::kSolidAngle);
+            LightSample focus = light.sample_at(mid, same_point ? u : u_focus, ray.time);
+            if ((focus.pdf > 0.0f || any_point) && focus.dist > 0.0f && std::isfinite(focus.dist))
+                eq = equiangular_frame(o, ray.d, len, mid + focus.wi * focus.dist);
+        }
+        DistanceSample ds = eq.valid && u_technique < 0.5f ? sample_equiangular(eq, u_dist)
+                                                           : channels.sample_distance(s.medium, len, u_channel, u_dist);
+        float pdf = channels.distance_pdf(s.medium, len, ds.t);
+        if (eq.valid) pdf = 0.5f * (pdf + equiangular_pdf(eq, ds.t));
+        if (!(ds.pdf > 0.0f) || !(pdf > 0.0f) || !std::isfinite(pdf)) {
+            // A clear channel of an infinite segment cannot sample: part of the one-sample MIS.
+            if (!std::isinf(s.t1)) ++counters.samples_rejected;
+            continue;
+        }
+        Vec3 x = o + ray.d * ds.t;
+        LightSample ls = sample_light_from_medium(light, x, u, ray.time, rectangles);
+        if (!ls.valid()) {
+            if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;
+            continue;
+        }
+        float tmax = std::isinf(ls.dist) ? kInf : ls.dist * (1.0f - 1e-4f);
+        // Cast Shadow off: no shadow ray, so neither occlusion nor the media on the way (Cycles).
+        if (!channels.transmit(x, ls.wi, tmax, s.medium, light.cast_shadow) ||
+            (light.cast_shadow && !reaches_mesh_light(scene, ShadowRay{x, ls.wi, tmax, ray.time}, ls)))
+            continue;
+        float phase = med.phase.eval(-ray.d, ls.wi);
+        channels.add(s, ds.t, li, ls, phase / (selection.pmf(li) * ls.pdf * pdf));
+    }
+}
 
 }  // namespace smis

@@ -25,27 +25,30 @@ namespace {
 // Below this optical depth the truncated exponential is indistinguishable from uniform in float.
 constexpr float kThinSegment = 1e-6f;
 
-// Density of the exponential of rate sigma truncated to [0, len), at t.
+}  // namespace
+
 float truncated_exponential_pdf(float sigma, float len, float t) {
     if (!(t >= 0.0f && t < len)) return 0.0f;
     if (sigma * len < kThinSegment) return std::isfinite(len) ? 1.0f / len : 0.0f;
     return sigma * std::exp(-sigma * t) / -std::expm1(-sigma * len);
 }
 
-}  // namespace
+bool sample_truncated_exponential(float sigma, float len, float u, float* t) {
+    if (sigma * len < kThinSegment) {
+        if (!std::isfinite(len)) return false;  // no extinction on an infinite segment: nothing to sample
+        *t = u * len;
+    } else {
+        *t = -std::log1p(u * std::expm1(-sigma * len)) / sigma;
+    }
+    *t = std::min(*t, std::nextafter(len, 0.0f));
+    return true;
+}
 
 DistanceSample sample_segment_distance(const Color& sigma_t, float len, float u_channel, float u) {
     DistanceSample ds;
     if (!(len > 0.0f)) return ds;
     int c = std::min(2, static_cast<int>(u_channel * 3.0f));
-    float sigma = sigma_t[c];
-    if (sigma * len < kThinSegment) {
-        if (!std::isfinite(len)) return ds;  // no extinction on an infinite segment: nothing to sample
-        ds.t = u * len;
-    } else {
-        ds.t = -std::log1p(u * std::expm1(-sigma * len)) / sigma;
-    }
-    ds.t = std::min(ds.t, std::nextafter(len, 0.0f));
+    if (!sample_truncated_exponential(sigma_t[c], len, u, &ds.t)) return ds;
     ds.pdf = segment_distance_pdf(sigma_t, len, ds.t);
     return ds;
 }

@@ -54,6 +54,11 @@ struct DistanceSample {
     float pdf = 0.0f;
 };
 DistanceSample sample_segment_distance(const Color& sigma_t, float len, float u_channel, float u);
+// One channel's part: the exponential of rate sigma truncated to [0, len), its density at t, and a
+// sample *t (false: nothing to sample, a clear infinite segment). Spectral rendering mixes these over
+// its wavelengths as the RGB functions above mix them over the three channels.
+float truncated_exponential_pdf(float sigma, float len, float t);
+bool sample_truncated_exponential(float sigma, float len, float u, float* t);
 float segment_distance_pdf(const Color& sigma_t, float len, float t);
 
 // Equiangular sampling (Kulla & Fajardo 2012) of t in [0, len) on the line o + t d (d unit) towards a

@@ -229,6 +229,7 @@ public:
     // volume; integrators then take their surface-only code paths.
     bool has_media() const { return kWithVolumes && has_media_; }
     const Medium& medium(int32_t id) const { return media_[id]; }
+    size_t medium_count() const { return media_.size(); }
     int32_t world_medium() const { return world_medium_; }
     int32_t camera_medium() const { return camera_medium_; }
     // The medium containing point p (by walking a ray out of the scene; nested media are not

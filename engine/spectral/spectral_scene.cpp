@@ -50,6 +50,13 @@ SpectralScene::SpectralScene(const Scene& scene) : scene_(scene) {
         light_emitter_.push_back(it->second);
     }
     for (size_t m = 0; m < scene.material_count(); ++m) materials_.push_back(make_material(scene.material(m)));
+    for (size_t m = 0; m < scene.medium_count(); ++m) {
+        const Medium& med = scene.medium(int32_t(m));
+        const Color sigma_t = med.sigma_t();
+        Color albedo;
+        for (int c = 0; c < 3; ++c) albedo[c] = sigma_t[c] > 0.0f ? std::min(1.0f, med.sigma_s[c] / sigma_t[c]) : 0.0f;
+        media_.push_back({rgb_spectrum(sigma_t), rgb_spectrum(albedo)});
+    }
 }
 
 WavelengthPdf SpectralScene::importance(float uniform_fraction) const {

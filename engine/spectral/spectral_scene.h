@@ -23,12 +23,23 @@ struct SpectralMaterial {
     bool dispersive = false;
 };
 
+// A homogeneous medium's coefficients as spectra (the Scene's are RGB, per metre). sigma_t is
+// upsampled as an unbounded spectrum (rgb_spectrum: JH 2019 §4.2, fitted at half its largest channel
+// and scaled by twice it) and the single-scattering albedo sigma_s / sigma_t per channel as a
+// reflectance (bounded by 1), so that sigma_s(l) = albedo(l) sigma_t(l) <= sigma_t(l) at every
+// wavelength: the medium never gains energy, and a grey medium (equal channels) stays grey.
+struct SpectralMedium {
+    RgbSpectrum sigma_t, albedo;
+    float sigma_s(float lambda) const { return albedo(lambda) * sigma_t(lambda); }
+};
+
 class SpectralScene {
 public:
     explicit SpectralScene(const Scene& scene);
     // Emitted spectrum per unit luminance of light `i` (spectral/spectra.h, EmitterSpectrum).
     const EmitterSpectrum& emitter(uint32_t light) const { return emitters_[light_emitter_[light]]; }
     const SpectralMaterial& material(uint32_t id) const { return materials_[id]; }
+    const SpectralMedium& medium(int32_t id) const { return media_[id]; }
     // p(lambda) proportional to the observer response times the mixture of the lights' spectra
     // weighted by their selection probability (paper §5.2), with `uniform_fraction` of a uniform
     // density mixed in so that p > 0 wherever an integrand can be non-zero. The observer response is
@@ -42,6 +53,7 @@ private:
     std::vector<EmitterSpectrum> emitters_;
     std::vector<uint32_t> light_emitter_;
     std::vector<SpectralMaterial> materials_;
+    std::vector<SpectralMedium> media_;
 };
 
 }  // namespace smis::spectral

@@ -122,16 +122,6 @@ TEST(Spectral, MeasuredAndDispersiveMaterials) {
 
 namespace {
 
-Material smooth_glass(float eta) {
-    Material m;
-    Lobe g;
-    g.kind = LobeKind::Dielectric;
-    g.alpha = 0.0f;
-    g.eta = eta;
-    m.lobes.push_back(g);
-    return m;
-}
-
 // Floor, a gold glossy sphere and a dispersive glass sphere lit by an F10 area light, a D65 point
 // light and a blackbody emissive quad: every spectral feature in one small scene.
 std::shared_ptr<Scene> spectral_scene(int size, bool spectral_content = true) {

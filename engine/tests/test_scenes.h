@@ -188,6 +188,17 @@ inline Material glossy(const Color& color, float roughness) {
     return m;
 }
 
+// Smooth glass of index eta (one Dielectric lobe).
+inline Material smooth_glass(float eta) {
+    Material m;
+    Lobe g;
+    g.kind = LobeKind::Dielectric;
+    g.alpha = 0.0f;
+    g.eta = eta;
+    m.lobes.push_back(g);
+    return m;
+}
+
 // A square area light of side `size`, centred at `at`, facing down (-Z, as Blender's default).
 inline void add_square_light(Scene& s, float size, float power, const Vec3& at) {
     LightDesc light;
