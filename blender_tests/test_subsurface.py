@@ -84,7 +84,9 @@ def test_christensen_burley_matches_cycles():
     err, thirds = _errors(*render_both(BURLEY_SCENE))
     print("Christensen-Burley: mean relative error %.4f over the objects' 8x8 blocks (node sphere %.4f, "
           "principled %.4f, slab %.4f)" % (err, *thirds))
-    assert err < 0.02 and max(thirds) < 0.03, (err, thirds)
+    # Measured 0.0056 (0.0050, 0.0084, 0.0029). Cycles' bssrdf_burley_setup albedo fit, which 3.4
+    # never calls, would give 0.0133 (slab 0.0237).
+    assert err < 0.01 and max(thirds) < 0.015, (err, thirds)
 
 
 def test_subsurface_in_other_integrators():

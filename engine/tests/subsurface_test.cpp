@@ -28,16 +28,30 @@ Material subsurface_material(const Color& albedo, const Color& radius, float g, 
     return m;
 }
 
-// A sphere of radius 1 with `m`, filling the view, under a uniform sky of radiance 1.
-std::shared_ptr<Scene> sphere_under_sky(const Material& m) {
-    auto s = std::make_shared<Scene>();
-    add_sphere(*s, 1.0f, 32, 64, s->add_material(m));
+// Scene s, committed, under a uniform sky of radiance 1, seen down the z axis from (0, 0, 3)
+// through a long lens (the middle of what lies about the origin).
+std::shared_ptr<Scene> under_sky(std::shared_ptr<Scene> s) {
     s->set_world(Color(1.0f));
     CameraDesc c = camera_at({0, 0, 3.0f}, 16, 16);
     c.lens = 200.0f;
     s->set_camera(c);
     s->commit();
     return s;
+}
+
+// A sphere of radius 1 with `m`, filling the view, under a uniform sky of radiance 1.
+std::shared_ptr<Scene> sphere_under_sky(const Material& m) {
+    auto s = std::make_shared<Scene>();
+    add_sphere(*s, 1.0f, 32, 64, s->add_material(m));
+    return under_sky(s);
+}
+
+// The path tracer's image of s at `samples` spp, 4 bounces (enough for an exit's sky).
+std::vector<float> render_at(const std::shared_ptr<Scene>& s, uint32_t samples) {
+    RenderSettings st;
+    st.samples = samples;
+    st.max_bounces = 4;
+    return render(s, st);
 }
 
 }  // namespace
@@ -151,11 +165,7 @@ TEST(Subsurface, ThickSlabReflectsTheSurfaceAlbedo) {
     // What the albedo inversion is for (Chiang et al. 2016): a semi-infinite medium with the fitted
     // alpha reflects the surface albedo. A sphere 50 mean free paths across is nearly one.
     for (float a : {0.3f, 0.6f, 0.9f}) {
-        auto s = sphere_under_sky(subsurface_material(Color(a), Color(0.02f), 0.0f));
-        RenderSettings st;
-        st.samples = 256;
-        st.max_bounces = 4;
-        auto img = render(s, st);
+        auto img = render_at(sphere_under_sky(subsurface_material(Color(a), Color(0.02f), 0.0f)), 256);
         auto m = channel_mean(img, 1);
         std::printf("albedo %.1f: %.5f +- %.5f\n", a, m.mean(), m.std_error());
         EXPECT_NEAR(m.mean(), a, 0.03 * a + 4.0 * m.std_error()) << "albedo " << a;
@@ -216,15 +226,7 @@ TEST(Subsurface, BurleyFlatSlabReflectsItsAlbedo) {
     add_box(*s, Vec3(-5.0f, -5.0f, -2.0f), Vec3(5.0f, 5.0f, 0.0f),
             s->add_material(subsurface_material(albedo, Color(0.5f, 0.5f, 0.25f), 0.0f, false,
                                                 SubsurfaceMethod::ChristensenBurley)));
-    s->set_world(Color(1.0f));
-    CameraDesc c = camera_at({0, 0, 3.0f}, 16, 16);
-    c.lens = 200.0f;
-    s->set_camera(c);
-    s->commit();
-    RenderSettings st;
-    st.samples = 256;
-    st.max_bounces = 4;
-    auto img = render(s, st);
+    auto img = render_at(under_sky(s), 256);
     for (int ch = 0; ch < 3; ++ch) {
         auto m = channel_mean(img, ch);
         std::printf("channel %d: %.5f +- %.5f (albedo %.2f)\n", ch, m.mean(), m.std_error(), albedo[ch]);
