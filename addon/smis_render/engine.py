@@ -128,7 +128,7 @@ class SMISRenderEngine(bpy.types.RenderEngine):
             self._reporter.warning("Spectral rendering (%s) is only implemented for Path Tracing; "
                                    "%s renders in RGB" % (spectral, settings["integrator"]))
         if export.scene.stats()["has_subsurface"] and (settings["integrator"] != "PATH" or spectral != "RGB"):
-            self._reporter.warning("Subsurface scattering is only walked by RGB Path Tracing; %s renders it "
+            self._reporter.warning("Subsurface scattering is only traced by RGB Path Tracing; %s renders it "
                                    "as diffuse" % (settings["integrator"] if spectral == "RGB" else
                                                    "spectral rendering (%s)" % spectral))
 

@@ -3,6 +3,7 @@
 #include "integrators/path_loop.h"
 #include "integrators/volume.h"
 #include "integrators/direct_lighting.h"
+#include "integrators/subsurface_disk.h"
 #include "integrators/subsurface_walk.h"
 #include "shading/normals.h"
 
@@ -90,8 +91,8 @@ float russian_roulette_survival(int depth, float max_beta, float eta_scale, Rng&
 
 namespace {
 
-// Cycles' subsurface bounce at sp, whose BSDF sample bs picked a Subsurface lobe: the walk to the
-// exit, which becomes sp, then the exit's light sample (*direct, with the throughput) and its BSDF
+// Cycles' subsurface bounce at sp, whose BSDF sample bs picked a Subsurface lobe: the walk (or
+// Christensen-Burley's disk sampling) to the exit, which becomes sp, then the exit's light sample (*direct, with the throughput) and its BSDF
 // sample (bs), at the entry's depth (the walk is no bounce of the path in Cycles). False: the path
 // ends. Out of line, so the loops stay as they were for scenes without subsurface.
 [[gnu::noinline]] bool subsurface_bounce(const Scene& scene, const RenderSettings& settings, ShadingPoint& sp,
@@ -99,7 +100,9 @@ namespace {
                                          int32_t medium, Color* direct) {
     beta *= bs.value / bs.pdf;
     const Lobe entry = sp.bsdf.lobe(bs.lobe);
-    if (!subsurface_walk(scene, sp, entry, rng, &beta, &sp)) return false;
+    const bool exited = (entry.variant & SubsurfaceLobe::kDisk) ? subsurface_disk(scene, sp, entry, rng, &beta, &sp)
+                                                                : subsurface_walk(scene, sp, entry, rng, &beta, &sp);
+    if (!exited) return false;
     DirectSample ds = sample_direct(scene, settings, sp, rng, counters, medium);
     *direct = ds.valid ? beta * direct_eval(sp, ds) * ds.weighted : Color(0.0f);
     bs = sample_bsdf(sp, rng);

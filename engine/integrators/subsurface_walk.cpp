@@ -103,6 +103,25 @@ int sample_channel(const Color& alpha, const Color& beta, float u, Color* pmf) {
 
 }  // namespace
 
+void subsurface_exit(const SurfaceHit& hit, bool backfacing, const Lobe& lobe, ShadingPoint* exit) {
+    exit->hit = hit;
+    exit->backfacing = backfacing;
+    exit->ng = backfacing ? -hit.ng : hit.ng;
+    exit->ns = backfacing ? -hit.ns : hit.ns;
+    // Neither lobe reads wo but for its side: the normal keeps it on the lit side however the
+    // step that found the exit met the surface.
+    exit->wo = exit->ns;
+    exit->holdout = Color(0.0f);
+    Lobe out;
+    out.weight = Color(1.0f);
+    if (lobe.variant & SubsurfaceLobe::kPrincipledExit) {
+        out.kind = LobeKind::PrincipledPart;
+        out.variant = PrincipledPartLobe::kExit;
+    }
+    exit->bsdf = Bsdf(Frame(exit->ns), exit->ng);
+    exit->bsdf.add(out);
+}
+
 bool subsurface_walk(const Scene& scene, const ShadingPoint& entry, const Lobe& lobe, Rng& rng, Color* beta,
                      ShadingPoint* exit) {
     const Vec3 p0 = entry.hit.p;
@@ -220,23 +239,8 @@ bool subsurface_walk(const Scene& scene, const ShadingPoint& entry, const Lobe& 
     }
     if (!found_exit) return false;
 
-    // The exit, seen from outside (Cycles turns the ray around): the diffuse lobe on its normal.
-    exit->hit = hit;
-    exit->backfacing = dot(ray.d, hit.ng) < 0.0f;
-    exit->ng = exit->backfacing ? -hit.ng : hit.ng;
-    exit->ns = exit->backfacing ? -hit.ns : hit.ns;
-    // Neither lobe reads wo but for its side: the normal keeps it on the lit side however the
-    // walk's last flight met the surface.
-    exit->wo = exit->ns;
-    exit->holdout = Color(0.0f);
-    Lobe out;
-    out.weight = Color(1.0f);
-    if (lobe.variant & SubsurfaceLobe::kPrincipledExit) {
-        out.kind = LobeKind::PrincipledPart;
-        out.variant = PrincipledPartLobe::kExit;
-    }
-    exit->bsdf = Bsdf(Frame(exit->ns), exit->ng);
-    exit->bsdf.add(out);
+    // The exit, seen from outside (Cycles turns the ray around).
+    subsurface_exit(hit, dot(ray.d, hit.ng) < 0.0f, lobe, exit);
     *beta = throughput;
     return true;
 }

@@ -22,6 +22,11 @@ namespace smis {
 bool subsurface_walk(const Scene& scene, const ShadingPoint& entry, const Lobe& lobe, Rng& rng, Color* beta,
                      ShadingPoint* exit);
 
+// The exit shading point both subsurface methods go on from: `hit` seen from its front
+// (backfacing: from its back), with the diffuse lobe of the entry's Subsurface lobe `lobe` (plain
+// Lambert, or principled's (1 - FL/2) Lambert for kPrincipledExit) of weight 1.
+void subsurface_exit(const SurfaceHit& hit, bool backfacing, const Lobe& lobe, ShadingPoint* exit);
+
 namespace subsurface_detail {
 // Per channel: extinction sigma_t and single-scattering albedo alpha of a walk with surface albedo
 // `albedo`, mean free path `radius` and anisotropy g (Chiang et al. 2016, eq. 6 with Cycles' fits

@@ -71,7 +71,7 @@ int subsurface_lobes(const SubsurfaceClosure& c, Lobe* out) {
     const float ior = clampf(std::isfinite(c.ior) ? c.ior : 1.4f, 1.01f, 3.8f);
     if (c.method == SubsurfaceMethod::RandomWalk) {
         for (int k = 0; k < 3; ++k) radius[k] *= random_walk_radius_scale(c.albedo[k], ior);
-    } else {  // Fixed Radius (and Christensen-Burley's walk stand-in): Cycles' 1 / (4 pi) mean free path
+    } else {  // Fixed Radius and Christensen-Burley: Cycles' 1 / (4 pi) mean free path
         radius = radius * (0.25f * kInvPi);
     }
     Lobe s = base(LobeKind::Subsurface, sss_weight);
@@ -79,7 +79,8 @@ int subsurface_lobes(const SubsurfaceClosure& c, Lobe* out) {
     s.kind_colour = radius;
     s.alpha = clampf(std::isfinite(c.anisotropy) ? c.anisotropy : 0.0f, 0.0f, 0.9f);
     s.eta = ior;
-    s.variant = c.principled ? SubsurfaceLobe::kPrincipledExit : 0;
+    s.variant = uint8_t((c.principled ? SubsurfaceLobe::kPrincipledExit : 0) |
+                        (c.method == SubsurfaceMethod::ChristensenBurley ? SubsurfaceLobe::kDisk : 0));
     out[n++] = s;
     return n;
 }

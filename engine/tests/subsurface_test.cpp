@@ -1,7 +1,9 @@
 // Subsurface scattering (issue 19): the closure's lobes as Cycles 3.4 sets them up, and the path
-// tracer's random walk (integrators/subsurface_walk.cpp) against closed forms.
+// tracer's random walk (integrators/subsurface_walk.cpp) and Christensen-Burley disk sampling
+// (integrators/subsurface_disk.cpp) against closed forms.
 #include <gtest/gtest.h>
 
+#include "integrators/subsurface_disk.h"
 #include "integrators/subsurface_walk.h"
 #include "scene/subsurface_closure.h"
 #include "test_scenes.h"
@@ -26,16 +28,30 @@ Material subsurface_material(const Color& albedo, const Color& radius, float g, 
     return m;
 }
 
-// A sphere of radius 1 with `m`, filling the view, under a uniform sky of radiance 1.
-std::shared_ptr<Scene> sphere_under_sky(const Material& m) {
-    auto s = std::make_shared<Scene>();
-    add_sphere(*s, 1.0f, 32, 64, s->add_material(m));
+// Scene s, committed, under a uniform sky of radiance 1, seen down the z axis from (0, 0, 3)
+// through a long lens (the middle of what lies about the origin).
+std::shared_ptr<Scene> under_sky(std::shared_ptr<Scene> s) {
     s->set_world(Color(1.0f));
     CameraDesc c = camera_at({0, 0, 3.0f}, 16, 16);
     c.lens = 200.0f;
     s->set_camera(c);
     s->commit();
     return s;
+}
+
+// A sphere of radius 1 with `m`, filling the view, under a uniform sky of radiance 1.
+std::shared_ptr<Scene> sphere_under_sky(const Material& m) {
+    auto s = std::make_shared<Scene>();
+    add_sphere(*s, 1.0f, 32, 64, s->add_material(m));
+    return under_sky(s);
+}
+
+// The path tracer's image of s at `samples` spp, 4 bounces (enough for an exit's sky).
+std::vector<float> render_at(const std::shared_ptr<Scene>& s, uint32_t samples) {
+    RenderSettings st;
+    st.samples = samples;
+    st.max_bounces = 4;
+    return render(s, st);
 }
 
 }  // namespace
@@ -149,11 +165,7 @@ TEST(Subsurface, ThickSlabReflectsTheSurfaceAlbedo) {
     // What the albedo inversion is for (Chiang et al. 2016): a semi-infinite medium with the fitted
     // alpha reflects the surface albedo. A sphere 50 mean free paths across is nearly one.
     for (float a : {0.3f, 0.6f, 0.9f}) {
-        auto s = sphere_under_sky(subsurface_material(Color(a), Color(0.02f), 0.0f));
-        RenderSettings st;
-        st.samples = 256;
-        st.max_bounces = 4;
-        auto img = render(s, st);
+        auto img = render_at(sphere_under_sky(subsurface_material(Color(a), Color(0.02f), 0.0f)), 256);
         auto m = channel_mean(img, 1);
         std::printf("albedo %.1f: %.5f +- %.5f\n", a, m.mean(), m.std_error());
         EXPECT_NEAR(m.mean(), a, 0.03 * a + 4.0 * m.std_error()) << "albedo " << a;
@@ -166,4 +178,73 @@ TEST(Subsurface, ScenesWithoutSubsurfaceKeepTheLoopWithoutRules) {
     RenderSettings st;
     EXPECT_FALSE(uses_light_path_rules(*plain, st));
     EXPECT_TRUE(uses_light_path_rules(*sss, st));
+}
+
+TEST(Subsurface, BurleyRadiusSamplingMatchesItsPdf) {
+    // Chi-square of sample_radius's histogram over [0, 16 d] against radial_pdf integrated per bin
+    // (Simpson): the density the disk weights divide by is the one the radii come from.
+    constexpr int kBins = 64, kSamples = 400000;
+    const double alpha = stats::sidak_significance(1e-3, 2);
+    for (float d : {0.05f, 1.0f}) {
+        const double width = burley::kTruncate * d / kBins;
+        std::vector<double> observed(kBins, 0.0), expected(kBins, 0.0);
+        for (int b = 0; b < kBins; ++b) {
+            double sum = 0.0;
+            constexpr int kSteps = 32;  // Simpson, even
+            for (int i = 0; i <= kSteps; ++i) {
+                // At r = 0 the density's limit, 1 / (2 d cdf(16)) (radial_pdf returns 0 there).
+                const double r = std::fmax((b + double(i) / kSteps) * width, 1e-7 * d);
+                sum += (i == 0 || i == kSteps ? 1.0 : (i % 2 ? 4.0 : 2.0)) * burley::radial_pdf(d, float(r));
+            }
+            expected[b] = sum * width / (3.0 * kSteps) * kSamples;
+        }
+        Rng rng(7, 0);
+        for (int i = 0; i < kSamples; ++i) {
+            const float r = burley::sample_radius(d, rng.next_float());
+            ASSERT_TRUE(r >= 0.0f && r <= burley::kTruncate * d) << r;
+            observed[std::min(int(r / width), kBins - 1)] += 1.0;
+        }
+        stats::Chi2Result res;
+        stats::chi2_statistic(observed, expected, 5.0, kSamples, &res);
+        EXPECT_TRUE(res.error.empty()) << res.error;
+        EXPECT_GT(res.p_value, alpha) << "d " << d << ": chi2 " << res.chi2 << " dof " << res.dof;
+        // The cut profile is normalised: its pdf integrates to 1 and its cdf reaches 1 at the cut.
+        double total = 0.0;
+        for (double e : expected) total += e / kSamples;
+        EXPECT_NEAR(total, 1.0, 1e-4) << d;
+        EXPECT_NEAR(burley::radial_cdf(d, burley::kTruncate * d), 1.0f, 1e-6f);
+    }
+}
+
+TEST(Subsurface, BurleyFlatSlabReflectsItsAlbedo) {
+    // Cycles 3.4 sets Christensen-Burley up with d = radius / (4 pi) and a profile normalised to 1:
+    // a flat surface far from its edges reflects the closure weight (the albedo) per channel. A box
+    // 10 x 10 x 2 seen from above under a uniform sky of radiance 1, d = 0.04 (cut at 0.64): the
+    // top face's probes along the normal find it at the disk radius, those along the tangents miss.
+    const Color albedo(0.3f, 0.6f, 0.9f);
+    auto s = std::make_shared<Scene>();
+    add_box(*s, Vec3(-5.0f, -5.0f, -2.0f), Vec3(5.0f, 5.0f, 0.0f),
+            s->add_material(subsurface_material(albedo, Color(0.5f, 0.5f, 0.25f), 0.0f, false,
+                                                SubsurfaceMethod::ChristensenBurley)));
+    auto img = render_at(under_sky(s), 256);
+    for (int ch = 0; ch < 3; ++ch) {
+        auto m = channel_mean(img, ch);
+        std::printf("channel %d: %.5f +- %.5f (albedo %.2f)\n", ch, m.mean(), m.std_error(), albedo[ch]);
+        EXPECT_NEAR(m.mean(), albedo[ch], 4.0 * m.std_error() + 2e-3) << "channel " << ch;
+    }
+}
+
+TEST(Subsurface, BurleyIsDiskSampledOthersWalk) {
+    // The method picks the transport: only Christensen-Burley's lobe carries kDisk.
+    for (auto method : {SubsurfaceMethod::RandomWalk, SubsurfaceMethod::RandomWalkFixedRadius,
+                        SubsurfaceMethod::ChristensenBurley}) {
+        Material m = subsurface_material(Color(0.5f), Color(1.0f), 0.0f, true, method);
+        const Lobe& l = m.lobes.back();
+        ASSERT_EQ(l.kind, LobeKind::Subsurface);
+        EXPECT_EQ(bool(l.variant & SubsurfaceLobe::kDisk), method == SubsurfaceMethod::ChristensenBurley);
+        EXPECT_TRUE(l.variant & SubsurfaceLobe::kPrincipledExit);
+        if (method != SubsurfaceMethod::RandomWalk) {
+            EXPECT_NEAR(l.kind_colour.x, 0.25f / kPi, 1e-7f);
+        }
+    }
 }

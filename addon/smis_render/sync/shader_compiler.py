@@ -996,9 +996,8 @@ SUBSURFACE_METHODS = {"RANDOM_WALK": 0, "RANDOM_WALK_FIXED_RADIUS": 1, "BURLEY":
 
 
 def _subsurface(c, node, ctx, weight):
-    """Subsurface Scattering: walked by the RGB path tracer (integrators/subsurface_walk.h)."""
-    if node.falloff == "BURLEY":
-        c.warn_node(node, "uses Christensen-Burley, not supported; walked as Random Walk (Fixed Radius)")
+    """Subsurface Scattering: walked by the RGB path tracer (integrators/subsurface_walk.h), or
+    Christensen-Burley's disk sampling (integrators/subsurface_disk.h)."""
     c.op("subsurface", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Scale", ctx, FLOAT),
                         c.input(node, "Radius", ctx, VEC), c.input(node, "IOR", ctx, FLOAT),
                         c.input(node, "Anisotropy", ctx, FLOAT), _closure_normal(c, node, ctx)],
@@ -1024,8 +1023,6 @@ def _principled(c, node, ctx, weight):
         else:
             ins.append(c.socket_value(sock, ctx, VEC if name in VECTOR_INPUTS_OF_PRINCIPLED else None))
     ignored = []
-    if used("Subsurface") and node.subsurface_method == "BURLEY":
-        ignored.append("Christensen-Burley subsurface (walked as Random Walk (Fixed Radius))")
     if node.distribution == "MULTI_GGX":
         # Cycles' multiscatter glass (Roughness > 0.05 with Transmission) and anisotropic multiscatter
         # reflection are single-scatter GGX here; the isotropic reflection is multiscatter GGX.
