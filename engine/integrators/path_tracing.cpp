@@ -158,6 +158,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
     ShaderRay sray;  // what the Light Path node reports for the next hit (scenes with programs)
     sray.camera = state.depth == 0;
     const bool programs = scene.has_programs() || scene.world_has_program();
+    if (programs) sray.path_key = shader_path_key(ray.o, ray.d);
     for (;; ++state.depth) {
         SurfaceHit hit;
         bool found;
