@@ -5,11 +5,16 @@ matches the Cycles 3.4 references in blender_tests/references/hair_*.exr
   * diffuse, diffuse_curves: the geometry (a Diffuse BSDF on the strands, sun and world, 8 bounces),
     as particle hair and as a Curves object (the same strands converted);
   * hair_bsdf_direct, principled_*_direct: the Hair BSDF and the Principled Hair BSDF's three colour
-    parametrisations lit by the sun alone (max bounces 0).
-The hair closures with the world and 8 bounces are not here yet: sun light that has bounced twice or
-more between strands renders darker than Cycles' (-6% at 2 bounces, -28% at 8 for the Principled
-Hair; the world's light through 8 bounces and the same strands with a diffuse material match), a
-discrepancy not resolved yet (README).
+    parametrisations lit by the sun alone (max bounces 0);
+  * principled_color_sun, principled_color: the Principled Hair BSDF through 8 bounces, lit by the sun
+    alone and by the sun and the world. Cycles draws the longitudinal sample of every bounce from an
+    LCG seeded 16 apart per bounce, so its samples along a path are correlated and its light bounced
+    between strands is brighter than the converged integral (lobes/principled_hair.h,
+    cycles_bounce_lcg). With the setting hair_cycles_sampling we draw the same numbers and match
+    Cycles' image; without (the default, unbiased) the sun-lit scene's mean is about 20% darker.
+    Both scenes are too noisy at the test's samples for the 8x8 bar (Cycles against Cycles, two
+    seeds of 256 spp: 3.3% in the full scene), so they check the image mean per channel, within 2%,
+    and the block error against a looser bar.
 
 Error: mean relative error over 8x8-pixel blocks and R, G, B (as test_closures.py, EPS 0.02), at
 most 2% (the issue's bar for hair).
@@ -31,6 +36,11 @@ BLOCK = 8
 SPP = int(os.environ.get("SMIS_HAIR_SPP", "128"))
 SCENES = ["diffuse", "diffuse_curves", "hair_bsdf_direct", "principled_color_direct", "principled_melanin_direct",
           "principled_absorption_direct"]
+# Multiple bounces between Principled Hair strands: the mean within MEAN_THRESHOLD, the 8x8 blocks
+# within their noise (ours at SPP against the 2 x 256 spp reference: 4.3% measured in the full scene).
+BOUNCE_SCENES = ["principled_color_sun", "principled_color"]
+MEAN_THRESHOLD = 0.02
+NOISY_THRESHOLD = 0.10
 _BUILT = {}
 
 
@@ -50,12 +60,12 @@ def block_mre(ours, ref):
     return float((np.abs(a - b) / np.maximum(b, EPS)).mean())
 
 
-@pytest.mark.parametrize("name", SCENES)
-def test_hair_matches_cycles(tmp_path_factory, name):
+def _render_and_reference(tmp_path_factory, name, cycles_sampling=False):
     run = render(_blend(tmp_path_factory, name), f"""
 scene.smis.samples = {SPP}
 scene.smis.seed = 1
 scene.smis.integrator = 'PATH'
+scene.smis.hair_cycles_sampling = {cycles_sampling}
 """, timeout=600)
     assert run.returncode == 0, run.output[-3000:]
     bad = [ln for ln in run.output.splitlines() if ln.startswith("Warning") and "not supported" in ln]
@@ -67,4 +77,26 @@ scene.smis.integrator = 'PATH'
     err = block_mre(ours, ref)
     print("%-24s MRE %6.3f %%  ref mean %s  ours %s" % (name, 100 * err, ref[..., :3].mean(axis=(0, 1)),
                                                      ours[..., :3].mean(axis=(0, 1))))
+    return ours, ref, err
+
+
+@pytest.mark.parametrize("name", SCENES)
+def test_hair_matches_cycles(tmp_path_factory, name):
+    _, _, err = _render_and_reference(tmp_path_factory, name)
     assert err <= THRESHOLD, "%s: MRE %.3f%%" % (name, 100 * err)
+
+
+@pytest.mark.parametrize("name", BOUNCE_SCENES)
+def test_principled_hair_bounces_match_cycles(tmp_path_factory, name):
+    """With Cycles' per-bounce numbers (hair_cycles_sampling) the image is Cycles'; the default,
+    independent sampling, is darker where light bounces between strands: Cycles' bias."""
+    ours, ref, err = _render_and_reference(tmp_path_factory, name, cycles_sampling=True)
+    bias = ours[..., :3].mean(axis=(0, 1)) / ref[..., :3].mean(axis=(0, 1)) - 1.0
+    print("%-24s mean bias %s" % (name, np.round(100 * bias, 2)))
+    assert np.all(np.abs(bias) <= MEAN_THRESHOLD), "%s: mean bias %s %%" % (name, np.round(100 * bias, 2))
+    assert err <= NOISY_THRESHOLD, "%s: MRE %.3f%%" % (name, 100 * err)
+    if name == "principled_color_sun":
+        unbiased, _, _ = _render_and_reference(tmp_path_factory, name)
+        gap = unbiased[..., :3].mean() / ref[..., :3].mean() - 1.0
+        print("%-24s independent sampling: mean %+.2f %% against Cycles" % (name, 100 * gap))
+        assert -0.30 < gap < -0.10, gap

@@ -8,7 +8,8 @@ MATERIAL: `hair_bsdf` (default: Cycles' Hair BSDF, a Reflection plus a Transmiss
 Principled Hair BSDF `principled_color`, `principled_melanin`, `principled_absorption` (its three
 colour parametrisations); with the suffix `_direct`, the same lit by the sun alone (black world, max
 bounces 0: direct light only, where Cycles' Hair BSDF evaluates what it defines, lobes/hair.h); with
-`_curves` (before `_direct`), the strands converted to a Curves object (hair curves) instead.
+`_curves` (before `_direct`), the strands converted to a Curves object (hair curves) instead; with
+the suffix `_sun`, lit by the sun alone through max bounces 8 (light bounced between strands).
 Writes OUTDIR/hair_<MATERIAL>.blend for each: a 64 x 48 px view at 45 degrees down onto a 2 x 2 m
 plane (a grey diffuse emitter) growing 400 parent strands with 8 interpolated children each (3,600
 strands of 9 points as Cycles renders them: render_step 3), 0.5 m long and tilted at random, of
@@ -84,7 +85,7 @@ MATERIALS = {
 }
 
 
-def build(out_dir, material, direct=False, curves=False):
+def build(out_dir, material, direct=False, curves=False, sun_only=False):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
     scene.render.engine = 'CYCLES'
@@ -93,7 +94,7 @@ def build(out_dir, material, direct=False, curves=False):
     scene.view_settings.view_transform = 'Standard'
     world = bpy.data.worlds.new("Grey")
     world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0) if direct else \
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0) if direct or sun_only else \
         (0.25, 0.25, 0.25, 1.0)
     scene.world = world
 
@@ -157,7 +158,7 @@ def build(out_dir, material, direct=False, curves=False):
         smis.filter_type = 'BOX'
         smis.filter_width = 1.0
     path = os.path.join(out_dir, "hair_%s%s%s.blend" % (material, "_curves" if curves else "",
-                                                         "_direct" if direct else ""))
+                                                         "_direct" if direct else "_sun" if sun_only else ""))
     bpy.ops.wm.save_as_mainfile(filepath=path)
     return path
 
@@ -168,9 +169,9 @@ def main():
     out_dir = os.path.abspath(args[0] if args else ".")
     os.makedirs(out_dir, exist_ok=True)
     for name in args[1:] or ["hair_bsdf"]:
-        direct, curves = name.endswith("_direct"), "_curves" in name
-        material = name.replace("_direct", "").replace("_curves", "")
-        print("wrote", build(out_dir, material, direct, curves))
+        direct, curves, sun_only = name.endswith("_direct"), "_curves" in name, name.endswith("_sun")
+        material = name.replace("_direct", "").replace("_sun", "").replace("_curves", "")
+        print("wrote", build(out_dir, material, direct, curves, sun_only))
 
 
 if __name__ == "__main__":

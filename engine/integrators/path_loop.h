@@ -96,6 +96,9 @@ template <class Spectrum, bool kMedia, bool kRules>
     ShaderRay sray;  // what the Light Path node reports for the next hit (scenes with programs)
     sray.camera = state.depth == 0;
     const bool programs = scene.has_programs() || scene.world_has_program();
+    // Cycles' per-bounce numbers for the Principled Hair's longitudinal sample, on request only: they
+    // are correlated between bounces, which biases multi-bounce hair (lobes/principled_hair.h).
+    if (programs && settings.hair_cycles_sampling) sray.path_key = shader_path_key(ray.o, ray.d);
     for (;; ++state.depth) {
         SurfaceHit hit;
         bool found;

@@ -4,9 +4,9 @@
 // Cycles' thick curves (kernel/geom/curve.h, curve_shader_setup) shade a hit with the normal
 // N = normalize(P - C(u)), C the curve's centre line at the hit's parameter u, N also the geometric
 // normal, and dPdu = C'(u) the tangent the hair closures align to. A ray leaving a curve ignores the
-// segment it starts on (Cycles' self-intersection skip), so the transmission of a hair closure
-// leaves through the fibre; here Embree's filter drops hits on a segment whose tube holds the ray's
-// origin, which only rays starting on that segment do.
+// whole curve it starts on (Cycles' self-intersection skip compares curves, not segments), so the
+// transmission of a hair closure leaves through the fibre; here Embree's filter drops hits on a
+// curve one of whose segments' tubes holds the ray's origin, which only rays starting on it do.
 #include <cstring>
 
 #include "scene/scene.h"
@@ -128,6 +128,27 @@ void Scene::build_curve_geometry(RTCScene target, Mesh& mesh, unsigned id, uint3
     rtcReleaseGeometry(geom);
 }
 
+namespace {
+
+// Whether `o` lies in the tube of any segment of the curve that segment `prim` belongs to: Cycles'
+// self skip compares the hit's curve (curve_segments[prim].prim), not its segment, so a ray leaving
+// a strand passes every segment of it (a bent strand's other arm, the neighbour of the segment it
+// starts on near their joint). A curve's segments have consecutive first control points
+// (add_curves); the next curve's first segment starts 4 further on (its doubled end points), which
+// ends the walk. The segment hit is tested first: the common case, a ray leaving it.
+bool inside_curve_of(const std::vector<float>& points, const std::vector<uint32_t>& indices, size_t prim,
+                     const Vec3& o) {
+    auto tube = [&](size_t s) { return inside_segment_tube(&points[4 * size_t(indices[s])], o); };
+    if (tube(prim)) return true;
+    for (size_t s = prim; s > 0 && indices[s - 1] + 1 == indices[s];)
+        if (tube(--s)) return true;
+    for (size_t s = prim; s + 1 < indices.size() && indices[s] + 1 == indices[s + 1];)
+        if (tube(++s)) return true;
+    return false;
+}
+
+}  // namespace
+
 void Scene::curve_self_filter(const RTCFilterFunctionNArguments* args) {
     const Mesh& mesh = *static_cast<const Mesh*>(args->geometryUserPtr);
     RTCRayN* ray = const_cast<RTCRayN*>(args->ray);
@@ -135,7 +156,7 @@ void Scene::curve_self_filter(const RTCFilterFunctionNArguments* args) {
         if (args->valid[i] != -1) continue;
         unsigned prim = RTCHitN_primID(args->hit, args->N, i);
         Vec3 o(RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i), RTCRayN_org_z(ray, args->N, i));
-        if (inside_segment_tube(&mesh.curve_points[4 * size_t(mesh.indices[prim])], o)) args->valid[i] = 0;
+        if (inside_curve_of(mesh.curve_points, mesh.indices, prim, o)) args->valid[i] = 0;
     }
 }
 

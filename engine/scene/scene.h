@@ -281,7 +281,7 @@ private:
         bool curves = false;
         std::vector<float> curve_points;
     };
-    // Hair (curves.cpp): rays leaving a hair ignore the segment they start on (Cycles' self skip);
+    // Hair (curves.cpp): rays leaving a hair ignore the curve they start on (Cycles' self skip);
     // the Embree geometry; a sole user's curves moved into world space; a hit and what its program reads.
     static void curve_self_filter(const struct RTCFilterFunctionNArguments* args);
     void build_curve_geometry(RTCScene target, Mesh& mesh, unsigned id, uint32_t visibility);

@@ -2,6 +2,8 @@
 // Filled by Scene::shader_context() only for materials that have a program (constant materials never
 // build one).
 #pragma once
+#include <cstring>
+
 #include "core/math.h"
 #include "core/sampling.h"
 
@@ -15,7 +17,25 @@ struct ShaderRay {
          reflection = false, transmission = false, volume_scatter = false;
     float length = 0.0f;
     int depth = 0, diffuse_depth = 0, glossy_depth = 0, transmission_depth = 0, transparent_depth = 0;
+    // A key of the path (0: none), for closures that draw numbers per path and bounce as Cycles'
+    // shading-point LCG does (the Principled Hair BSDF's longitudinal sample, lobes/principled_hair.h).
+    uint32_t path_key = 0;
 };
+
+// ShaderRay::path_key of a path from its first ray (a hash of the ray's bits: no random numbers
+// drawn, so the path's stream is the same with or without it), never 0.
+inline uint32_t shader_path_key(const Vec3& o, const Vec3& d) {
+    uint32_t h = 0x9e3779b9u;
+    for (float f : {o.x, o.y, o.z, d.x, d.y, d.z}) {
+        uint32_t b;
+        std::memcpy(&b, &f, sizeof b);
+        h = (h ^ b) * 0x85ebca6bu;
+        h ^= h >> 13;
+        h *= 0xc2b2ae35u;
+        h ^= h >> 16;
+    }
+    return h ? h : 1u;
+}
 
 struct ShaderContext {
     Vec3 P;            // world position

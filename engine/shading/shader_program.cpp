@@ -514,7 +514,7 @@ Lobe make_lobe(LobeKind kind, FresnelMode fresnel, const Color& weight, float ro
 // Cycles' Principled Hair closure (svm/closure.h, bsdf_principled_hair_setup) as four lobes
 // (lobes/principled_hair.h) whose weights carry A_p at the hit's wo. in: weight, colour, melanin,
 // melanin redness, tint, absorption coefficient, roughness, radial roughness, coat, IOR, offset,
-// tangent, sin theta_o, |h| (the hair_geometry op); i[0]: 0 absorption coefficient, 1 melanin concentration, 2 direct colouring.
+// tangent, sin theta_o, |h|, Cycles' per-bounce LCG numbers (the hair_geometry op); i[0]: 0 absorption coefficient, 1 melanin concentration, 2 direct colouring.
 // Random Color / Random Roughness are not applied (their default 0 leaves Cycles' values alone).
 float hair_albedo_roughness_scale(float x) {
     return (((((0.245f * x) + 5.574f) * x - 10.73f) * x + 2.532f) * x - 0.215f) * x + 5.969f;
@@ -560,6 +560,8 @@ void principled_hair_closure(const ShaderOp& op, const float* r, ShaderResult* o
     principled_hair::Attenuation at = principled_hair::attenuation(sin_o, abs_h, eta, sigma);
     const float v_p[4] = {m0_r, 0.25f * v_r, 4.0f * v_r, 4.0f * v_r};
     const float tilt[4] = {-2.0f * alpha, alpha, 4.0f * alpha, 0.0f};
+    const float lcg0 = load1(r, op.in[14], -1.0f), lcg1 = load1(r, op.in[15], -1.0f);
+    const bool with_lcg = lcg0 >= 0.0f && lcg1 >= 0.0f;
     for (int p = 0; p < 4; ++p) {
         if (!is_finite(at.a[p])) continue;
         Lobe l = make_lobe(LobeKind(int(LobeKind::PrincipledHairR) + p), FresnelMode::None, at.a[p] * w, 0.0f, eta,
@@ -567,6 +569,10 @@ void principled_hair_closure(const ShaderOp& op, const float* r, ShaderResult* o
         l.alpha = v_p[p];
         l.alpha_y = s_r;
         l.f0 = Color(tilt[p], 0.0f, 0.0f);
+        if (with_lcg) {
+            l.variant = PrincipledHairRLobe::kBounceLcg;
+            l.kind_colour = Color(lcg0, lcg1, 0.0f);
+        }
         push_lobe(out, l);
     }
 }
@@ -852,7 +858,7 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             }
             break;
         }
-        case Op::HairGeometry: {  // in: tangent; out: sin theta_o and |h| of wo in the hair frame
+        case Op::HairGeometry: {  // in: tangent; out: sin theta_o and |h| of wo in the hair frame, the LCG numbers
             // (Scene::program_bsdf's: x the tangent made normal to N, z = N)
             const ShaderContext& c = *ctxp;
             Vec3 t = load3(r, op.in[0], c.dPdu);
@@ -867,6 +873,11 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             }
             store1(r, op.out[0], sin_o);
             store1(r, op.out[1], abs_h);
+            // Cycles' per-bounce LCG numbers of the path (-1: none, the path's own numbers apply).
+            Point2 lcg{-1.0f, -1.0f};
+            if (c.ray.path_key != 0) lcg = principled_hair::cycles_bounce_lcg(c.ray.path_key, c.ray.depth);
+            store1(r, op.out[2], lcg.x);
+            store1(r, op.out[3], lcg.y);
             break;
         }
         case Op::BumpEnter: {

@@ -744,6 +744,34 @@ TEST(ClosureFurnace, HairMatchesQuadratureAndLosesEnergyOnlyInReflection) {
         }
 }
 
+// Cycles 3.4's longitudinal numbers of the Principled Hair sample (its shading point's LCG, seeded
+// rng_hash + rng_offset + sample * scramble, rng_offset 16 per bounce): the values of Cycles'
+// arithmetic (computed apart, in Python: key 12345678), and the fixed step between bounces
+// (16 a^2 / 2^32, 16 a^3 / 2^32 mod 1, a the LCG's multiplier) that correlates a path's samples.
+// A lobe marked kBounceLcg samples theta from them, whatever the path's own numbers.
+TEST(ClosureClosedForm, PrincipledHairTakesCyclesBounceLcgNumbers) {
+    Point2 d0 = principled_hair::cycles_bounce_lcg(12345678u, 0), d1 = principled_hair::cycles_bounce_lcg(12345678u, 1);
+    EXPECT_NEAR(d0.x, 0.30149186f, 1e-6f);
+    EXPECT_NEAR(d0.y, 0.05706831f, 1e-6f);
+    EXPECT_NEAR(d1.x, 0.46618989f, 1e-6f);
+    EXPECT_NEAR(d1.y, 0.08776585f, 1e-6f);
+    auto frac = [](float v) { return v - std::floor(v); };
+    for (uint32_t key : {1u, 977u, 0xdeadbeefu})
+        for (int depth : {0, 3}) {
+            Point2 a = principled_hair::cycles_bounce_lcg(key, depth), b = principled_hair::cycles_bounce_lcg(key, depth + 1);
+            EXPECT_NEAR(frac(b.x - a.x + 1.0f), 0.16469804f, 2e-6f) << key;
+            EXPECT_NEAR(frac(b.y - a.y + 1.0f), 0.03069754f, 2e-6f) << key;
+        }
+    Lobe l = lobe_of(LobeKind::PrincipledHairTRT, 0.1f, Color(0.5f), 1.55f);
+    l.alpha_y = 0.3f;
+    l.variant = PrincipledHairTRTLobe::kBounceLcg;
+    l.kind_colour = Color(d0.x, d0.y, 0.0f);
+    Vec3 wo = dir_from_cos(0.6f, 0.4f);
+    BsdfSample s1 = lobe_sample(l, wo, Point2{0.1f, 0.7f}, 0.2f), s2 = lobe_sample(l, wo, Point2{0.9f, 0.7f}, 0.8f);
+    ASSERT_TRUE(s1.valid() && s2.valid());
+    EXPECT_NEAR(s1.wi.x, s2.wi.x, 1e-6f);  // theta from the LCG; phi (u.y) the same here
+}
+
 // Chiang et al.'s model keeps all the energy of a fibre that absorbs nothing: its paths' A_p sum to 1
 // (Fresnel f, (1 - f)^2, (1 - f)^2 f, and the closed sum of the rest) and each path's M_p N_p is a
 // density, so the four lobes of a closure with sigma = 0 reflect or transmit all of a white furnace:

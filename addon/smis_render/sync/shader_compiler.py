@@ -956,13 +956,14 @@ PRINCIPLED_HAIR_MODES = {"ABSORPTION": 0, "MELANIN": 1, "COLOR": 2}
 def _principled_hair(c, node, ctx, weight):
     """Cycles' Principled Hair BSDF (Chiang et al. 2016) as its four paths (lobes/principled_hair.h):
     the hair_geometry op reads wo in the strand's frame at the hit, from which the closure op
-    computes each path's attenuation."""
+    computes each path's attenuation, and the numbers Cycles' per-bounce LCG gives the path's
+    longitudinal sample there (principled_hair.h, cycles_bounce_lcg)."""
     t = c.normal_input(node, "Tangent", ctx) if "Tangent" in node.inputs else None
     if t is None:
         t = c.alloc(VEC)
         c.op("tangent", [], [t], [2, 0, -1])
-    sin_o, abs_h = c.alloc(FLOAT), c.alloc(FLOAT)
-    c.op("hair_geometry", [t], [sin_o, abs_h])
+    sin_o, abs_h, lcg0, lcg1 = c.alloc(FLOAT), c.alloc(FLOAT), c.alloc(FLOAT), c.alloc(FLOAT)
+    c.op("hair_geometry", [t], [sin_o, abs_h, lcg0, lcg1])
     for name in ("Random Color", "Random Roughness"):
         sock = node.inputs.get(name)
         if sock is not None and (sock.is_linked or sock.default_value != 0.0):
@@ -971,7 +972,8 @@ def _principled_hair(c, node, ctx, weight):
                              c.input(node, "Melanin Redness", ctx, FLOAT), c.input(node, "Tint", ctx, COLOR),
                              c.input(node, "Absorption Coefficient", ctx, VEC), c.input(node, "Roughness", ctx, FLOAT),
                              c.input(node, "Radial Roughness", ctx, FLOAT), c.input(node, "Coat", ctx, FLOAT),
-                             c.input(node, "IOR", ctx, FLOAT), c.input(node, "Offset", ctx, FLOAT), t, sin_o, abs_h],
+                             c.input(node, "IOR", ctx, FLOAT), c.input(node, "Offset", ctx, FLOAT), t, sin_o, abs_h,
+                             lcg0, lcg1],
          ints=[PRINCIPLED_HAIR_MODES.get(node.parametrization, 2)])
 
 
