@@ -4,7 +4,8 @@ Toon diffuse and glossy, multiscatter GGX, anisotropic GGX and Beckmann (Anisotr
 Principled Anisotropic), with Lambert, GGX glossy and glass as controls) rendered by our engine matches the Cycles reference scenes/make_closure_references.sh
 rendered into blender_tests/references/closures.exr, sphere by sphere; likewise the Principled set
 (closures_principled: its transmission with Transmission Roughness and Specular Tint, Multiscatter
-GGX) against closures_principled.exr.
+GGX) against closures_principled.exr, and the Multiscatter GGX glass set (closures_multiglass) against
+closures_multiglass.exr.
 
 The error measure of a sphere's 32 x 32 px tile, as in test_node_parity.py:
 
@@ -53,6 +54,18 @@ KNOWN = {"glass_ggx_0p3": 0.015, "glossy_multi_0p8_tinted": 0.06, "anisotropic_b
 # scattering, 18.9% darker).
 PRINCIPLED_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "2048"))
 PRINCIPLED_KNOWN = {"principled_multi_metal": 0.025}
+# Multiscatter GGX glass (closures_multiglass, 3 x 2 spheres): the Glass BSDF and the Principled rough
+# transmission with Multiscatter GGX (lobes/multi_glass.h, glass_multiple.h), which follow Cycles' sampled
+# random walk. Cycles' own estimator is inconsistent (README, the material table): its eval (light
+# samples) of a refraction lacks the eta^2 its sampling walk carries and evaluates the more grazing
+# transmissions with the directions swapped at the same IOR, so where the sun is light-sampled Cycles'
+# image differs from its own walk's: under the grey world alone ours is within 0.4-1.3% of Cycles (IOR 2
+# at roughness 1: 5.4%), under the sun alone Cycles' mean is 0.23x to 2.7x ours. The bounds are the
+# measured errors (1024 spp, against Cycles at 2 x 1024 spp) plus a margin, so that a regression fails.
+MULTIGLASS_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "1024"))
+MULTIGLASS_KNOWN = {"glass_multi_0p3": 0.125, "glass_multi_0p8": 0.035, "glass_multi_0p6_tinted": 0.07,
+                    "glass_multi_1_ior2": 0.33, "principled_multi_glass_0p5": 0.22,
+                    "principled_multi_glass_tinted": 0.10}
 _BUILT = {}
 
 
@@ -119,15 +132,26 @@ def test_every_closure_sphere_matches_cycles(tmp_path_factory):
     assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
 
 
+def _set_matches_cycles(tmp_path_factory, set_name, spp, known):
+    """Every sphere of `set_name` within THRESHOLD (or its `known` bound) of its Cycles reference."""
+    blend, tiles = _scene(tmp_path_factory, set_name)
+    ours = _render(blend, spp).image
+    assert np.isfinite(ours).all()
+    errors = _tile_errors(ours, _reference(ours.shape, set_name), tiles)
+    failing = {k: round(100 * v, 3) for k, v in errors.items() if v > known.get(k, THRESHOLD)}
+    assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
+
+
 def test_principled_transmission_and_multiscatter_match_cycles(tmp_path_factory):
     """The Principled set: Transmission Roughness, Specular Tint on the glass, the base colour on the
     refraction only, Multiscatter GGX (smooth glass, metal)."""
-    blend, tiles = _scene(tmp_path_factory, "closures_principled")
-    ours = _render(blend, PRINCIPLED_SPP).image
-    assert np.isfinite(ours).all()
-    errors = _tile_errors(ours, _reference(ours.shape, "closures_principled"), tiles)
-    failing = {k: round(100 * v, 3) for k, v in errors.items() if v > PRINCIPLED_KNOWN.get(k, THRESHOLD)}
-    assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
+    _set_matches_cycles(tmp_path_factory, "closures_principled", PRINCIPLED_SPP, PRINCIPLED_KNOWN)
+
+
+def test_multiscatter_glass_matches_cycles(tmp_path_factory):
+    """Multiscatter GGX glass: the Glass BSDF (white at roughness 0.3, 0.8, 1 with IOR 2; coloured)
+    and the Principled rough transmission (white, coloured base)."""
+    _set_matches_cycles(tmp_path_factory, "closures_multiglass", MULTIGLASS_SPP, MULTIGLASS_KNOWN)
 
 
 def test_beckmann_glass_and_refraction_match_cycles(tmp_path_factory):

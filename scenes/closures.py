@@ -4,8 +4,9 @@ Run:
     blender -b --factory-startup --python scenes/closures.py -- OUTDIR [SET]
 
 SET is `closures` (the default: every closure), `closures_principled` (the Principled BSDF's
-transmission and Multiscatter GGX, 3 x 2 tiles, PRINCIPLED_CLOSURES) or `closures_beckmann` (Glass and
-Refraction with the Beckmann distribution, 2 x 1 tiles). Writes (for the default set)
+transmission and Multiscatter GGX, 3 x 2 tiles, PRINCIPLED_CLOSURES), `closures_beckmann` (Glass and
+Refraction with the Beckmann distribution, 2 x 1 tiles) or `closures_multiglass` (Multiscatter GGX
+glass, 3 x 2 tiles, MULTIGLASS_CLOSURES). Writes (for the default set)
   OUTDIR/closures.blend  COLS x ROWS tiles of TILE_PX x TILE_PX pixels (COLS*TILE_PX x ROWS*TILE_PX):
       an orthographic camera looking straight down (-Z) at one sphere per tile (radius 0.85 of the
       tile's half size, so every sphere has its own 32 x 32 px square of 4 x 4 blocks of 8 x 8 px),
@@ -164,9 +165,26 @@ BECKMANN_CLOSURES = [
                                                  {"Color": (0.6, 0.8, 0.9), "Roughness": 0.4, "IOR": 1.5},
                                                  distribution='BECKMANN')),
 ]
+# Multiscatter GGX glass (closures_multiglass.blend): Cycles 3.4's one multiscatter glass closure of the
+# Glass BSDF (its colour at every bounce of the walk) and of the Principled BSDF's rough transmission
+# (Roughness > 0.05; its base colour at every refraction).
+MULTIGLASS_CLOSURES = [
+    ("glass_multi_0p3", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlass", {"IOR": 1.45, "Roughness": 0.3},
+                                         distribution='MULTI_GGX')),
+    ("glass_multi_0p8", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlass", {"IOR": 1.45, "Roughness": 0.8},
+                                         distribution='MULTI_GGX')),
+    ("glass_multi_0p6_tinted", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlass", {"Color": (0.9, 0.7, 0.5), "IOR": 1.45,
+                                                                          "Roughness": 0.6}, distribution='MULTI_GGX')),
+    ("glass_multi_1_ior2", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlass", {"IOR": 2.0, "Roughness": 1.0},
+                                            distribution='MULTI_GGX')),
+    ("principled_multi_glass_0p5", _principled({"Base Color": (1.0, 1.0, 1.0), "Transmission": 1.0,
+                                                "Roughness": 0.5, "IOR": 1.45}, distribution='MULTI_GGX')),
+    ("principled_multi_glass_tinted", _principled({"Base Color": (0.9, 0.7, 0.5), "Transmission": 1.0,
+                                                   "Roughness": 0.8, "IOR": 1.45}, distribution='MULTI_GGX')),
+]
 # name -> (closures, columns, rows)
 CLOSURE_SETS = {"closures": (CLOSURES, COLS, ROWS), "closures_principled": (PRINCIPLED_CLOSURES, 3, 2),
-                "closures_beckmann": (BECKMANN_CLOSURES, 2, 1)}
+                "closures_beckmann": (BECKMANN_CLOSURES, 2, 1), "closures_multiglass": (MULTIGLASS_CLOSURES, 3, 2)}
 
 
 def node_material(name, build):

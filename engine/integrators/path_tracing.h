@@ -233,7 +233,8 @@ inline void update_transparent_background(const RenderSettings& settings, PathSt
     st.transparent_background =
         lobe && (lobe->kind == LobeKind::Transparent ||
                  (settings.film_transparent && bs.transmission &&
-                  (((lobe->kind == LobeKind::Dielectric || lobe->kind == LobeKind::Refraction) &&
+                  (((lobe->kind == LobeKind::Dielectric || lobe->kind == LobeKind::Refraction ||
+                     lobe->kind == LobeKind::MultiGlass || lobe->kind == LobeKind::GlassMultiple) &&
                     lobe->alpha <= settings.film_transparent_glass) ||
                    (lobe->kind == LobeKind::PrincipledGlass && lobe->alpha_y <= settings.film_transparent_glass))));
 }

@@ -3,6 +3,7 @@
 #include "scene/ggx_multiple.h"
 
 #include "scene/ggx_multiple_layout.h"
+#include "scene/table_axis.h"
 
 namespace smis {
 
@@ -12,30 +13,16 @@ using namespace ggx_multiple;
 
 #include "ggx_multiple_table.inc"
 
-// A coordinate x on an axis of n samples: the lower sample and the weight of the upper one.
-struct Axis {
-    int lo;
-    float t;
-};
-Axis axis(float x, int n) {
-    x = clampf(x, 0.0f, float(n - 1));  // also maps NaN to 0
-    int lo = std::min(int(x), n - 2);
-    return {lo, x - float(lo)};
-}
-Axis rough_axis(float alpha) { return axis(std::sqrt(clampf(alpha, 0.0f, 1.0f)) * float(kRough - 1), kRough); }
-Axis cos_o_axis(float cos_o) { return axis(cos_o * float(kCosO) - 0.5f, kCosO); }
+using namespace table_axis;
 
-float interp(float t, float a, float b) { return a + (b - a) * t; }
+Axis rough_axis(float alpha) { return table_axis::rough_axis(alpha, kRough); }
+Axis cos_o_axis(float cos_o) { return centred_axis(cos_o, kCosO); }
 
 }  // namespace
 
 float ggx_multiple_brdf(const Vec3& wo, const Vec3& wi, float alpha) {
     Axis r = rough_axis(alpha), o = cos_o_axis(wo.z);
-    Axis i = axis(wi.z * wi.z * float(kCosI) - 0.5f, kCosI);
-    // The azimuth between the two directions' projections (0: wi on wo's side).
-    float lo = std::sqrt(wo.x * wo.x + wo.y * wo.y), li = std::sqrt(wi.x * wi.x + wi.y * wi.y);
-    float cos_phi = lo > 0.0f && li > 0.0f ? clampf((wo.x * wi.x + wo.y * wi.y) / (lo * li), -1.0f, 1.0f) : 1.0f;
-    Axis p = axis(std::acos(cos_phi) * kInvPi * float(kPhi) - 0.5f, kPhi);
+    Axis i = centred_axis(wi.z * wi.z, kCosI), p = azimuth_axis(wo, wi, kPhi);
     float sum = 0.0f;
     for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b)

@@ -8,7 +8,9 @@
 //
 // The engine does not walk at render time: scene/tools/ggx_multiple_gen.cpp tabulates where the walks
 // of more than one bounce leave (lobes/multiscatter_ggx.h evaluates that table), and the tests compare
-// the table with fresh walks.
+// the table with fresh walks. glass_walk() is the dielectric walk of Cycles' multiscatter glass
+// (mf_sample with the glass phase function), tabulated by scene/tools/ggx_glass_gen.cpp for
+// lobes/glass_multiple.h.
 #pragma once
 #include <cmath>
 
@@ -118,6 +120,57 @@ Exit walk(const Vec3& wi, float alpha, Rand&& rand) {
         s.escape = escape_probability(s.dir, s.cdf, s.lam);
     }
     return {Vec3(0, 0, 1), 0};
+}
+
+// The unpolarised dielectric Fresnel reflectance at cosine c (>= 0) for relative IOR eta (the far
+// side over the near one), as Cycles' fresnel_dielectric_cos; 1 under total internal reflection.
+inline float dielectric_fresnel(float c, float eta) {
+    c = std::fabs(c);
+    float g = eta * eta - 1.0f + c * c;
+    if (!(g > 0.0f)) return 1.0f;
+    g = std::sqrt(g);
+    float a = (g - c) / (g + c), b = (c * (g + c) - 1.0f) / (c * (g - c) + 1.0f);
+    return 0.5f * a * a * (1.0f + b * b);
+}
+
+struct GlassExit {
+    Vec3 dir;              // where the walk left: z > 0 back on the side it came from, z < 0 through
+    int bounces = 0;       // 1 = single scattering; 0 = the walk died (after kMaxBounces)
+    int refractions = 0;   // how many of the bounces refracted
+};
+
+// One walk of Cycles' multiscatter glass for a ray arriving from wi (z > 0) at an interface of relative
+// IOR eta (the far side over wi's), rand() uniform in [0, 1). Each bounce reflects with the Fresnel
+// probability at its microfacet, else refracts; a refracted ray continues on the other side, where the
+// walk's frame is mirrored (the direction flipped, the IOR inverted). As in Cycles' mf_sample (not its
+// mf_eval), the height's CDF is not mirrored with it: the walk goes on from the same CDF.
+template <class Rand>
+GlassExit glass_walk(const Vec3& wi, float alpha, float eta, Rand&& rand) {
+    State s;
+    s.dir = -wi;
+    s.lam = lambda(s.dir, alpha);
+    bool outside = true;
+    int refractions = 0;
+    for (int bounces = 0; bounces < kMaxBounces; ++bounces) {
+        if (!next_height(&s, rand())) return {outside ? s.dir : -s.dir, bounces, refractions};
+        float uy = rand(), ux = rand();
+        Vec3 back = -s.dir;
+        Vec3 wm = visible_normal(back, alpha, ux, uy);
+        float rel = outside ? eta : 1.0f / eta;
+        float cos_i = dot(back, wm);
+        if (rand() < dielectric_fresnel(cos_i, rel)) {
+            s.dir = wm * (2.0f * cos_i) - back;
+        } else {
+            float inv = 1.0f / rel;
+            float cos_t = -safe_sqrt(1.0f - (1.0f - cos_i * cos_i) * inv * inv);
+            s.dir = -normalize(wm * (cos_i * inv + cos_t) - back * inv);  // mirrored onto the other side
+            outside = !outside;
+            ++refractions;
+        }
+        s.lam = lambda(s.dir, alpha);
+        s.escape = escape_probability(s.dir, s.cdf, s.lam);
+    }
+    return {Vec3(0, 0, 1), 0, refractions};
 }
 
 }  // namespace smis::ggx_walk

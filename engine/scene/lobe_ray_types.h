@@ -16,6 +16,8 @@ inline uint32_t lobe_ray_types(const Lobe& lobe) {
     switch (lobe.kind) {
         case LobeKind::Translucent: return kRayDiffuse | kRayTransmission;
         case LobeKind::Dielectric:
+        case LobeKind::MultiGlass:
+        case LobeKind::GlassMultiple:
         case LobeKind::Refraction:
         case LobeKind::HairTransmission:
         case LobeKind::PrincipledHairTT:
@@ -35,7 +37,8 @@ inline Bsdf lobes_not_of(const Bsdf& bsdf, uint32_t hidden) {
 // Reflective Caustics are off (Glossy BSDF, Principled specular and clearcoat) or Refractive
 // Caustics are off (Refraction BSDF). Glass and Principled transmission are one lobe here, Cycles'
 // pair of closures (reflection weighted by F, refraction by 1 - F): it is left out when both toggles
-// are off, and keeps the other half when one is (glass_half_left).
+// are off, and keeps the other half when one is (glass_half_left). Multiscatter glass is one closure
+// in Cycles too: whole unless both toggles are off.
 inline bool lobe_is_caustic(const Lobe& lobe, bool reflective_off, bool refractive_off) {
     switch (lobe.kind) {
         case LobeKind::Microfacet:
@@ -47,7 +50,9 @@ inline bool lobe_is_caustic(const Lobe& lobe, bool reflective_off, bool refracti
         case LobeKind::Clearcoat: return reflective_off;
         case LobeKind::Refraction: return refractive_off;
         case LobeKind::Dielectric:
-        case LobeKind::PrincipledGlass: return reflective_off && refractive_off;
+        case LobeKind::PrincipledGlass:
+        case LobeKind::MultiGlass:
+        case LobeKind::GlassMultiple: return reflective_off && refractive_off;
         default: return false;
     }
 }
@@ -72,6 +77,8 @@ inline void blur_lobe(Lobe& lobe, float alpha) {
         case LobeKind::GgxMultiple:
         case LobeKind::Clearcoat:
         case LobeKind::Dielectric:
+        case LobeKind::MultiGlass:
+        case LobeKind::GlassMultiple:  // its alpha_y is not an alpha (glass_multiple.h)
         case LobeKind::Refraction: lobe.alpha = std::max(lobe.alpha, alpha); break;
         case LobeKind::AnisoGgx:
         case LobeKind::AnisoBeckmann:

@@ -337,7 +337,14 @@ void ShaderProgram::analyse() {
                         templates_.push_back(l);
                     }
                     break;
-                case Op::Glass: l.kind = LobeKind::Dielectric; templates_.push_back(l); break;
+                case Op::Glass:  // i[0]: 0 sharp, 1 GGX, 2 Beckmann, 3 multiscatter GGX (two lobes)
+                    l.kind = op.i[0] == 3 ? LobeKind::MultiGlass : LobeKind::Dielectric;
+                    templates_.push_back(l);
+                    if (op.i[0] == 3) {
+                        l.kind = LobeKind::GlassMultiple;
+                        templates_.push_back(l);
+                    }
+                    break;
                 case Op::Velvet: l.kind = LobeKind::Velvet; templates_.push_back(l); break;
                 case Op::Translucent: l.kind = LobeKind::Translucent; templates_.push_back(l); break;
                 case Op::Refraction: l.kind = LobeKind::Refraction; templates_.push_back(l); break;
@@ -353,7 +360,8 @@ void ShaderProgram::analyse() {
                     Lobe sh; sh.kind = LobeKind::Sheen;
                     Lobe c; c.kind = LobeKind::Clearcoat;
                     Lobe ms; ms.kind = LobeKind::GgxMultiple;  // the metal's multiple scattering (Multiscatter GGX)
-                    for (const Lobe& x : {d, s, m, t, sh, c, ms}) templates_.push_back(x);
+                    Lobe gms; gms.kind = LobeKind::GlassMultiple;  // the glass' multiple scattering (Multiscatter GGX)
+                    for (const Lobe& x : {d, s, m, t, sh, c, ms, gms}) templates_.push_back(x);
                     // Subsurface (where it may be above 0): its walk's entry and the retro-reflection.
                     uint16_t sss = op.in[principled_in::Subsurface];
                     if (sss != kNoReg && (varying[sss] || registers_[sss] > 0.0f)) {
@@ -586,12 +594,33 @@ void multiscatter_ggx(const Color& c, float w, float roughness, uint8_t index, S
     if (multiple_scattering_lobe(single, c, &multiple)) push_lobe(out, multiple);
 }
 
+// Multiscatter GGX glass (lobes/multi_glass.h, glass_multiple.h) of weight w, walk colour c (colour
+// model `variant`), Specular Tint `spec_tint` of its reflection: the single scattering at `index`, the
+// multiple scattering at `multiple_index` where there is any to speak of. The Glass BSDF's colour is
+// in w (its refraction white); the Principled's base colours the refraction.
+void multiscatter_glass(const Color& w, const Color& c, float roughness, float ior, float spec_tint, uint8_t variant,
+                        uint8_t index, uint8_t multiple_index, ShaderResult* out) {
+    Lobe single = make_lobe(LobeKind::MultiGlass, FresnelMode::None, w, roughness, ior, index), multiple;
+    single.f0 = variant == GlassMultipleLobe::kPerRefraction ? vmin(c, Color(1.0f)) : Color(1.0f);
+    single.kind_colour.x = spec_tint;
+    push_lobe(out, single);
+    if (glass_multiple_lobe(single, vmin(c, Color(1.0f)), variant, &multiple)) {
+        multiple.index = multiple_index;
+        push_lobe(out, multiple);
+    }
+}
+
 // The Principled BSDF's transmission of weight g (lobes/principled_glass.h), as Cycles 3.4's
 // svm/closure.h sets it up: the reflection at the roughness, the refraction for GGX at
 // 1 - (1 - roughness)(1 - Transmission Roughness); the Multiscatter GGX distribution refracts at the
 // roughness (Cycles ignores Transmission Roughness there).
 void principled_glass(const Color& base, float g, float rough, float transmission_rough, float spec_tint, float ior,
                       bool multiscatter, uint8_t index, ShaderResult* out) {
+    if (multiscatter && rough > 0.05f) {  // Cycles' one multiscatter glass closure (its Fresnel colours)
+        multiscatter_glass(Color(g), base, rough, ior, spec_tint, GlassMultipleLobe::kPerRefraction, index,
+                           uint8_t(index + 4), out);
+        return;
+    }
     Lobe l = make_lobe(LobeKind::PrincipledGlass, FresnelMode::None, Color(g), rough, ior, index);
     l.f0 = base;
     l.kind_colour.x = spec_tint;
@@ -626,7 +655,7 @@ void push_subsurface(const SubsurfaceClosure& c, ShaderResult* out) {
 }
 
 // Principled's subsurface (svm/closure.h): weight mixed x share, radius Subsurface Radius x Subsurface,
-// the retro-reflection of Roughness at the entry; its templates follow the seven of analyse().
+// the retro-reflection of Roughness at the entry; its templates follow the eight of analyse().
 void principled_subsurface(const ShaderOp& op, const float* r, const Color& mixed, float share, float subsurface,
                            float roughness, ShaderResult* out) {
     using namespace principled_in;
@@ -639,7 +668,7 @@ void principled_subsurface(const ShaderOp& op, const float* r, const Color& mixe
     c.method = SubsurfaceMethod(clampf(float(op.i[1]), 0.0f, 2.0f));
     c.principled = true;
     c.roughness = roughness;
-    c.index = uint8_t(op.i[5] + 7);
+    c.index = uint8_t(op.i[5] + 8);
     push_subsurface(c, out);
 }
 
@@ -1340,8 +1369,14 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             float w = load1(r, op.in[0], 1.0f);
             set_normal(out, r, op.in[4]);
             float rough = op.i[0] == 0 ? 0.0f : load1(r, op.in[2], 0.0f);
-            Lobe l = make_lobe(LobeKind::Dielectric, FresnelMode::None, load3(r, op.in[1], Color(1.0f)) * w, rough,
-                               load1(r, op.in[3], 1.45f), uint8_t(op.i[5]));
+            Color c = load3(r, op.in[1], Color(1.0f));
+            if (op.i[0] == 3) {
+                multiscatter_glass(c * w, c, rough, load1(r, op.in[3], 1.45f), 0.0f, GlassMultipleLobe::kPerBounce,
+                                   uint8_t(op.i[5]), uint8_t(op.i[5] + 1), out);
+                break;
+            }
+            Lobe l = make_lobe(LobeKind::Dielectric, FresnelMode::None, c * w, rough, load1(r, op.in[3], 1.45f),
+                               uint8_t(op.i[5]));
             l.variant = op.i[0] == 2 ? kBeckmannDistribution : kGgxDistribution;  // i[0]: 0 sharp, 1 GGX, 2 Beckmann
             push_lobe(out, l);
             break;

@@ -979,10 +979,11 @@ def _principled_hair(c, node, ctx, weight):
 
 def _glass(c, node, ctx, weight):
     """One dielectric lobe; rough, it weights reflection and refraction by the Fresnel term at the
-    shading normal as Cycles 3.4's pair of closures does (lobes/dielectric.h)."""
+    shading normal as Cycles 3.4's pair of closures does (lobes/dielectric.h). Multiscatter GGX (3):
+    Cycles' one multiscatter glass closure (lobes/multi_glass.h, glass_multiple.h); Beckmann (2)."""
+    mode = 3 if node.distribution == "MULTI_GGX" else _dielectric_distribution(c, node)
     c.op("glass", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
-                   c.input(node, "IOR", ctx, FLOAT), _closure_normal(c, node, ctx)],
-         ints=[_dielectric_distribution(c, node)])
+                   c.input(node, "IOR", ctx, FLOAT), _closure_normal(c, node, ctx)], ints=[mode])
 
 
 def _transparent(c, node, ctx, weight):
@@ -1026,13 +1027,10 @@ def _principled(c, node, ctx, weight):
             ins.append(c.socket_value(sock, ctx, VEC if name in VECTOR_INPUTS_OF_PRINCIPLED else None))
     ignored = []
     if node.distribution == "MULTI_GGX":
-        # Cycles' multiscatter glass (Roughness > 0.05 with Transmission) and anisotropic multiscatter
-        # reflection are single-scatter GGX here; the isotropic reflection is multiscatter GGX.
+        # Cycles' anisotropic multiscatter reflection is single-scatter GGX here; the isotropic
+        # reflection and the glass (Roughness > 0.05 with Transmission) are multiscatter GGX.
         rough = node.inputs["Roughness"]
         rough_glass = rough.is_linked or rough.default_value > 0.05
-        if rough_glass and used("Transmission") and (node.inputs["Metallic"].is_linked or
-                                                     node.inputs["Metallic"].default_value < 1.0):
-            ignored.append("Multiscatter GGX glass (using GGX)")
         if rough_glass and used("Anisotropic"):
             ignored.append("anisotropic Multiscatter GGX (using GGX)")
     if ignored:

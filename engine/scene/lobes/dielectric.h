@@ -50,28 +50,44 @@ struct DielectricLobe : LobeDefaults<DielectricLobe> {
 
     // The rough terms with the reflection at alpha_r and the refraction at alpha_t (the Principled
     // transmission's differ, principled_glass.h); cos_d = wi.wm, negative for a refraction.
-    static LobeTerms rough_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi, float alpha_r, float alpha_t,
-                                 bool beckmann = false) {
-        if (!(wo.z != 0.0f) || !(wi.z != 0.0f)) return {};  // also rejects NaN
-        // Mirror the configuration so that wo is in the upper hemisphere; +z stays "wo's side".
+    // A pair of directions of a rough glass lobe, mirrored so that wo is in the upper hemisphere (+z
+    // stays "wo's side"), with the microfacet normal that joins them.
+    struct Configuration {
+        Vec3 o, i, wm;
+        float etap, len2, cos_om, cos_im;  // etap = eta_t / eta_i seen from wo; len2 = |h|^2 of the unnormalised wm
+        bool reflect;
+    };
+    // False where no microfacet joins wo and wi.
+    static bool configuration(const Lobe& lobe, const Vec3& wo, const Vec3& wi, Configuration* c) {
+        if (!(wo.z != 0.0f) || !(wi.z != 0.0f)) return false;  // also rejects NaN
         float side = wo.z > 0.0f ? 1.0f : -1.0f;
-        Vec3 o = wo * side, i = wi * side;
+        c->o = wo * side;
+        c->i = wi * side;
         // eta_t / eta_i seen from wo's medium: +z is the outside, eta = inside / outside.
-        float etap = wo.z > 0.0f ? lobe.eta : 1.0f / lobe.eta;
-        if (!(etap > 0.0f) || !std::isfinite(etap)) return {};
-        bool reflect = i.z > 0.0f;
-
+        c->etap = wo.z > 0.0f ? lobe.eta : 1.0f / lobe.eta;
+        if (!(c->etap > 0.0f) || !std::isfinite(c->etap)) return false;
+        c->reflect = c->i.z > 0.0f;
         // (Generalised) half vector: Walter eq. 13 / 16, h_t ~ -(eta_i o + eta_t i).
-        Vec3 h = reflect ? o + i : o + i * etap;
-        float len2 = length_sq(h);
-        if (!(len2 > kMinHalfLenSq)) return {};
-        Vec3 wm = h / std::sqrt(len2);
-        if (wm.z < 0.0f) wm = -wm;
-        float cos_om = dot(o, wm), cos_im = dot(i, wm);
+        Vec3 h = c->reflect ? c->o + c->i : c->o + c->i * c->etap;
+        c->len2 = length_sq(h);
+        if (!(c->len2 > kMinHalfLenSq)) return false;
+        c->wm = h / std::sqrt(c->len2);
+        if (c->wm.z < 0.0f) c->wm = -c->wm;
+        c->cos_om = dot(c->o, c->wm);
+        c->cos_im = dot(c->i, c->wm);
         // Microfacets must be seen from the front by o, and i must lie on the same side of the
         // microfacet as of the macro-surface (the chi+ factors of Walter's G1).
-        if (!(cos_om > 0.0f)) return {};
-        if (reflect ? !(cos_im > 0.0f) : !(cos_im < 0.0f)) return {};
+        if (!(c->cos_om > 0.0f)) return false;
+        return c->reflect ? c->cos_im > 0.0f : c->cos_im < 0.0f;
+    }
+
+    static LobeTerms rough_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi, float alpha_r, float alpha_t,
+                                 bool beckmann = false) {
+        Configuration c;
+        if (!configuration(lobe, wo, wi, &c)) return {};
+        const Vec3 &o = c.o, &i = c.i, &wm = c.wm;
+        const float etap = c.etap, len2 = c.len2, cos_om = c.cos_om, cos_im = c.cos_im;
+        const bool reflect = c.reflect;
 
         float alpha = reflect ? alpha_r : alpha_t;
         float F = fresnel_dielectric(o.z, etap);  // at the shading normal: see sample()

@@ -13,9 +13,11 @@
 #include "scene/lobes/clearcoat.h"
 #include "scene/lobes/dielectric.h"
 #include "scene/lobes/diffuse.h"
+#include "scene/lobes/glass_multiple.h"
 #include "scene/lobes/hair.h"
 #include "scene/lobes/lobe.h"
 #include "scene/lobes/microfacet.h"
+#include "scene/lobes/multi_glass.h"
 #include "scene/lobes/multiscatter_ggx.h"
 #include "scene/lobes/oren_nayar.h"
 #include "scene/lobes/principled_diffuse.h"
@@ -43,7 +45,8 @@ using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, C
                                   RefractionLobe, BeckmannLobe, ToonDiffuseLobe, ToonGlossyLobe, MultiGgxLobe,
                                   GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe, PrincipledGlassLobe, SubsurfaceLobe,
                                   PrincipledPartLobe, HairReflectionLobe, HairTransmissionLobe, PrincipledHairRLobe,
-                                  PrincipledHairTTLobe, PrincipledHairTRTLobe, PrincipledHairTRRTLobe>;
+                                  PrincipledHairTTLobe, PrincipledHairTRTLobe, PrincipledHairTRRTLobe, MultiGlassLobe,
+                                  GlassMultipleLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -105,6 +108,8 @@ template <bool kGated = true, class F>
         case PrincipledHairTTLobe::kKind: return call_kind<PrincipledHairTTLobe, kGated>(f);
         case PrincipledHairTRTLobe::kKind: return call_kind<PrincipledHairTRTLobe, kGated>(f);
         case PrincipledHairTRRTLobe::kKind: return call_kind<PrincipledHairTRRTLobe, kGated>(f);
+        case MultiGlassLobe::kKind: return call_kind<MultiGlassLobe, kGated>(f);
+        case GlassMultipleLobe::kKind: return call_kind<GlassMultipleLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate

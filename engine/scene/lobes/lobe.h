@@ -66,6 +66,8 @@ enum class LobeKind : uint8_t {
     PrincipledHairTT,
     PrincipledHairTRT,
     PrincipledHairTRRT,
+    MultiGlass,     // Multiscatter GGX glass, its single scattering (lobes/multi_glass.h)
+    GlassMultiple,  // Multiscatter GGX glass, its multiple scattering (lobes/glass_multiple.h)
     Count
 };
 
@@ -90,7 +92,8 @@ struct Lobe {
                          // Smooth, the hair lobes' Offset
     float alpha = 0.0f;  // GGX alpha = roughness^2 (Blender's convention); below kDeltaAlpha -> delta
     float eta = 1.5f;    // IOR of the inside over the outside (Dielectric lobe / FresnelMode::Dielectric)
-    float alpha_y = 0.0f;  // anisotropic lobes: alpha across the tangent (alpha is along it, the frame's s)
+    float alpha_y = 0.0f;  // anisotropic lobes: alpha across the tangent (alpha is along it, the frame's s);
+                           // GlassMultiple: the albedo its weight holds (lobes/glass_multiple.h)
     // A colour parameter of the lobe's own kind: Subsurface's mean free path per channel
     // (lobes/subsurface.h), the Principled glass' Specular Tint in x (lobes/principled_glass.h). One
     // field for both keeps Lobe small: every hit copies its lobes.
