@@ -792,14 +792,15 @@ def _single_scattering_scene(*fog, camera=((0.0, -5.6, 1.5), (84.0, 0.0, 0.0))):
 
 
 def build_volume_spot(path):
-    """Single scattering from focused light: a spot light (35 degrees, blend 0.3, radius 2 cm)
-    shining down through isotropic fog past a small cube, so the beam has a shadow shaft, and a
-    dim rectangular fill light. The beam is a small part of the image's volume."""
+    """Single scattering from focused light: a spot light (35 degrees, blend 0.3, radius 0: a
+    point, so photon planes cover it) shining down through isotropic fog past a small cube, so the
+    beam has a shadow shaft, and a dim rectangular fill light. The beam is a small part of the
+    image's volume."""
     sc, white = _single_scattering_scene("Fog", (0.9, 0.9, 0.9), 0.25, (0.9, 0.9, 1.0), 0.05)
     unit_cube_object(sc, "Blocker", white, (-0.2, 0.2, 1.9), 20.0, (0.35, 0.35, 0.35))
     unit_cube_object(sc, "Cube", diffuse("Red", RED), (0.9, 0.6, 0.4), -15.0, (0.8, 0.8, 0.8))
     aim(add_light(sc, "Spot", 'SPOT', (-0.4, 0.0, 3.4), spot_size=math.radians(35.0), spot_blend=0.3,
-                  shadow_soft_size=0.02, energy=600.0, color=(1.0, 0.9, 0.75)), (0.1, 0.6, 0.0))
+                  shadow_soft_size=0.0, energy=600.0, color=(1.0, 0.9, 0.75)), (0.1, 0.6, 0.0))
     aim(add_light(sc, "Fill", 'AREA', (2.2, -1.5, 2.5), shape='RECTANGLE', size=0.6, size_y=0.4,
                   energy=15.0, color=(0.7, 0.8, 1.0)), (0.0, 0.5, 0.0))
     save(path)

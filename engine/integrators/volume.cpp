@@ -128,7 +128,7 @@ LightSample sample_light_from_medium(const Light& light, const Vec3& x, Point2 u
 }  // namespace
 
 Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
-                        LocalCounters& counters, bool skip_rectangles, RectangleSampling rectangles) {
+                        LocalCounters& counters, bool skip_plane_lights, RectangleSampling rectangles) {
     // Per scattering segment: a light chosen by power, then a distance from a one-sample MIS mixture
     // of spectral-MIS distance sampling and equiangular sampling towards a point of that light (the
     // mixture's density is the average of both), then next-event estimation from there. As in
@@ -157,7 +157,7 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
         uint32_t li = static_cast<uint32_t>(selection.sample(u_select));
         const Light& light = scene.light(li);
         const bool rectangle = light.rectangle(nullptr);
-        if (skip_rectangles && rectangle) continue;
+        if (skip_plane_lights && (rectangle || light.point(nullptr))) continue;
         if (!(light.visibility & kRayVolumeScatter)) continue;  // Ray Visibility > Volume Scatter off
         const float len = s.t1 - s.t0;
         const Vec3 o = ray.o + ray.d * s.t0;

@@ -54,10 +54,11 @@ enum class RectangleSampling { kSolidAngle, kArea };
 // Single scattering along the media of a ray: per scattering segment one light chosen by power, one
 // distance (one-sample MIS of spectral-MIS distance sampling and equiangular sampling towards a
 // point of that light; for rectangles see RectangleSampling), one light sample from there, the
-// phase function and the shadow ray's transmittance. With skip_rectangles, rectangular area lights contribute nothing (photon planes
-// estimate their single scattering instead).
+// phase function and the shadow ray's transmittance. With skip_plane_lights, rectangular area lights
+// and point and spot lights without radius contribute nothing (photon planes estimate their single
+// scattering instead).
 Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
-                        LocalCounters& counters, bool skip_rectangles = false,
+                        LocalCounters& counters, bool skip_plane_lights = false,
                         RectangleSampling rectangles = RectangleSampling::kSolidAngle);
 
 }  // namespace smis
