@@ -774,6 +774,69 @@ def build_volume_planes(path):
     save(path)
 
 
+def _single_scattering_scene(*fog, camera=((0.0, -5.6, 1.5), (84.0, 0.0, 0.0))):
+    """A 512x384 single-scattering scene (max_bounces 1, Cycles' volume bounces 0) whose fog box
+    (volume_material(*fog)) holds a floor and a back wall; the camera (location, rotation) looks
+    in from outside."""
+    sc = new_scene(512, 384, samples=1024)
+    fog = volume_material(*fog)
+    sc["smis_volume_bounces"] = 0
+    make_cycles_unbiased(sc, max_bounces=1)
+    set_world(sc)
+    box_object(sc, "FogBox", (-3.0, -3.0, -0.3), (3.0, 3.0, 3.6), fog)
+    white = diffuse("White", WHITE)
+    box_object(sc, "Floor", (-2.8, -2.8, -0.1), (2.8, 2.8, 0.0), white)
+    box_object(sc, "BackWall", (-2.8, 2.7, 0.0), (2.8, 2.8, 3.4), white)
+    add_camera(sc, *camera, lens=30.0)
+    return sc, white
+
+
+def build_volume_spot(path):
+    """Single scattering from focused light: a spot light (35 degrees, blend 0.3, radius 0: a
+    point, so photon planes cover it) shining down through isotropic fog past a small cube, so the
+    beam has a shadow shaft, and a dim rectangular fill light. The beam is a small part of the
+    image's volume."""
+    sc, white = _single_scattering_scene("Fog", (0.9, 0.9, 0.9), 0.25, (0.9, 0.9, 1.0), 0.05)
+    unit_cube_object(sc, "Blocker", white, (-0.2, 0.2, 1.9), 20.0, (0.35, 0.35, 0.35))
+    unit_cube_object(sc, "Cube", diffuse("Red", RED), (0.9, 0.6, 0.4), -15.0, (0.8, 0.8, 0.8))
+    aim(add_light(sc, "Spot", 'SPOT', (-0.4, 0.0, 3.4), spot_size=math.radians(35.0), spot_blend=0.3,
+                  shadow_soft_size=0.0, energy=600.0, color=(1.0, 0.9, 0.75)), (0.1, 0.6, 0.0))
+    aim(add_light(sc, "Fill", 'AREA', (2.2, -1.5, 2.5), shape='RECTANGLE', size=0.6, size_y=0.4,
+                  energy=15.0, color=(0.7, 0.8, 1.0)), (0.0, 0.5, 0.0))
+    save(path)
+
+
+def build_volume_slit(path):
+    """Light through a gap: a rectangular area light behind a wall with a narrow vertical slit
+    (8 cm) throws a fan of light into isotropic fog, seen obliquely; a narrow strip light (2 m x 4 cm)
+    above the floor is the second light. Most of the first light's planes (and light samples) are
+    blocked."""
+    sc, white = _single_scattering_scene("Fog", (0.85, 0.85, 0.9), 0.3, (0.9, 0.9, 0.9), 0.05,
+                                         camera=((2.0, -5.4, 1.6), (84.0, 0.0, 20.0)))
+    box_object(sc, "WallL", (-2.8, 1.0, 0.0), (-0.04, 1.1, 3.0), white)
+    box_object(sc, "WallR", (0.04, 1.0, 0.0), (2.8, 1.1, 3.0), white)
+    aim(add_light(sc, "Behind", 'AREA', (0.0, 2.2, 1.6), shape='RECTANGLE', size=1.2, size_y=1.2,
+                  energy=300.0, color=(1.0, 0.85, 0.6)), (0.0, -1.0, 1.0))
+    aim(add_light(sc, "Strip", 'AREA', (0.0, -0.8, 0.6), shape='RECTANGLE', size=2.0, size_y=0.04,
+                  energy=20.0, color=(0.6, 0.8, 1.0)), (0.0, -0.8, 0.0))
+    save(path)
+
+
+def build_volume_thin_hg(path):
+    """Thin, forward-scattering medium: density 0.04, Henyey-Greenstein g = 0.7, lit by two
+    narrow rectangular lights that face the camera from behind the scene, so the glow around them
+    comes from the phase function's forward peak; a pillar between them casts a shadow."""
+    sc, white = _single_scattering_scene("Haze", (1.0, 1.0, 1.0), 0.04, (1.0, 1.0, 1.0), 0.0, 0.7)
+    box_object(sc, "Pillar", (-0.15, 0.9, 0.0), (0.15, 1.2, 2.4), white)
+    aim(add_light(sc, "BackLeft", 'AREA', (-0.9, 2.2, 1.6), shape='RECTANGLE', size=0.08, size_y=1.0,
+                  energy=80.0, color=(1.0, 0.85, 0.7)), (0.0, -5.6, 1.5))
+    aim(add_light(sc, "BackRight", 'AREA', (1.1, 2.0, 1.0), shape='RECTANGLE', size=0.8, size_y=0.06,
+                  energy=60.0, color=(0.7, 0.85, 1.0)), (0.0, -5.6, 1.5))
+    aim(add_light(sc, "Top", 'AREA', (0.0, 0.0, 3.2), shape='RECTANGLE', size=1.0, size_y=0.3,
+                  energy=40.0, color=(1.0, 1.0, 1.0)), (0.0, 0.5, 0.0))
+    save(path)
+
+
 def principled_extras(name, base, roughness, **inputs):
     """Principled BSDF with sheen / clearcoat inputs (e.g. Clearcoat=1.0, Sheen=1.0)."""
     m = _material(name, 'ShaderNodeBsdfPrincipled', distribution='GGX',
@@ -874,6 +937,9 @@ SCENE_NAMES = {
     "spectral_gold": build_spectral_gold,
     "spectral_glass": build_spectral_glass,
     "volume_planes": build_volume_planes,
+    "volume_spot": build_volume_spot,
+    "volume_slit": build_volume_slit,
+    "volume_thin_hg": build_volume_thin_hg,
     "many_lights": build_many_lights,
     "principled_coat": build_principled_coat,
     "procedural": build_procedural,

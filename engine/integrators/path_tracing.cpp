@@ -122,8 +122,8 @@ struct RgbThroughput {
         L += clamped(beta * emission_along(scene, settings, ray, found, hit, state, media, sray), state.depth <= 1);
     }
     void scattering(Color& L, const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
-                    LocalCounters& counters, bool skip_rectangles) const {
-        L += beta * single_scattering(scene, ray, media, rng, counters, skip_rectangles);
+                    LocalCounters& counters, bool skip_plane_lights) const {
+        L += beta * single_scattering(scene, ray, media, rng, counters, skip_plane_lights);
     }
     void attenuate(const RayMedia& media) { beta *= media.transmittance_to_end(); }
     const Color& transparency_beta() const { return beta; }

@@ -54,6 +54,23 @@ PhotonPlane sample_photon_plane(const PlaneLight& l, uint32_t light_index, Rng& 
     return p;
 }
 
+PhotonPlane sample_point_photon_plane(const PlaneLight& l, uint32_t light_index, Rng& rng) {
+    // Every photon path y -> x from a point light y lies in the planes through y that contain x - y;
+    // a uniform normal gives the crossing of a camera ray a closed-form density (photon_planes.cpp).
+    Point2 u{rng.next_float(), rng.next_float()};
+    Frame f(sample_uniform_sphere(u));
+    PhotonPlane p{};
+    p.s_hat = f.s;
+    p.w_l = f.t;
+    p.reach = std::min(sample_free_flight(l.flight_rate, rng.next_float()), l.max_length);
+    p.chord_length = p.sweep_length = 2.0f * p.reach;
+    p.origin = l.emitter.position - (p.s_hat + p.w_l) * p.reach;
+    p.edge0 = p.s_hat * p.chord_length;
+    p.edge1 = p.w_l * p.sweep_length;
+    p.light = light_index;
+    return p;
+}
+
 namespace {
 
 // RTCIntersectContext extended with the hit list (Embree passes the context through unchanged).

@@ -16,8 +16,12 @@ namespace smis {
 
 // A rectangular light as the planes use it: an orthonormal frame in its plane and the medium
 // the planes start in. 2D light coordinates are metres along (u_hat, v_hat) from the corner.
+// Or a point or spot light without radius (`point`): then only `emitter`, the flight rate and the
+// reach are used.
 struct PlaneLight {
     uint32_t light;        // index into Scene::lights()
+    bool point = false;
+    LightPoint emitter;
     Vec3 corner, u_hat, v_hat, normal;
     float width, height;   // |u|, |v|
     Color radiance;
@@ -45,6 +49,9 @@ struct PhotonPlane {
     float cos_alpha, sin_alpha, inv_cos_alpha, inv_sin_alpha;
     float chord_length, sweep_length;
     uint32_t light;        // index into the PlaneLight table
+    // A point light's plane is the disk of radius `reach` around the light in the plane spanned by
+    // s_hat and w_l (its quad: the square around that disk); unused for rectangles.
+    float reach = 0.0f;
 };
 
 struct PlaneHit {
@@ -76,5 +83,8 @@ private:
 
 // One plane from light `l` (chosen with probability `pmf` by the caller); six random numbers.
 PhotonPlane sample_photon_plane(const PlaneLight& l, uint32_t light_index, Rng& rng);
+// One plane from a point light: a plane through the light with a uniformly distributed normal,
+// covering the disk of a free flight's radius around it; three random numbers.
+PhotonPlane sample_point_photon_plane(const PlaneLight& l, uint32_t light_index, Rng& rng);
 
 }  // namespace smis

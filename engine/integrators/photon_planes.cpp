@@ -17,6 +17,17 @@
 // with the SMIS orientations alpha_j = alpha + j pi / n: a random rotation of the stratified set that
 // contains the realised alpha, each chord s_j through the path's actual light point y. Only the
 // realised plane was sampled (one of the n techniques), hence the factor n.
+//
+// Point and spot lights without radius (README, "Planes from point and spot lights"): a plane
+// through the light point y with a normal n uniform on the sphere, covering the disk of a free
+// flight's radius around y. A camera ray x(t) = o + t d crosses it at one t; the density of that
+// crossing over all normals is
+//   p(t) = 1/(4 pi) \int_{S^2} |n.d| delta(n.(x(t) - y)) dn = |d x u| / (pi r),  r u = x(t) - y,
+// (the normals of the planes through x(t) form the great circle orthogonal to u, on which |n.d|
+// integrates to 4 |d x u|). It is every orientation's density at once, the continuous MIS that
+// CMIS and SMIS approximate for rectangles (no chord length varies with the orientation), so every
+// weighting uses it: per crossing, of N planes,
+//   f / p = T_cam(x) sigma_s rho(x) I(u) falloff(u) / r^2 T(x, y) e^{rate r} pi r / (pmf_light N |d x u|).
 #include "integrators/photon_planes.h"
 
 #include "integrators/aux_passes.h"
@@ -38,13 +49,13 @@ struct PlaneLights {
 };
 
 // How far a plane must sweep from its light: to every point where light can scatter. The farthest
-// point of the scattering volumes' box from the light's rectangle is a pair of corners (both are
-// convex). A World volume that scatters reaches everywhere: the sweep is bounded only by its free
+// point of the scattering volumes' box from the light's rectangle (or point) is a pair of corners
+// (both are convex). A World volume that scatters reaches everywhere: the sweep is bounded only by its free
 // flight (the integrator divides by its survival), unless that has no rate; then the sweep covers the
 // geometry and the camera, the most a finite plane can. (It was the geometry's bounding sphere around
 // the light's centre: single scattering near a camera outside it, or in a World volume beyond it, was
 // missed, and light points off the centre fell short of the sphere's far side.)
-float sweep_reach(const Scene& scene, const LightRectangle& r, float flight_rate) {
+float sweep_reach(const Scene& scene, const Vec3* light_points, int count, float flight_rate) {
     const Scene::ScatteringRegion& region = scene.scattering_region();
     if (region.everywhere && flight_rate > 0.0f) return kInf;
     Vec3 lo = region.lo, hi = region.hi;
@@ -55,41 +66,58 @@ float sweep_reach(const Scene& scene, const LightRectangle& r, float flight_rate
     }
     if (!(lo.x <= hi.x)) return 0.0f;  // nothing scatters
     float farthest = 0.0f;
-    for (int l = 0; l < 4; ++l) {
-        const Vec3 y = r.corner + (l & 1 ? r.u : Vec3(0.0f)) + (l & 2 ? r.v : Vec3(0.0f));
+    for (int l = 0; l < count; ++l)
         for (int c = 0; c < 8; ++c) {
             const Vec3 x(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
-            farthest = std::max(farthest, length(x - y));
+            farthest = std::max(farthest, length(x - light_points[l]));
         }
-    }
     return farthest;
 }
 
 PlaneLights collect_plane_lights(const Scene& scene) {
     PlaneLights out;
     std::vector<float> power;
+    auto flight_rate = [&](const Vec3& p) {
+        int32_t m = scene.has_media() ? scene.medium_at(p) : kNoMedium;
+        return m >= 0 ? min_component(scene.medium(m).sigma_t()) : 0.0f;
+    };
     for (uint32_t i = 0; i < scene.lights().size(); ++i) {
+        // A light hidden from Volume Scatter rays lights no medium (single_scattering skips it too).
+        if (!(scene.light(i).visibility & kRayVolumeScatter)) continue;
         LightRectangle r;
-        if (!scene.light(i).rectangle(&r)) continue;
         PlaneLight pl;
         pl.light = i;
-        pl.corner = r.corner;
-        pl.width = length(r.u);
-        pl.height = length(r.v);
-        pl.u_hat = r.u / pl.width;
-        pl.v_hat = r.v / pl.height;
-        pl.normal = r.normal;
-        pl.radiance = r.radiance;
-        pl.area = pl.width * pl.height;
-        Vec3 center = r.corner + (r.u + r.v) * 0.5f;
-        int32_t m = scene.has_media() ? scene.medium_at(center) : kNoMedium;
-        pl.flight_rate = m >= 0 ? min_component(scene.medium(m).sigma_t()) : 0.0f;
-        pl.max_length = sweep_reach(scene, r, pl.flight_rate);
+        if (scene.light(i).point(&pl.emitter)) {
+            pl.point = true;
+            pl.flight_rate = flight_rate(pl.emitter.position);
+            pl.max_length = sweep_reach(scene, &pl.emitter.position, 1, pl.flight_rate);
+        } else if (scene.light(i).rectangle(&r)) {
+            pl.corner = r.corner;
+            pl.width = length(r.u);
+            pl.height = length(r.v);
+            pl.u_hat = r.u / pl.width;
+            pl.v_hat = r.v / pl.height;
+            pl.normal = r.normal;
+            pl.radiance = r.radiance;
+            pl.area = pl.width * pl.height;
+            pl.flight_rate = flight_rate(r.corner + (r.u + r.v) * 0.5f);
+            const Vec3 corners[4] = {r.corner, r.corner + r.u, r.corner + r.v, r.corner + r.u + r.v};
+            pl.max_length = sweep_reach(scene, corners, 4, pl.flight_rate);
+        } else {
+            continue;
+        }
         out.lights.push_back(pl);
-        power.push_back(luminance(pl.radiance) * pl.area);
+        power.push_back(scene.light(i).power(scene.radius()));
     }
     out.selection = DiscreteDistribution(power);
     return out;
+}
+
+// W of a point light's plane crossed at distance r from the light in direction u (the header's
+// point-light estimator without T_cam sigma_s rho, the shadow ray's T and the flight survival):
+// I falloff(u) pi / (r |d x u|); the plane scale holds I / (pmf N).
+float point_plane_weight(const PlaneLight& l, const Vec3& u, float r, const Vec3& d) {
+    return l.emitter.falloff(u) * kPi / (r * length(cross(d, u)));
 }
 
 // The estimator's weighting with what it needs precomputed: the rotation by pi / n between the SMIS
@@ -147,7 +175,7 @@ struct PlaneGather {
     const PhotonPlaneSet& set;
     const PlaneLights& lights;
     const PlaneWeights& weight;
-    const std::vector<Color>& scale;  // Le pi A / (pmf N) per light
+    const std::vector<Color>& scale;  // Le pi A / (pmf N) per rectangle, I / (pmf N) per point light
     uint32_t shadow_ray_budget;       // RenderSettings::plane_shadow_rays
 
     // The single scattering from the planes' lights along a camera ray that starts in `medium`, up
@@ -170,7 +198,9 @@ struct PlaneGather {
             struct Unshadowed {
                 Color cam;
                 float weight;
-                float size;  // the contribution's largest channel
+                float size;       // the contribution's largest channel
+                Vec3 from_light;  // the photon's direction at x
+                float dist;       // |x - y|
             };
             thread_local std::vector<Unshadowed> unshadowed;
             unshadowed.resize(hits.size());
@@ -179,11 +209,20 @@ struct PlaneGather {
                 const PlaneHit& hit = hits[k];
                 const PhotonPlane& p = set.plane(hit.plane);
                 const PlaneLight& l = lights.lights[p.light];
-                float dist = hit.b * p.sweep_length;
                 Unshadowed& u = unshadowed[k];
-                u.weight = weight(l, p, hit, ray.d) * med.phase.eval(-ray.d, -p.w_l) *
-                           std::exp(l.flight_rate * dist);
                 u.cam = media.transmittance(scene, hit.t) * med.sigma_s;
+                if (l.point) {
+                    const Vec3 w = ray.o + ray.d * hit.t - l.emitter.position;
+                    u.dist = length(w);
+                    u.from_light = w / u.dist;
+                    // Outside the disk the free flight reached (the quad's corners): no photon there.
+                    u.weight = u.dist <= p.reach ? point_plane_weight(l, u.from_light, u.dist, ray.d) : 0.0f;
+                } else {
+                    u.dist = hit.b * p.sweep_length;
+                    u.from_light = p.w_l;
+                    u.weight = weight(l, p, hit, ray.d);
+                }
+                u.weight *= med.phase.eval(-ray.d, -u.from_light) * std::exp(l.flight_rate * u.dist);
                 u.size = max_component(u.cam * scale[p.light] * u.weight);
                 if (!std::isfinite(u.size)) {
                     ++n->nonfinite;
@@ -203,8 +242,7 @@ struct PlaneGather {
                 const PlaneHit& hit = hits[k];
                 const PhotonPlane& p = set.plane(hit.plane);
                 Vec3 xs = ray.o + ray.d * hit.t;
-                float dist = hit.b * p.sweep_length;
-                Color tr = shadow_transmittance(scene, xs, -p.w_l, dist * (1.0f - 1e-4f), seg.medium);
+                Color tr = shadow_transmittance(scene, xs, -u.from_light, u.dist * (1.0f - 1e-4f), seg.medium);
                 ++n->shadow_rays;
                 if (is_black(tr)) continue;
                 Color c = u.cam * tr * scale[p.light] * u.weight;
@@ -272,20 +310,21 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     const PlaneLights lights = collect_plane_lights(scene);
     const bool use_planes = scene.has_media() && !lights.lights.empty() && settings.photon_planes > 0;
     std::vector<PhotonPlane> planes;
-    std::vector<Color> plane_scale;  // Le pi A / (pmf N) per light
+    std::vector<Color> plane_scale;  // Le pi A / (pmf N) per rectangle, I / (pmf N) per point light
     if (use_planes) {
         Rng rng(mix64(0x706c616e6573ull ^ settings.seed), s);
         planes.reserve(settings.photon_planes);
         for (uint32_t i = 0; i < settings.photon_planes; ++i) {
             uint32_t li = static_cast<uint32_t>(lights.selection.sample(rng.next_float()));
-            PhotonPlane p = sample_photon_plane(lights.lights[li], li, rng);
+            const PlaneLight& l = lights.lights[li];
+            PhotonPlane p = l.point ? sample_point_photon_plane(l, li, rng) : sample_photon_plane(l, li, rng);
             if (p.chord_length > 0.0f && p.sweep_length > 0.0f) planes.push_back(p);
         }
         for (uint32_t li = 0; li < lights.lights.size(); ++li) {
             const PlaneLight& l = lights.lights[li];
-            float pmf = lights.selection.pmf(li);
-            plane_scale.push_back(pmf > 0.0f ? l.radiance * (kPi * l.area / (pmf * float(settings.photon_planes)))
-                                             : Color(0.0f));
+            const float pmf_n = lights.selection.pmf(li) * float(settings.photon_planes);
+            const Color emitted = l.point ? l.emitter.intensity : l.radiance * (kPi * l.area);
+            plane_scale.push_back(pmf_n > 0.0f ? emitted / pmf_n : Color(0.0f));
         }
     }
     PhotonPlaneSet set(scene.device(), std::move(planes));

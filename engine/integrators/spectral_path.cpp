@@ -226,9 +226,9 @@ public:
     }
     // The ray's single scattering, every wavelength with its own coefficients (see above).
     void scattering(Color& L, const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
-                    LocalCounters& counters, bool skip_rectangles) {
+                    LocalCounters& counters, bool skip_plane_lights) {
         Scattering channels{*this, scene, media, L};
-        scattering_samples(scene, ray, media, rng, counters, skip_rectangles, RectangleSampling::kSolidAngle,
+        scattering_samples(scene, ray, media, rng, counters, skip_plane_lights, RectangleSampling::kSolidAngle,
                            channels);
     }
     void attenuate(const RayMedia& media) {

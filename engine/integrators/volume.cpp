@@ -170,7 +170,7 @@ struct RgbScattering {
 }  // namespace
 
 Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
-                        LocalCounters& counters, bool skip_rectangles, RectangleSampling rectangles) {
+                        LocalCounters& counters, bool skip_plane_lights, RectangleSampling rectangles) {
     // Per scattering segment: a light chosen by power, then a distance from a one-sample MIS mixture
     // of spectral-MIS distance sampling and equiangular sampling towards a point of that light (the
     // mixture's density is the average of both), then next-event estimation from there. As in
@@ -187,7 +187,7 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
     // (distance, light point) cancels the 1/d^2 of the connection; for the rest the focus is drawn
     // independently, which keeps the estimator unbiased for every light type.
     RgbScattering rgb{scene, media};
-    scattering_samples(scene, ray, media, rng, counters, skip_rectangles, rectangles, rgb);
+    scattering_samples(scene, ray, media, rng, counters, skip_plane_lights, rectangles, rgb);
     return rgb.L;
 }
 

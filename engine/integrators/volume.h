@@ -60,10 +60,11 @@ enum class RectangleSampling { kSolidAngle, kArea };
 // Single scattering along the media of a ray: per scattering segment one light chosen by power, one
 // distance (one-sample MIS of spectral-MIS distance sampling and equiangular sampling towards a
 // point of that light; for rectangles see RectangleSampling), one light sample from there, the
-// phase function and the shadow ray's transmittance. With skip_rectangles, rectangular area lights contribute nothing (photon planes
-// estimate their single scattering instead).
+// phase function and the shadow ray's transmittance. With skip_plane_lights, rectangular area lights
+// and point and spot lights without radius contribute nothing (photon planes estimate their single
+// scattering instead).
 Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
-                        LocalCounters& counters, bool skip_rectangles = false,
+                        LocalCounters& counters, bool skip_plane_lights = false,
                         RectangleSampling rectangles = RectangleSampling::kSolidAngle);
 
 // Next-event sample of `light` from a point x in a medium: rectangles as `rectangles` says, every
@@ -82,7 +83,7 @@ LightSample sample_light_from_medium(const Light& light, const Vec3& x, Point2 u
 //       the scattering point, sigma_s and the shadow ray's transmittance per channel.
 template <class Channels>
 void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng, LocalCounters& counters,
-                        bool skip_rectangles, RectangleSampling rectangles, Channels& channels) {
+                        bool skip_plane_lights, RectangleSampling rectangles, Channels& channels) {
     const DiscreteDistribution& selection = scene.light_selection();
     for (int i = 0; i < media.count; ++i) {
         const RayMedia::Segment& s = media.seg[i];
@@ -95,7 +96,7 @@ void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& medi
         uint32_t li = static_cast<uint32_t>(selection.sample(u_select));
         const Light& light = scene.light(li);
         const bool rectangle = light.rectangle(nullptr);
-        if (skip_rectangles && rectangle) continue;
+        if (skip_plane_lights && (rectangle || light.point(nullptr))) continue;
         if (!(light.visibility & kRayVolumeScatter)) continue;  // Ray Visibility > Volume Scatter off
         const float len = s.t1 - s.t0;
         const Vec3 o = ray.o + ray.d * s.t0;

@@ -25,6 +25,19 @@ inline float smoothstep01(float x) {
     return x * x * (3.0f - 2.0f * x);
 }
 
+}  // namespace
+
+float LightPoint::falloff(const Vec3& dir_from_light) const {
+    if (!spot) return 1.0f;
+    float c = dot(dir_from_light, axis);
+    if (c <= cos_half) return 0.0f;
+    float t = c - cos_half;
+    if (smooth > 0.0f && t < smooth) c *= smoothstep01(t / smooth);
+    return c;
+}
+
+namespace {
+
 // Rectangle or ellipse, one-sided, emitting along -Z of the light object (Blender area light).
 // With a spread below 180 degrees the emission is confined to a cone (AreaSpread); a rectangle then
 // samples only the part of it that can reach the reference point, as Cycles does
@@ -158,8 +171,7 @@ class PointLight : public Light {
 public:
     PointLight(const Vec3& pos, float radius, const Color& intensity, bool spot, const Vec3& axis, float cos_half,
                float smooth)
-        : pos_(pos), radius_(radius), intensity_(intensity), spot_(spot), axis_(axis), cos_half_(cos_half),
-          smooth_(smooth) {
+        : pos_(pos), radius_(radius), intensity_(intensity), emitter_{pos, intensity, spot, axis, cos_half, smooth} {
         area_ = kPi * radius * radius;
     }
     bool is_delta() const override { return radius_ <= 0.0f; }
@@ -210,24 +222,21 @@ public:
         hit->pdf = area_to_solid_angle(1.0f / area_, t * t, -denom);
         return true;
     }
-    float power(float) const override { return luminance(intensity_) * 4.0f * kPi * (spot_ ? 0.5f * (1.0f - cos_half_) : 1.0f); }
+    float power(float) const override {
+        return luminance(intensity_) * 4.0f * kPi * (emitter_.spot ? 0.5f * (1.0f - emitter_.cos_half) : 1.0f);
+    }
+    bool point(LightPoint* out) const override {
+        if (radius_ > 0.0f) return false;  // a disk facing each shading point: no fixed emitter
+        if (out) *out = emitter_;
+        return true;
+    }
 
 private:
-    // Cycles 3.4 spot_attenuation(): cosine to the axis inside the cone, smoothstep over the blend.
-    float attenuation(const Vec3& dir_from_light) const {
-        if (!spot_) return 1.0f;
-        float c = dot(dir_from_light, axis_);
-        if (c <= cos_half_) return 0.0f;
-        float t = c - cos_half_;
-        if (smooth_ > 0.0f && t < smooth_) c *= smoothstep01(t / smooth_);
-        return c;
-    }
+    float attenuation(const Vec3& dir_from_light) const { return emitter_.falloff(dir_from_light); }
     Vec3 pos_;
     float radius_, area_;
     Color intensity_;
-    bool spot_;
-    Vec3 axis_;
-    float cos_half_, smooth_;
+    LightPoint emitter_;
 };
 
 // Sun: strength S (W/m^2) from a cone of angular diameter `angle` (a delta direction when 0).

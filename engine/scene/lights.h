@@ -34,6 +34,20 @@ struct LightRectangle {
     float area() const { return length(cross(u, v)); }
 };
 
+// A point or spot light without radius as photon planes see it: a point emitting intensity(dir)
+// (W/sr) towards unit direction dir, Cycles 3.4's spot falloff included.
+struct LightPoint {
+    Vec3 position;
+    Color intensity{0.0f};  // along the spot's axis, or in every direction of a point light
+    bool spot = false;
+    Vec3 axis;              // the spot's direction
+    float cos_half = -1.0f; // cosine of half the spot size
+    float smooth = 0.0f;    // (1 - cos_half) x spot blend
+    // Cycles 3.4 spot_attenuation(): the cosine to the axis inside the cone, times a smoothstep
+    // over the blend's band of cosines; 1 for a point light.
+    float falloff(const Vec3& dir_from_light) const;
+};
+
 // A light struck by a ray (BSDF-sampled or camera).
 struct LightHit {
     float t = kInf;
@@ -68,6 +82,9 @@ public:
     // Rectangular area lights (Blender's SQUARE/RECTANGLE shapes) describe themselves for photon
     // planes; every other light returns false.
     virtual bool rectangle(LightRectangle* out) const { return false; }
+    // Point and spot lights without radius (delta lights) describe themselves for photon planes
+    // too; every other light returns false.
+    virtual bool point(LightPoint* out) const { return false; }
     // Emitted power (luminance-weighted), used for light selection proportional to power. Lights at
     // infinity deliver power in proportion to the scene's cross-section, hence the radius.
     virtual float power(float scene_radius) const = 0;

@@ -512,6 +512,33 @@ TEST(PhotonPlanes, WorldVolumeBeyondTheGeometryConvergesToThePathTracer) {
     }
 }
 
+TEST(PhotonPlanes, PointAndSpotLightPlanesConvergeToThePathTracer) {
+    // Planes through a point light with uniform normals, weighted by the closed-form density of
+    // their crossing (photon_planes.cpp): a spot light (cone falloff and blend) and a point light in
+    // one fog box, each light's planes drawn by power from one set. (Checked red: without the spot's
+    // falloff in the planes' weight, all 37 comparisons disagree, the image mean 4.3x PATH's.)
+    Medium fog = make_medium({0.05f, 0.08f, 0.12f}, {0.35f, 0.3f, 0.25f}, 0.5f);
+    LightDesc spot = point_light({-0.4f, 0.3f, 2.0f}, 60.0f);
+    spot.type = "SPOT";
+    spot.spot_size = 1.0f;  // radians; pointing down (-Z of the identity transform)
+    spot.spot_blend = 0.4f;
+    auto scene = fog_box(kW, kH, fog, {spot, point_light({0.7f, 0.6f, 1.2f}, 15.0f)});
+    BlockStats ref = across_renders(scene, "PATH", 16, 1024, 2100);
+    for (const char* e : {"PLANES_UNWEIGHTED", "PLANES_SMIS_EXACT"}) {
+        BlockStats planes = across_renders(scene, e, 16, 8, 2300);
+        int bad = disagreeing_blocks(planes, ref, 2);
+        std::printf("%-18s point and spot lights: image mean %.5f +- %.5f (PATH %.5f +- %.5f); blocks disagreeing: %d\n",
+                    e, planes.image.mean(), planes.image.std_error(), ref.image.mean(), ref.image.std_error(), bad);
+        for (size_t b = 0; b < planes.blocks.size(); ++b) {
+            double z = st::z_test_difference(planes.blocks[b], ref.blocks[b], 1e-7).z;
+            if (std::fabs(z) > 3.0)
+                std::printf("  block %zu: %.5f +- %.5f against %.5f +- %.5f, z %.2f\n", b, planes.blocks[b].mean(),
+                            planes.blocks[b].std_error(), ref.blocks[b].mean(), ref.blocks[b].std_error(), z);
+        }
+        EXPECT_EQ(bad, 0) << e;
+    }
+}
+
 TEST(PhotonPlanes, StressCasesStayFinite) {
     struct Case {
         const char* name;
