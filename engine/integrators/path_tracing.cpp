@@ -202,7 +202,7 @@ Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ra
         }
         state.light_pdf_scale = resample ? resampled_light_pdf_scale(settings) : 1.0f;
         if (resample) {
-            L += clamped(beta * ris_direct(scene, settings, sp, rng), state.depth == 0);
+            L += clamped(beta * ris_direct(scene, settings, sp, rng, state.medium), state.depth == 0);
         } else {
             DirectSample ds = sample_direct(scene, settings, sp, rng, counters, state.medium);
             if (ds.valid)

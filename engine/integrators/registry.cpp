@@ -56,11 +56,11 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, cons
         require_feature(kWithResampledLights, "RIS/ReSTIR", "resampled_lights");
     if (settings.volume_estimator != "PATH") require_feature(kWithVolumes, "photon planes", "volumes");
     if (settings.stratified) require_feature(kWithStratified, "the stratified sampling pattern", "stratified");
-    // RIS / ReSTIR live in the RGB surface path tracer: their resampling knows neither transmittance
-    // nor spectra, so those combinations are refused rather than rendered wrong.
-    if (settings.direct_light != DirectLightStrategy::Nee && (scene.has_media() || spectral != "RGB"))
-        throw std::invalid_argument("RIS/ReSTIR direct lighting does not support participating media or spectral "
-                                    "rendering yet: use NEE (or set Spectral to RGB)");
+    // RIS / ReSTIR live in the RGB path tracer: their resampling knows no spectra, so that
+    // combination is refused rather than rendered wrong. (Media are supported: direct_lighting.h.)
+    if (settings.direct_light != DirectLightStrategy::Nee && spectral != "RGB")
+        throw std::invalid_argument("RIS/ReSTIR direct lighting does not support spectral rendering yet: use NEE "
+                                    "(or set Spectral to RGB)");
     if (settings.volume_estimator != "PATH") return make_volume_integrator(settings);
     if (settings.spectral_wavelength != 0.0f) {
         if (!(settings.spectral_wavelength >= spectral::kLambdaMin && settings.spectral_wavelength <= spectral::kLambdaMax))
@@ -89,8 +89,6 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, cons
         return std::make_unique<RestirIntegrator>();
     auto it = factories.find(settings.integrator);
     if (it == factories.end()) throw std::invalid_argument("unknown integrator '" + settings.integrator + "'");
-    if (settings.integrator != "PATH" && scene.has_media())
-        throw std::invalid_argument(settings.integrator + " does not support participating media: use PATH");
     return it->second();
 }
 

@@ -568,10 +568,10 @@ TEST(PhotonPlanes, UnknownEstimatorAndBadSettingsAreRefused) {
     s.integrator = "PATH";
     s.smis_planes = 0;
     EXPECT_THROW(RenderSession(scene, s), std::invalid_argument);
-    // Path-space filtering has no media support: refused, not silently wrong.
-    RenderSettings psf;
-    psf.integrator = "PSF_SMIS";
-    EXPECT_THROW(RenderSession(scene, psf), std::invalid_argument);
+    // Spectral rendering has no media support: an explicit spectral mode is refused, not silently wrong.
+    RenderSettings spectral;
+    spectral.spectral = "SMIS";
+    EXPECT_THROW(RenderSession(scene, spectral), std::invalid_argument);
 }
 
 TEST(Medium, ScenesWithoutMediaReportNone) {
