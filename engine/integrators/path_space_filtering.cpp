@@ -284,6 +284,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
     *model = TechniqueDensity{};
     for (int m = 0; m < extra_paths; ++m) extra[m] = PrivateSuffix{};
     PathState st = camera_path_state(ray.o, false);
+    if constexpr (kMedia) st.medium = scene.camera_medium();
     Color beta(1.0f);
     float eta_scale = 1.0f, prefix_length = 0.0f;
     for (;; ++st.depth) {

@@ -43,6 +43,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
     px.r = Reservoir{};
     px.eval = CandidateEval{};
     PathState st = camera_path_state(ray.o, false);
+    if constexpr (kMedia) st.medium = scene.camera_medium();
     Color beta(1.0f);
     float eta_scale = 1.0f;
     for (;; ++st.depth) {

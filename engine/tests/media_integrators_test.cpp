@@ -17,9 +17,10 @@ constexpr int kW = 20, kH = 20;
 
 // The room of psf_test's dirac_room (red left wall, mirror right wall, smooth glass ball, a thin
 // card) with fog in its lower part: a pass-through box (index-matched boundary) the camera looks
-// into, which holds the ball, the card and a small point lamp, under the ceiling's square light.
-// Paths cross the fog's boundary on the way to and from every vertex in it; the ball's inside is
-// the fog too (a surface without a volume leaves the medium unchanged).
+// into, which holds the ball, the card and a small point lamp, under the ceiling's square light,
+// and a thin World volume everywhere else (the camera's medium). Paths cross the fog's boundary on
+// the way to and from every vertex in it; the ball's inside is the fog too (a surface without a
+// volume leaves the medium unchanged).
 std::shared_ptr<Scene> fog_room(int w, int h) {
     auto s = std::make_shared<Scene>();
     const uint32_t white = s->add_material(diffuse(Color(0.7f)));
@@ -42,6 +43,10 @@ std::shared_ptr<Scene> fog_room(int w, int h) {
     boundary.pass_through = true;
     boundary.medium = s->add_medium(fog);
     const uint32_t fog_box = s->add_material(boundary);
+    Medium haze;
+    haze.sigma_a = Color(0.02f);
+    haze.sigma_s = Color(0.05f, 0.08f, 0.1f);
+    s->set_world_medium(s->add_medium(haze));
     add_room(*s, white, white, red);
     add_box(*s, {0.98f, -1.0f, 0.0f}, {1.0f, 1.0f, 2.0f}, mirror);
     add_box(*s, {-0.95f, -0.95f, 0.02f}, {0.95f, 0.95f, 1.1f}, fog_box);
