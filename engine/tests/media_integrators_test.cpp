@@ -49,7 +49,7 @@ std::shared_ptr<Scene> fog_room(int w, int h) {
     s->set_world_medium(s->add_medium(haze));
     add_room(*s, white, white, red);
     add_box(*s, {0.98f, -1.0f, 0.0f}, {1.0f, 1.0f, 2.0f}, mirror);
-    add_box(*s, {-0.95f, -0.95f, 0.02f}, {0.95f, 0.95f, 1.1f}, fog_box);
+    add_box(*s, {-0.95f, -0.95f, 0.02f}, {0.3f, 0.95f, 1.1f}, fog_box);
     add_sphere(*s, 0.3f, 16, 32, ball, true, {-0.4f, 0.3f, 0.32f});
     const float card[] = {-0.1f, -0.2f, 0.0f, 0.6f, -0.2f, 0.0f, 0.6f, -0.2f, 0.55f, -0.1f, -0.2f, 0.55f};
     const int32_t card_tris[] = {0, 1, 2, 0, 2, 3};
