@@ -21,6 +21,27 @@ struct MediaSegment {
 MediaSegment trace_media_segment(const Scene& scene, const RenderSettings& settings, const Ray& ray,
                                  const PathState& state, SurfaceHit* hit, Rng& rng, LocalCounters& counters);
 
+// One segment of a camera path's prefix as ReSTIR's and path-space filtering's stage 1 take it: the
+// emission found along `ray` (clamped as Clamp Direct's at depth <= 1) and, with media (kMedia: the
+// scene has some), the single scattering along it are added to *L under the throughput beta; with
+// media the segment's transmittance goes into beta and the medium at its end into st. Returns
+// whether the ray found a surface (*hit).
+template <bool kMedia>
+bool trace_prefix_segment(const Scene& scene, const RenderSettings& settings, const Ray& ray, PathState& st,
+                          Color& beta, SurfaceHit* hit, Rng& rng, LocalCounters& counters, Color* L) {
+    if constexpr (kMedia) {
+        const MediaSegment seg = trace_media_segment(scene, settings, ray, st, hit, rng, counters);
+        *L += clamp_contribution(settings, beta * seg.emission, st.depth <= 1) + beta * seg.scattering;
+        beta *= seg.transmittance;
+        st.medium = seg.end_medium;
+        return seg.found;
+    } else {
+        const bool found = scene.intersect(ray, hit);
+        *L += clamp_contribution(settings, beta * emission_along(scene, settings, ray, found, *hit, st), st.depth <= 1);
+        return found;
+    }
+}
+
 // A reconnection along the shadow ray s, which starts in `medium` (path-space filtering's connections
 // from one pixel's x1 to another's z1): false when an opaque surface blocks it (a boundary without a
 // surface shader does not: the path's own rays pass it), else *tr, when given, receives its

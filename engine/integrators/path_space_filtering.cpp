@@ -289,17 +289,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
     float eta_scale = 1.0f, prefix_length = 0.0f;
     for (;; ++st.depth) {
         SurfaceHit hit;
-        bool found;
-        if constexpr (kMedia) {
-            const MediaSegment seg = trace_media_segment(scene, settings, ray, st, &hit, rng, counters);
-            found = seg.found;
-            rec.fixed += clamp_contribution(settings, beta * seg.emission, st.depth <= 1) + beta * seg.scattering;
-            beta *= seg.transmittance;
-            st.medium = seg.end_medium;
-        } else {
-            found = scene.intersect(ray, &hit);
-            rec.fixed += clamp_contribution(settings, beta * emission_along(scene, settings, ray, found, hit, st), st.depth <= 1);
-        }
+        const bool found = trace_prefix_segment<kMedia>(scene, settings, ray, st, beta, &hit, rng, counters, &rec.fixed);
         if (add_transparency(settings, st, found, hit, beta, counters)) return rec;
         if (!found || beyond_bounce_limits(settings, st) || (kMedia && is_black(beta))) return rec;
         prefix_length += hit.t;

@@ -48,17 +48,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
     float eta_scale = 1.0f;
     for (;; ++st.depth) {
         SurfaceHit hit;
-        bool found;
-        if constexpr (kMedia) {
-            const MediaSegment seg = trace_media_segment(scene, settings, ray, st, &hit, rng, counters);
-            found = seg.found;
-            px.fixed += clamp_contribution(settings, beta * seg.emission, st.depth <= 1) + beta * seg.scattering;
-            beta *= seg.transmittance;
-            st.medium = seg.end_medium;
-        } else {
-            found = scene.intersect(ray, &hit);
-            px.fixed += clamp_contribution(settings, beta * emission_along(scene, settings, ray, found, hit, st), st.depth <= 1);
-        }
+        const bool found = trace_prefix_segment<kMedia>(scene, settings, ray, st, beta, &hit, rng, counters, &px.fixed);
         if (add_transparency(settings, st, found, hit, beta, counters)) return;
         if (!found || beyond_bounce_limits(settings, st) || (kMedia && is_black(beta))) return;
         px.distance += hit.t;

@@ -175,3 +175,12 @@ TEST(MediaIntegrators, TheTestSeesAFivePercentError) {
     std::printf("PSF_SMIS_UNBIASED x 0.95: %.4f of pixel channels agree, green image-mean z = %.2f\n", acc, z);
     EXPECT_TRUE(acc < 0.99 || stats::two_sided_p_value(z) < stats::sidak_significance(0.001, 3));
 }
+
+TEST(MediaIntegrators, SameSeedSameImageWhateverTheThreadCount) {
+    for (const char* name : {"PSF_SMIS_UNBIASED", "PSF_SMIS", "PATH+RIS", "PATH+RESTIR_SEED"}) {
+        RenderSettings st = with(name);
+        st.samples = 2;
+        st.seed = 11;
+        expect_same_image_whatever_the_thread_count(scene(), st, 3, name);
+    }
+}
