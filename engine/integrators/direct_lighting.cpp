@@ -1,6 +1,16 @@
 #include "integrators/direct_lighting.h"
 
 namespace smis {
+namespace {
+
+// The contribution of r's sample (e, evaluated at sp) in a scene with media: g T W w_light.
+[[gnu::noinline]] Color shaded_through_media(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                                             const Reservoir& r, const CandidateEval& e, int32_t medium) {
+    const Color tr = candidate_transmittance(scene, sp, e, medium);
+    return is_black(tr) ? Color(0.0f) : visible_reservoir_contribution(scene, settings, sp, r, e) * tr;
+}
+
+}  // namespace
 
 CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, const LightCandidate& x) {
     CandidateEval e;
@@ -18,14 +28,23 @@ CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, con
     return e;
 }
 
-bool candidate_visible(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e) {
+bool candidate_visible(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e, int32_t medium) {
     if (!scene.light(e.light).cast_shadow) return true;  // Cast Shadow off: no shadow ray
+    if (scene.has_media()) return !is_black(candidate_transmittance(scene, sp, e, medium));
     const ShadowRay shadow = shadow_ray(sp, e.ls.wi, e.ls.dist);
     return !scene.occluded(shadow.o, shadow.d, shadow.tmax, shadow.time) && reaches_mesh_light(scene, shadow, e.ls);
 }
 
+Color candidate_transmittance(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e, int32_t medium) {
+    if (!scene.light(e.light).cast_shadow) return Color(1.0f);  // nor the media on the way (Cycles)
+    const ShadowRay shadow = shadow_ray(sp, e.ls.wi, e.ls.dist);
+    const Color tr =
+        shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, medium_towards(scene, sp, e.ls.wi, medium));
+    return is_black(tr) || !reaches_mesh_light(scene, shadow, e.ls) ? Color(0.0f) : tr;
+}
+
 Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng,
-                        CandidateEval* chosen_out) {
+                        CandidateEval* chosen_out, int32_t medium) {
     Reservoir r;
     const DiscreteDistribution& selection = scene.light_selection();
     r.M = float(std::max(1, candidates));
@@ -40,7 +59,7 @@ Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidat
         // Resampling weight p^(x) / p(x), p(x) = pmf(i) (u is uniform).
         if (r.update(x, e.target / selection.pmf(x.light), u_pick)) chosen = e;
     }
-    if (chosen.target > 0.0f && !(visibility_reuse && !candidate_visible(scene, sp, chosen))) {
+    if (chosen.target > 0.0f && !(visibility_reuse && !candidate_visible(scene, sp, chosen, medium))) {
         r.W = r.w_sum / (r.M * chosen.target);
         r.target = chosen.target;
     }
@@ -49,10 +68,12 @@ Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidat
 }
 
 Color reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
-                             const Reservoir& r) {
+                             const Reservoir& r, int32_t medium) {
     if (!r.has_sample()) return Color(0.0f);
     CandidateEval e = evaluate_candidate(scene, sp, r.y);
-    if (!(e.target > 0.0f) || !candidate_visible(scene, sp, e)) return Color(0.0f);
+    if (!(e.target > 0.0f)) return Color(0.0f);
+    if (scene.has_media()) return shaded_through_media(scene, settings, sp, r, e, medium);
+    if (!candidate_visible(scene, sp, e)) return Color(0.0f);
     return visible_reservoir_contribution(scene, settings, sp, r, e);
 }
 
@@ -69,11 +90,14 @@ Color visible_reservoir_contribution(const Scene& scene, const RenderSettings& s
     return e.g * (w_light * r.W);
 }
 
-Color ris_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng) {
+Color ris_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
+                 int32_t medium) {
     // No visibility reuse: the one shadow ray is traced for the contribution itself.
     CandidateEval chosen;
     Reservoir r = ris_reservoir(scene, sp, settings.ris_candidates, false, rng, &chosen);
-    if (!r.has_sample() || !candidate_visible(scene, sp, chosen)) return Color(0.0f);
+    if (!r.has_sample()) return Color(0.0f);
+    if (scene.has_media()) return shaded_through_media(scene, settings, sp, r, chosen, medium);
+    if (!candidate_visible(scene, sp, chosen)) return Color(0.0f);
     return visible_reservoir_contribution(scene, settings, sp, r, chosen);
 }
 

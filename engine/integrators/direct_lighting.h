@@ -11,8 +11,15 @@
 //
 // Candidates come from the power-based light selection: p(x) = pmf(i). The resampling target is
 // p^_q(x) = luminance(g_q(x)), the unshadowed contribution.
+//
+// Media. In a scene with participating media the target stays unshadowed (no transmittance): the
+// shading multiplies g by the shadow ray's transmittance T_q(x) from the medium q's path arrived in,
+// and the visibility V_q(x) that the reservoirs' support and the reuse's MIS pdfs depend on is
+// [T_q(x) > 0], a deterministic function of q and x like the surface-only visibility. An unbiased
+// contribution weight W for the support {p^ > 0, V = 1} then estimates sum_i int g T du, since
+// g T vanishes wherever the target or V does.
 #pragma once
-#include "integrators/path_tracing.h"
+#include "integrators/volume.h"
 
 namespace smis {
 
@@ -29,8 +36,13 @@ struct CandidateEval {
     uint32_t light = 0;  // which light (x.light)
 };
 CandidateEval evaluate_candidate(const Scene& scene, const ShadingPoint& sp, const LightCandidate& x);
-// Whether the candidate's light point is visible from the shading point (one shadow ray).
-bool candidate_visible(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e);
+// Whether the candidate's light point is visible from the shading point (one shadow ray). With media,
+// `medium` is the one sp's path arrived in, and visible means a transmittance that is not black.
+bool candidate_visible(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e,
+                       int32_t medium = kNoMedium);
+// With media: the shadow ray's transmittance towards the candidate's light point (0 where blocked),
+// as sample_direct's.
+Color candidate_transmittance(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e, int32_t medium);
 
 // A weighted reservoir (Chao 1982) holding one sample y with an unbiased contribution weight W: for
 // any h supported where the reservoir can produce samples, E[h(y) W] = int h (Lin et al. 2022).
@@ -58,8 +70,9 @@ struct Reservoir {
 // 2005 eq. 4), W = w_sum / (M p^(y)). With `visibility_reuse`, an occluded y gets W = 0 (one shadow
 // ray; Bitterli et al. 2020 Alg. 5 lines 7-9), which makes the reservoir's support the visible set.
 // `chosen`, when given, receives the selected candidate evaluated at sp (so it is not evaluated again).
+// `medium`: the one sp's path arrived in (scenes with media).
 Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidates, bool visibility_reuse, Rng& rng,
-                        CandidateEval* chosen = nullptr);
+                        CandidateEval* chosen = nullptr, int32_t medium = kNoMedium);
 
 // The direct-light contribution of a reservoir at its shading point: g(y) V(y) W (one shadow ray)
 // times w_light(y), its MIS weight against the vertex's BSDF sample, whose emission gets
@@ -70,8 +83,9 @@ Reservoir ris_reservoir(const Scene& scene, const ShadingPoint& sp, int candidat
 // density itself (scale 1) gave small emitters' BSDF hits almost full weight, the fireflies of
 // glossy surfaces; no BSDF sampling at all (weight 0) left the near field of emitters to light
 // sampling's 1/d^2 tail (measured 1.5% low at 256 spp on scenes/many_lights.blend).
+// With media, g V becomes g T (the shadow ray's transmittance from `medium`, see above).
 Color reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
-                             const Reservoir& r);
+                             const Reservoir& r, int32_t medium = kNoMedium);
 // The same for a sample already evaluated and known to be visible at sp (e = evaluate_candidate(sp, r.y)):
 // no evaluation, no shadow ray.
 Color visible_reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
@@ -81,7 +95,9 @@ inline float resampled_light_pdf_scale(const RenderSettings& settings) {
     return float(std::max(1, settings.ris_candidates));
 }
 
-// The RIS strategy of the path tracer: ris_reservoir + reservoir_contribution.
-Color ris_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng);
+// The RIS strategy of the path tracer: ris_reservoir + reservoir_contribution (`medium`: the one the
+// path arrived in, scenes with media).
+Color ris_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
+                 int32_t medium = kNoMedium);
 
 }  // namespace smis

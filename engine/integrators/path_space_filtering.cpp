@@ -13,6 +13,19 @@
 // would blur shadows; the indirect light is smooth over a small radius, which is where reuse pays.
 // Densities are in the area measure at z1 (solid-angle pdf x |cos theta_z1| / d^2), for every term
 // of the SMIS denominator (eq. 17).
+//
+// Media (scenes with media only: the stage-1 tracers are templates instantiated for them). The prefix
+// and the suffix take their segments as the path tracer does (transmittance, single scattering,
+// medium tracking: trace_media_segment), and x1's and z1's light samples carry their shadow rays'
+// transmittance. Vertices are surface vertices only (volume bounces = 0), so the filter gathers as
+// without media. The light arriving at x1 along its BSDF sample is split in two: the single
+// scattering along the segment x1 -> z1, a per-pixel part (no other pixel's sample estimates its own
+// segment), and T(x1, z1) L_out(z1), the reused part. A pixel q connecting to another path's z1
+// needs T(q, z1), not the sampler's: the unbiased variant traces it with the connection's visibility
+// (from the medium on that side of q), and its denominators count a technique wherever its ray can
+// reach z1, which a boundary without a surface shader does not stop (connection_through_media). The
+// biased variants reuse the sampler's T(x1_j, z1) L_out(z1) as they reuse its unoccluded L_out:
+// their bias grows with the radius and the medium's density, and vanishes as the radius shrinks.
 #include "integrators/path_space_filtering.h"
 
 #include <algorithm>
@@ -20,6 +33,7 @@
 
 #include "integrators/aux_passes.h"
 #include "integrators/hash_grid.h"
+#include "integrators/media_segments.h"
 #include "integrators/path_tracing.h"
 #include "integrators/psf_density.h"
 #include "integrators/tiles.h"
@@ -49,7 +63,8 @@ namespace {
 struct SuffixVertex {
     Vec3 z, z_ng, z_ns;       // z1, its geometric and shading normals (both on the geometric side)
     uint32_t z_material = 0;
-    Color L_out{0.0f};        // radiance leaving z1 towards x1, emission at z1 excluded
+    Color L_out{0.0f};        // radiance leaving z1 towards x1, emission at z1 excluded (with media: as
+                              // it arrives at x1, times the segment's transmittance)
     // z1's own estimators, kept so the unbiased variant can re-evaluate z1's BSDF for another x1:
     // L_out(wo) = f(wo, nee_dir) nee_weighted + f(wo, next_dir) next_weighted.
     Vec3 nee_dir, next_dir;
@@ -80,6 +95,15 @@ struct RecordAttribs {
     SurfaceAttribs x1, z1;
 };
 
+// The media at a record's x1, beside the records and only for scenes with media: the medium on each
+// side of x1's surface (a ray leaving x1 towards its ng side starts in `front`, the one the prefix
+// arrived in, else in `back`), and the transmittance along the own suffix's segment x1 -> z1.
+struct RecordMedia {
+    int32_t front = kNoMedium, back = kNoMedium;
+    Color suffix_tr{1.0f};
+    int32_t towards(const Vec3& ng, const Vec3& d) const { return dot(d, ng) > 0.0f ? front : back; }
+};
+
 Bsdf bsdf_at(const Scene& scene, uint32_t material, const Vec3& ns, const Vec3& ng, bool backfacing,
              const SurfaceAttribs& attr, const Vec3& wo) {
     const Material& m = scene.material(material);
@@ -106,6 +130,7 @@ struct SuffixSample : SuffixVertex {
     Color fixed{0.0f};  // its per-pixel part: the emission it finds at z1, or a Dirac lobe's whole path
     bool has_suffix = false;
     SurfaceAttribs z_attr;
+    Color segment_tr{1.0f};  // with media: the transmittance along x1 -> z1 (folded into L_out)
 };
 
 // The geometry of connecting x1 at p to a suffix vertex z (normal z_ng): the direction, the squared
@@ -143,6 +168,8 @@ struct PrivateSuffix {
 // the gathering pixel's lobe would decide the type).
 constexpr uint32_t kConnectionVisibility = kRayBounceTypes;
 
+// kMedia: the scene has media; prefix.medium is the one the prefix arrived in at x1.
+template <bool kMedia>
 SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
                           const PathState& prefix, const BsdfSample& bs, const Color& beta, float eta_scale, int light_samples,
                           int own_samples, bool dirac_z1_per_pixel, Rng& rng, LocalCounters& counters) {
@@ -159,6 +186,7 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
     st1.transmission_bounces = prefix.transmission_bounces, st1.transparent_bounces = prefix.transparent_bounces;
     st1.diffuse_ancestor = true;  // no subsurface walks in path-space filtering
     advance_ray_type(st1, sp.bsdf, bs);
+    if constexpr (kMedia) st1.medium = medium_towards(scene, sp, bs.wi, prefix.medium);
     const Ray r1 = bounce_ray(sp, bs, st1);
     const Color path_weight = beta * bs.value / bs.pdf;
     const Color bsdf_weight = path_weight / float(own_samples);
@@ -169,9 +197,23 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
         return out;
     }
     SurfaceHit h1;
-    bool found1 = scene.intersect(r1, &h1);
-    out.fixed = clamp_sample_share(settings, bsdf_weight * emission_along(scene, settings, r1, found1, h1, st1),
-                                   own_samples, st1.depth <= 1);
+    bool found1;
+    if constexpr (kMedia) {
+        // The single scattering along x1 -> z1 is this pixel's alone (see the top of the file).
+        const MediaSegment seg = trace_media_segment(scene, settings, r1, st1, &h1, rng, counters);
+        found1 = seg.found;
+        out.fixed = clamp_sample_share(settings, bsdf_weight * seg.emission, own_samples, st1.depth <= 1) +
+                    bsdf_weight * seg.scattering;
+        out.segment_tr = seg.transmittance;
+        // z1 is shaded even where the segment's transmittance underflows to 0: other pixels' connections
+        // to it may see it (the unbiased variant's denominators count this technique wherever its ray
+        // reaches z1).
+        st1.medium = seg.end_medium;
+    } else {
+        found1 = scene.intersect(r1, &h1);
+        out.fixed = clamp_sample_share(settings, bsdf_weight * emission_along(scene, settings, r1, found1, h1, st1),
+                                       own_samples, st1.depth <= 1);
+    }
     if (!found1 || beyond_bounce_limits(settings, st1)) return out;
 
     // z1: shade it once, keeping its NEE and BSDF estimators apart for re-evaluation.
@@ -179,7 +221,7 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
     subsurface_fallback(scene, sp1);
     light_path_lobes(settings, st1, sp1);
     if (sp1.bsdf.empty()) return out;
-    DirectSample ds1 = sample_direct(scene, settings, sp1, rng, counters);
+    DirectSample ds1 = sample_direct(scene, settings, sp1, rng, counters, st1.medium);
     if (ds1.valid) {
         out.nee_dir = ds1.wi;
         out.nee_weighted = ds1.weighted;
@@ -194,6 +236,7 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
         st2.light_pdf_scale = 1.0f;
         st2.transparent_background = false;
         advance_ray_type(st2, sp1.bsdf, bs1);
+        if constexpr (kMedia) st2.medium = medium_towards(scene, sp1, bs1.wi, st1.medium);
         // Russian roulette in the suffix sees the whole path's throughput, as in PATH: a suffix
         // traced as if it started with throughput 1 would survive longer, costing more per path.
         float eta2 = eta_scale * (bs.transmission ? sqr(bs.eta) : 1.0f) * (bs1.transmission ? sqr(bs1.eta) : 1.0f);
@@ -210,13 +253,15 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
             // own_samples times, and the path is the pixel's at full weight. (Re-evaluating z1's BSDF
             // for a neighbour's direction, as the unbiased gather does, gives 0 for Dirac lobes, so
             // the shared L_out must not carry it: it would be lost, not shared.)
-            out.fixed += bsdf_weight * scattered;
+            if constexpr (kMedia) out.fixed += bsdf_weight * scattered * out.segment_tr;  // as it arrives at x1
+            else out.fixed += bsdf_weight * scattered;
         } else {
             out.L_out += scattered;
         }
     } else {
         ++counters.samples_rejected;
     }
+    if constexpr (kMedia) out.L_out *= out.segment_tr;
     out.has_suffix = true;
     out.z = h1.p;
     out.z_ng = h1.ng;
@@ -229,23 +274,24 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
 // Stage 1 for one pixel sample; `model` receives x1's technique density model (psf_density.h), built
 // here once per stored vertex rather than once per pixel that gathers it. `strata` is null when the
 // sampler is not stratified or there are no extra samples at x1. `extra` receives the pixel's
-// `extra_paths` private suffixes.
+// `extra_paths` private suffixes. kMedia: the scene has media, and `media` receives x1's.
+template <bool kMedia>
 PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
                         LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
                         TechniqueDensity* model, const PixelStrata* strata, int extra_paths, PrivateSuffix* extra,
-                        bool dirac_z1_per_pixel) {
+                        bool dirac_z1_per_pixel, RecordMedia* media) {
     PathRecord rec;
     *model = TechniqueDensity{};
     for (int m = 0; m < extra_paths; ++m) extra[m] = PrivateSuffix{};
     PathState st = camera_path_state(ray.o, false);
+    if constexpr (kMedia) st.medium = scene.camera_medium();
     Color beta(1.0f);
     float eta_scale = 1.0f, prefix_length = 0.0f;
     for (;; ++st.depth) {
         SurfaceHit hit;
-        bool found = scene.intersect(ray, &hit);
-        rec.fixed += clamp_contribution(settings, beta * emission_along(scene, settings, ray, found, hit, st), st.depth <= 1);
+        const bool found = trace_prefix_segment<kMedia>(scene, settings, ray, st, beta, &hit, rng, counters, &rec.fixed);
         if (add_transparency(settings, st, found, hit, beta, counters)) return rec;
-        if (!found || beyond_bounce_limits(settings, st)) return rec;
+        if (!found || beyond_bounce_limits(settings, st) || (kMedia && is_black(beta))) return rec;
         prefix_length += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
         subsurface_fallback(scene, sp);
@@ -258,6 +304,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
             if (bs.transmission) eta_scale *= sqr(bs.eta);
             update_transparent_background(settings, st, sp.bsdf, bs);
             advance_ray_type(st, sp.bsdf, bs);
+            if constexpr (kMedia) st.medium = medium_towards(scene, sp, bs.wi, st.medium);
             st.prev_delta = true;
             st.prev_pdf = bs.pdf;
             st.prev_p = hit.p;
@@ -279,6 +326,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         if (attribs) attribs->x1 = hit.attr;
         rec.radius = settings.psf_radius_px * camera.pixel_footprint(prefix_length);
         *model = TechniqueDensity::of(sp.bsdf, hit.p, sp.wo);
+        if constexpr (kMedia) *media = RecordMedia{st.medium, medium_across(scene, sp, st.medium)};
         // Direct light at x1, per pixel: psf_light_samples light samples and the pixel's BSDF samples
         // (its path's own and its extra paths'), combined by multi-sample MIS (each density counted
         // that many times in both weights). The first light sample and the path's BSDF sample take
@@ -288,7 +336,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         const int light_samples = std::max(1, settings.psf_light_samples);
         const int own_samples = 1 + extra_paths;
         auto add_light_sample = [&] {
-            DirectSample ds = sample_direct(scene, settings, sp, rng, counters, -1, light_samples, own_samples);
+            DirectSample ds = sample_direct(scene, settings, sp, rng, counters, st.medium, light_samples, own_samples);
             if (ds.valid)
                 rec.fixed += clamp_sample_share(settings, beta * direct_eval(sp, ds) * ds.weighted, light_samples,
                                                 st.depth == 0);
@@ -300,20 +348,21 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
             add_light_sample();
         }
         SuffixSample own =
-            trace_suffix(scene, settings, sp, st, bs, beta, eta_scale, light_samples, own_samples,
-                         dirac_z1_per_pixel, rng, counters);
+            trace_suffix<kMedia>(scene, settings, sp, st, bs, beta, eta_scale, light_samples, own_samples,
+                                 dirac_z1_per_pixel, rng, counters);
         rec.fixed += own.fixed;
         if (own.has_suffix) {
             rec.has_suffix = true;
             static_cast<SuffixVertex&>(rec) = own;
             if (attribs) attribs->z1 = own.z_attr;
+            if constexpr (kMedia) media->suffix_tr = own.segment_tr;
         }
         // The private extra paths: more samples of this pixel's own technique, where the filter has
         // little to share (see iteration()).
         for (int m = 0; m < extra_paths; ++m) {
             if (strata) set_extra_bsdf_sample_prefix(&rng, strata->key, strata->extra_bsdf + uint32_t(m));
-            SuffixSample e = trace_suffix(scene, settings, sp, st, sample_bsdf(sp, rng), beta, eta_scale,
-                                          light_samples, own_samples, dirac_z1_per_pixel, rng, counters);
+            SuffixSample e = trace_suffix<kMedia>(scene, settings, sp, st, sample_bsdf(sp, rng), beta, eta_scale,
+                                                  light_samples, own_samples, dirac_z1_per_pixel, rng, counters);
             rec.fixed += e.fixed;
             if (!e.has_suffix) continue;
             Connection c = connect(hit.p, e.z, e.z_ng);
@@ -410,6 +459,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     models.resize(records.size());
     std::vector<RecordAttribs> attribs(scene.has_varying_materials() ? records.size() : 0);
     auto x1_attr = [&](size_t k) { return attribs.empty() ? SurfaceAttribs{} : attribs[k].x1; };
+    const bool media = scene.has_media();
+    std::vector<RecordMedia> record_media(media ? records.size() : 0);
 
     // Extra paths. Where the pixel's own suffix keeps most of the weight in its estimate (a sharp lobe
     // at x1, or glossy surfaces too thin or curved for neighbours to share its lobe), the filter cannot
@@ -456,9 +507,16 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                       s, b.extra_bsdf_taken[k]};
         const int extra = b.extra_paths[k];
         local.sample_transparency = 0.0f;
-        records[k] = trace_record(scene, settings, ray, rng, local, scene.camera(),
-                                  attribs.empty() ? nullptr : &attribs[k], &models[k], extra_strata ? &strata : nullptr,
-                                  extra, b.extras.data() + b.extra_offset[k], weighting_ == PsfWeighting::SmisUnbiased);
+        RecordAttribs* record_attribs = attribs.empty() ? nullptr : &attribs[k];
+        const PixelStrata* record_strata = extra_strata ? &strata : nullptr;
+        PrivateSuffix* record_extras = b.extras.data() + b.extra_offset[k];
+        const bool dirac_z1_per_pixel = weighting_ == PsfWeighting::SmisUnbiased;
+        records[k] = media ? trace_record<true>(scene, settings, ray, rng, local, scene.camera(), record_attribs,
+                                                &models[k], record_strata, extra, record_extras, dirac_z1_per_pixel,
+                                                &record_media[k])
+                           : trace_record<false>(scene, settings, ray, rng, local, scene.camera(), record_attribs,
+                                                 &models[k], record_strata, extra, record_extras, dirac_z1_per_pixel,
+                                                 nullptr);
         records[k].transparency = local.sample_transparency;
         b.extra_bsdf_taken[k] += uint32_t(extra);
         ++local.paths;
@@ -640,6 +698,22 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         auto same_side = [](const Vec3& a, const Vec3& b, const Vec3& z, const Vec3& z_ng) {
             return (dot(a - z, z_ng) > 0.0f) == (dot(b - z, z_ng) > 0.0f);
         };
+        // Whether an opaque surface blocks the connection from x1 (p, ng) to z. With media a boundary
+        // without a surface shader does not: a technique's own ray passes it, so the technique can
+        // produce z.
+        auto connection_blocked = [&](const Vec3& p, const Vec3& ng, const Vec3& z) {
+            const ShadowRay s = shadow_ray_between(p, ng, z);
+            return media ? !connection_through_media(scene, s, kConnectionVisibility, kNoMedium, nullptr)
+                         : scene.occluded(s.o, s.d, s.tmax, kShutterCentre, kConnectionVisibility);
+        };
+        // With media: the transmittance along member k's connection to z in direction dir (0 where blocked).
+        auto connection_tr = [&](size_t k, const Vec3& z, const Vec3& dir) {
+            const PathRecord& q = records[k];
+            Color tr(0.0f);
+            connection_through_media(scene, shadow_ray_between(q.p, q.ng, z), kConnectionVisibility,
+                                     record_media[k].towards(q.ng, dir), &tr);
+            return tr;
+        };
         auto shared_denominator = [&](const Vec3& z, const Vec3& z_ng, size_t sampled_by, int8_t* visible) {
             if (!exact) return density_sum(z, z_ng);
             const Vec3& sampler = records[nb[sampled_by]].p;
@@ -649,8 +723,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 if (jj != sampled_by && !same_side(t.p, sampler, z, z_ng)) continue;
                 float pj = techniques[jj].area_density(z, z_ng);
                 if (pj > 0.0f && jj != sampled_by) {
-                    const ShadowRay s = shadow_ray_between(t.p, t.ng, z);
-                    const bool occluded = scene.occluded(s.o, s.d, s.tmax, kShutterCentre, kConnectionVisibility);
+                    const bool occluded = connection_blocked(t.p, t.ng, z);
                     ++visibility_rays;
                     if (occluded) pj = 0.0f;
                     if (visible && jj < size_t(n_members)) visible[jj] = occluded ? 0 : 1;
@@ -711,8 +784,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                         if (!same_side(q.p, smp.p, smp.z, smp.z_ng)) continue;  // see shared_denominator
                         int8_t& v = visible[ii * size_t(n_members) + size_t(jj)];
                         if (v < 0) {
-                            const ShadowRay s = shadow_ray_between(q.p, q.ng, smp.z);
-                            v = scene.occluded(s.o, s.d, s.tmax, kShutterCentre, kConnectionVisibility) ? 0 : 1;
+                            v = connection_blocked(q.p, q.ng, smp.z) ? 0 : 1;
                             ++visibility_rays;
                         }
                         if (v == 0) continue;
@@ -724,6 +796,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     Bsdf bz = bsdf_at(scene, smp.z_material, zns, zng, back,
                                       attribs.empty() ? SurfaceAttribs{} : attribs[nb[ii]].z1, z_wo);
                     L_z = bz.eval(z_wo, smp.nee_dir) * smp.nee_weighted + bz.eval(z_wo, smp.next_dir) * smp.next_weighted;
+                    // With media, what arrives at x1: the own segment's transmittance, or the connection's.
+                    if (media) L_z *= ii == size_t(jj) ? record_media[k].suffix_tr : connection_tr(k, smp.z, c.dir);
                 }
                 const Color contribution = f * L_z * c.g;
                 if (keller) {  // Keller's estimator divides by the sample's own density only

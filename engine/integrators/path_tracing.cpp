@@ -132,7 +132,7 @@ struct RgbThroughput {
     template <class Clamp>
     void resampled_direct(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings,
                           const ShadingPoint& sp, Rng& rng, const PathState& state) const {
-        L += clamped(beta * ris_direct(scene, settings, sp, rng), state.depth == 0);
+        L += clamped(beta * ris_direct(scene, settings, sp, rng, state.medium), state.depth == 0);
     }
     template <class Clamp>
     void direct(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,

@@ -80,11 +80,11 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, cons
     if (settings.volume_estimator != VolumeEstimator::Path) require_feature(kWithVolumes, "photon planes", "volumes");
     if (settings.sampling_pattern == SamplingPattern::Stratified)
         require_feature(kWithStratified, "the stratified sampling pattern", "stratified");
-    // RIS / ReSTIR live in the RGB surface path tracer: their resampling knows neither transmittance
-    // nor spectra, so those combinations are refused rather than rendered wrong.
-    if (settings.direct_light != DirectLightStrategy::Nee && (scene.has_media() || spectral != SpectralSetting::Rgb))
-        throw std::invalid_argument("RIS/ReSTIR direct lighting does not support participating media or spectral "
-                                    "rendering yet: use NEE (or set Spectral to RGB)");
+    // RIS / ReSTIR live in the RGB path tracer: their resampling knows no spectra, so that
+    // combination is refused rather than rendered wrong. (Media are supported: direct_lighting.h.)
+    if (settings.direct_light != DirectLightStrategy::Nee && spectral != SpectralSetting::Rgb)
+        throw std::invalid_argument("RIS/ReSTIR direct lighting does not support spectral rendering yet: use NEE "
+                                    "(or set Spectral to RGB)");
     if (settings.volume_estimator != VolumeEstimator::Path &&
         (spectral != SpectralSetting::Rgb || settings.spectral_wavelength != 0.0f))
         throw std::invalid_argument(std::string("photon planes (") + setting_name(settings.volume_estimator) +
@@ -102,9 +102,6 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, cons
         return std::make_unique<SpectralPathIntegrator>(scene, spectral_mode(spectral), settings.wavelengths);
     // ReSTIR turns the path tracer into a multi-stage integrator (per-pixel reservoirs are reused).
     if (path && settings.direct_light == DirectLightStrategy::Restir) return std::make_unique<RestirIntegrator>();
-    if (!path && scene.has_media())
-        throw std::invalid_argument(std::string(setting_name(settings.integrator)) +
-                                    " does not support participating media: use PATH");
     return make_surface_integrator(settings.integrator);
 }
 

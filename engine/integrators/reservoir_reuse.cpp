@@ -31,7 +31,7 @@ MisSums mis_sums(const Scene& scene, const ReuseInput* inputs, int n, int own, c
             p = e->target;
             if (visibility && p > 0.0f) {
                 ++cost.shadow_rays;
-                if (!candidate_visible(scene, qj, *e)) p = 0.0f;
+                if (!candidate_visible(scene, qj, *e, inputs[j].medium)) p = 0.0f;
             }
             if (j == 0) s.visible_from_q = p > 0.0f;
         }

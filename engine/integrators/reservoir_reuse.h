@@ -29,6 +29,7 @@ struct ReuseInput {
     const Reservoir* r;
     const ShadingPoint* sp;                 // q_i, where r was built
     const CandidateEval* eval = nullptr;    // r->y evaluated at q_i, when known (read for input 0 only)
+    int32_t medium = kNoMedium;             // the medium q_i's path arrived in (scenes with media)
 };
 
 // Work done by the combiners, for the benchmarks' cost report.
@@ -51,7 +52,8 @@ struct CombinedReservoir {
 // the outputs of this mode, which drop a sample occluded from q: W' = W V_q(Y) is again an unbiased
 // contribution weight, for the visible part of the integrand). The input's own pdf at its sample,
 // r.target, is then known without evaluation or shadow ray. Without visibility_in_mis no shadow ray
-// is traced.
+// is traced. With media the visibility is [transmittance > 0] from q_j's medium (direct_lighting.h),
+// and a sample's transmittance from q is left to the shading.
 CombinedReservoir combine_reservoirs(const Scene& scene, const ShadingPoint& q, const ReuseInput* inputs, int n,
                                      RestirMis mis, bool visibility_in_mis, Rng& rng, ReuseCost& cost);
 

@@ -15,10 +15,14 @@
 // Only the direct light at x1 is resampled (MIS-combined with x1's BSDF sample, see
 // reservoir_contribution); emission along the prefix and everything after x1 is the path
 // tracer's, so the image converges to the path tracer's.
+// With media the prefix's segments carry transmittance and single scattering as the path tracer's
+// do (trace_media_segment), and the resampled light at x1 its shadow ray's transmittance (unshadowed
+// targets, visibility [T > 0] in the reservoirs and the MIS: direct_lighting.h).
 #include "integrators/restir.h"
 
 #include "integrators/aux_passes.h"
 
+#include "integrators/media_segments.h"
 #include "integrators/reservoir_reuse.h"
 #include "integrators/tiles.h"
 
@@ -28,7 +32,9 @@ namespace {
 // Stream offsets of the reuse stages, distinct from the camera sample's stream.
 constexpr uint32_t kTemporalStream = 0x7e3a91c5u, kSpatialStream = 0x2b8d4f17u;
 
-// Stage 1 for one pixel sample, written in place (a pixel record is large: no copies).
+// Stage 1 for one pixel sample, written in place (a pixel record is large: no copies). kMedia: the
+// scene has media (instantiated only then).
+template <bool kMedia>
 void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng, LocalCounters& counters,
                  RestirPixel& px) {
     px.has_vertex = false;
@@ -37,14 +43,14 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
     px.r = Reservoir{};
     px.eval = CandidateEval{};
     PathState st = camera_path_state(ray.o, false);
+    if constexpr (kMedia) st.medium = scene.camera_medium();
     Color beta(1.0f);
     float eta_scale = 1.0f;
     for (;; ++st.depth) {
         SurfaceHit hit;
-        bool found = scene.intersect(ray, &hit);
-        px.fixed += clamp_contribution(settings, beta * emission_along(scene, settings, ray, found, hit, st), st.depth <= 1);
+        const bool found = trace_prefix_segment<kMedia>(scene, settings, ray, st, beta, &hit, rng, counters, &px.fixed);
         if (add_transparency(settings, st, found, hit, beta, counters)) return;
-        if (!found || beyond_bounce_limits(settings, st)) return;
+        if (!found || beyond_bounce_limits(settings, st) || (kMedia && is_black(beta))) return;
         px.distance += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
         subsurface_fallback(scene, sp);
@@ -56,7 +62,9 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
             px.camera_hit = st.depth == 0;
             px.sp = sp;
             px.beta = beta;
-            px.r = ris_reservoir(scene, sp, settings.ris_candidates, settings.restir_visibility_reuse, rng, &px.eval);
+            px.medium = st.medium;
+            px.r = ris_reservoir(scene, sp, settings.ris_candidates, settings.restir_visibility_reuse, rng, &px.eval,
+                                 st.medium);
         }
         BsdfSample bs = sample_bsdf(sp, rng);
         if (!bs.valid()) {
@@ -67,6 +75,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
         if (bs.transmission) eta_scale *= sqr(bs.eta);
         update_transparent_background(settings, st, sp.bsdf, bs);
         advance_ray_type(st, sp.bsdf, bs);
+        if constexpr (kMedia) st.medium = medium_towards(scene, sp, bs.wi, st.medium);
         st.prev_delta = bs.delta;
         st.light_pdf_scale = first ? resampled_light_pdf_scale(settings) : 1.0f;
         st.prev_pdf = bs.pdf;
@@ -125,7 +134,8 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
         local.sample_transparency = 0.0f;
-        trace_pixel(scene, settings, ray, rng, local, me);
+        if (scene.has_media()) trace_pixel<true>(scene, settings, ray, rng, local, me);
+        else trace_pixel<false>(scene, settings, ray, rng, local, me);
         me.transparency = local.sample_transparency;
         ++local.paths;
         const RestirPixel& old = temporal ? prev_[i] : me;
@@ -134,7 +144,8 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         history.M = std::min(history.M, history_cap);
         const Reservoir initial = me.r;
         const CandidateEval initial_eval = me.eval;
-        const ReuseInput inputs[2] = {{&initial, &me.sp, &initial_eval}, {&history, &old.sp}};
+        const ReuseInput inputs[2] = {{&initial, &me.sp, &initial_eval, me.medium},
+                                      {&history, &old.sp, nullptr, old.medium}};
         Rng temporal_rng = stage_rng(ctx, x, y, s, kTemporalStream);
         ReuseCost cost;
         CombinedReservoir c =
@@ -157,7 +168,7 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         if (me.has_vertex) {
             ++vertices;
             thread_local std::vector<ReuseInput> inputs;
-            inputs.assign(1, ReuseInput{&me.r, &me.sp, &me.eval});
+            inputs.assign(1, ReuseInput{&me.r, &me.sp, &me.eval, me.medium});
             Rng rng = stage_rng(ctx, x, y, s, kSpatialStream);
             // Up to 2k tries for k neighbours, as Bitterli et al. do, so dissimilar surroundings do not loop.
             for (int attempt = 0; attempt < 2 * k && int(inputs.size()) <= k; ++attempt) {
@@ -165,7 +176,8 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 int nx = x + int(std::lround(d.x * radius)), ny = y + int(std::lround(d.y * radius));
                 if ((nx == x && ny == y) || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
                 const RestirPixel& other = cur[size_t(ny) * w + nx];
-                if (other.has_vertex && similar(me, other)) inputs.push_back(ReuseInput{&other.r, &other.sp});
+                if (other.has_vertex && similar(me, other))
+                    inputs.push_back(ReuseInput{&other.r, &other.sp, nullptr, other.medium});
             }
             neighbours += inputs.size() - 1;
             ReuseCost cost;
@@ -173,13 +185,14 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                                                      settings.restir_mis, visibility_in_mis, rng, cost);
             flush_cost(cost);
             final_[i] = c.r;
-            // The MIS weights traced the sample's visibility from here already when they include it.
+            // The MIS weights traced the sample's visibility from here already when they include it
+            // (with media, only whether its transmittance is black: the shading traces it again).
             // Clamping (Cycles' Clamp Direct / Indirect) takes the resampled estimate as the vertex's
             // one light sample.
             L += clamp_contribution(settings,
-                                    me.beta * (c.visibility_known
+                                    me.beta * (c.visibility_known && !scene.has_media()
                                                    ? visible_reservoir_contribution(scene, settings, me.sp, c.r, c.at_q)
-                                                   : reservoir_contribution(scene, settings, me.sp, c.r)),
+                                                   : reservoir_contribution(scene, settings, me.sp, c.r, me.medium)),
                                     me.camera_hit);
         }
         if (ctx.film.has_aux()) {  // diagnostic pass: the candidates the shaded reservoir stands for (M)

@@ -16,6 +16,7 @@ struct RestirPixel {
     float transparency = 0.0f;  // Film Transparent: the throughput that reached the World unseen
     float distance = 0.0f; // camera-to-vertex path length, for the neighbour similarity test
     bool camera_hit = false;  // the vertex is the camera ray's hit: its light is Clamp Direct's, else Indirect's
+    int32_t medium = kNoMedium;  // the medium the camera path arrived in at the vertex (scenes with media)
     Reservoir r;
     CandidateEval eval;    // r's sample evaluated at sp (when r has one), for the reuse stages
 };

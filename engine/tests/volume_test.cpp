@@ -594,10 +594,6 @@ TEST(PhotonPlanes, UnknownEstimatorAndBadSettingsAreRefused) {
     s.integrator = IntegratorKind::Path;
     s.smis_planes = 0;
     EXPECT_THROW(RenderSession(scene, s), std::invalid_argument);
-    // Path-space filtering has no media support: refused, not silently wrong.
-    RenderSettings psf;
-    psf.integrator = IntegratorKind::PsfSmis;
-    EXPECT_THROW(RenderSession(scene, psf), std::invalid_argument);
 }
 
 TEST(Medium, ScenesWithoutMediaReportNone) {
