@@ -219,6 +219,20 @@ void tex_coord_background(const ShaderOp& op, const ShaderContext& c, const floa
     store3(r, op.out[6], c.I);
 }
 
+// The lobe kind of a Glossy op's distribution (i[0]: 0 sharp, 1 GGX, 2 Beckmann, 3 multiscatter GGX,
+// 4 Ashikhmin-Shirley) and of an Anisotropic op's (1 GGX, 2 Beckmann, 3 Ashikhmin-Shirley).
+LobeKind glossy_kind(int32_t mode) {
+    switch (mode) {
+        case 2: return LobeKind::Beckmann;
+        case 3: return LobeKind::MultiGgx;
+        case 4: return LobeKind::AshikhminShirley;
+        default: return LobeKind::Microfacet;
+    }
+}
+LobeKind anisotropic_kind(int32_t mode) {
+    return mode == 2 ? LobeKind::AnisoBeckmann : mode == 3 ? LobeKind::AshikhminShirley : LobeKind::AnisoGgx;
+}
+
 }  // namespace
 
 bool ShaderProgram::op_by_name(const std::string& name, ShaderOpCode* code) {
@@ -315,16 +329,16 @@ void ShaderProgram::analyse() {
                     templates_.push_back(l);
                     break;
                 }
-                case Op::Glossy:  // i[0]: 0 sharp, 1 GGX, 2 Beckmann, 3 multiscatter GGX (two lobes)
-                    l.kind = op.i[0] == 2 ? LobeKind::Beckmann : op.i[0] == 3 ? LobeKind::MultiGgx : LobeKind::Microfacet;
+                case Op::Glossy:  // i[0]: 0 sharp, 1 GGX, 2 Beckmann, 3 multiscatter GGX (two lobes), 4 Ashikhmin-Shirley
+                    l.kind = glossy_kind(op.i[0]);
                     templates_.push_back(l);
                     if (op.i[0] == 3) {
                         l.kind = LobeKind::GgxMultiple;
                         templates_.push_back(l);
                     }
                     break;
-                case Op::Anisotropic:  // i[0]: 1 GGX, 2 Beckmann
-                    l.kind = op.i[0] == 2 ? LobeKind::AnisoBeckmann : LobeKind::AnisoGgx;
+                case Op::Anisotropic:  // i[0]: 1 GGX, 2 Beckmann, 3 Ashikhmin-Shirley
+                    l.kind = anisotropic_kind(op.i[0]);
                     templates_.push_back(l);
                     break;
                 case Op::Hair:  // i[0]: 0 reflection, 1 transmission
@@ -1296,16 +1310,17 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
                 multiscatter_ggx(c, w, rough, uint8_t(op.i[5]), out);
                 break;
             }
-            push_lobe(out, make_lobe(op.i[0] == 2 ? LobeKind::Beckmann : LobeKind::Microfacet, FresnelMode::None, c * w, rough, 1.5f,
-                                     uint8_t(op.i[5])));
+            Lobe l = make_lobe(glossy_kind(op.i[0]), FresnelMode::None, c * w, rough, 1.5f, uint8_t(op.i[5]));
+            l.alpha_y = l.alpha;  // isotropic (read by the Ashikhmin-Shirley lobe only)
+            push_lobe(out, l);
             break;
         }
         case Op::Anisotropic: {  // in: weight, colour, roughness, anisotropy, rotation, normal, tangent
             float w = load1(r, op.in[0], 1.0f);
             set_normal(out, r, op.in[5]);
             set_tangent(out, r, op.in[6], load1(r, op.in[4], 0.0f));
-            Lobe l = make_lobe(op.i[0] == 2 ? LobeKind::AnisoBeckmann : LobeKind::AnisoGgx, FresnelMode::None,
-                               load3(r, op.in[1], Color(0.8f)) * w, 0.0f, 1.5f, uint8_t(op.i[5]));
+            Lobe l = make_lobe(anisotropic_kind(op.i[0]), FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, 0.0f,
+                               1.5f, uint8_t(op.i[5]));
             anisotropic_alphas(load1(r, op.in[2], 0.5f), load1(r, op.in[3], 0.5f), &l);
             push_lobe(out, l);
             break;

@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "scene/lobes/anisotropic.h"
+#include "scene/lobes/ashikhmin_shirley.h"
 #include "scene/lobes/beckmann.h"
 #include "scene/lobes/clearcoat.h"
 #include "scene/lobes/dielectric.h"
@@ -43,7 +44,8 @@ using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, C
                                   RefractionLobe, BeckmannLobe, ToonDiffuseLobe, ToonGlossyLobe, MultiGgxLobe,
                                   GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe, PrincipledGlassLobe, SubsurfaceLobe,
                                   PrincipledPartLobe, HairReflectionLobe, HairTransmissionLobe, PrincipledHairRLobe,
-                                  PrincipledHairTTLobe, PrincipledHairTRTLobe, PrincipledHairTRRTLobe>;
+                                  PrincipledHairTTLobe, PrincipledHairTRTLobe, PrincipledHairTRRTLobe,
+                                  AshikhminShirleyLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -105,6 +107,7 @@ template <bool kGated = true, class F>
         case PrincipledHairTTLobe::kKind: return call_kind<PrincipledHairTTLobe, kGated>(f);
         case PrincipledHairTRTLobe::kKind: return call_kind<PrincipledHairTRTLobe, kGated>(f);
         case PrincipledHairTRRTLobe::kKind: return call_kind<PrincipledHairTRRTLobe, kGated>(f);
+        case AshikhminShirleyLobe::kKind: return call_kind<AshikhminShirleyLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate

@@ -66,6 +66,7 @@ enum class LobeKind : uint8_t {
     PrincipledHairTT,
     PrincipledHairTRT,
     PrincipledHairTRRT,
+    AshikhminShirley,  // Glossy / Anisotropic BSDF with the Ashikhmin-Shirley distribution (lobes/ashikhmin_shirley.h)
     Count
 };
 
