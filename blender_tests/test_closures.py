@@ -4,7 +4,8 @@ Toon diffuse and glossy, multiscatter GGX, anisotropic GGX and Beckmann (Anisotr
 Principled Anisotropic), with Lambert, GGX glossy and glass as controls) rendered by our engine matches the Cycles reference scenes/make_closure_references.sh
 rendered into blender_tests/references/closures.exr, sphere by sphere; likewise the Principled set
 (closures_principled: its transmission with Transmission Roughness and Specular Tint, Multiscatter
-GGX) against closures_principled.exr.
+GGX) against closures_principled.exr, and the anisotropic set (closures_aniso: Ashikhmin-Shirley,
+Mix shaders of anisotropic closures with their own rotations and tangents) against closures_aniso.exr.
 
 The error measure of a sphere's 32 x 32 px tile, as in test_node_parity.py:
 
@@ -53,6 +54,16 @@ KNOWN = {"glass_ggx_0p3": 0.015, "glossy_multi_0p8_tinted": 0.06, "anisotropic_b
 # scattering, 18.9% darker).
 PRINCIPLED_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "2048"))
 PRINCIPLED_KNOWN = {"principled_multi_metal": 0.025}
+# The anisotropic set (closures_aniso, 3 x 2 spheres): Ashikhmin-Shirley (Glossy and Anisotropic BSDF) and
+# materials mixing anisotropic closures about different tangents and rotations (before each lobe had its
+# own tangent: 12.3%, 4.6% and 14.1%). The rough Ashikhmin-Shirley spheres: where Cycles 3.4's sampled
+# half vector faces away from wo it flips H but reflects with the unflipped H.I
+# (bsdf_ashikhmin_shirley_sample), a non-unit direction that is often above the surface and is valued by
+# eval: about 6% of its samples at roughness 0.7 add 2.8% of the true albedo in a furnace (0.2% at
+# roughness 0.3). Ours loses those samples, as the BRDF says: 0.77% / 0.79% darker at 4096 spp (a steady
+# bias, not noise), 0.79% / 0.90% at 1024; allowed 1.25% so that a change of noise does not fail them.
+ANISO_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "1024"))
+ANISO_KNOWN = {"glossy_ashikhmin_0p7": 0.0125, "anisotropic_ashikhmin": 0.0125}
 _BUILT = {}
 
 
@@ -127,6 +138,17 @@ def test_principled_transmission_and_multiscatter_match_cycles(tmp_path_factory)
     assert np.isfinite(ours).all()
     errors = _tile_errors(ours, _reference(ours.shape, "closures_principled"), tiles)
     failing = {k: round(100 * v, 3) for k, v in errors.items() if v > PRINCIPLED_KNOWN.get(k, THRESHOLD)}
+    assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
+
+
+def test_ashikhmin_shirley_and_per_closure_tangents_match_cycles(tmp_path_factory):
+    """The anisotropic set: Ashikhmin-Shirley glossy and anisotropic; Mix shaders of anisotropic closures
+    with different rotations and tangents, each about its own (Cycles' per-closure tangent)."""
+    blend, tiles = _scene(tmp_path_factory, "closures_aniso")
+    ours = _render(blend, ANISO_SPP).image
+    assert np.isfinite(ours).all()
+    errors = _tile_errors(ours, _reference(ours.shape, "closures_aniso"), tiles)
+    failing = {k: round(100 * v, 3) for k, v in errors.items() if v > ANISO_KNOWN.get(k, THRESHOLD)}
     assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
 
 

@@ -125,6 +125,13 @@ std::vector<NamedLobe> new_lobes() {
         l.alpha_y = ay;
         v.push_back({"AshikhminShirley_" + num(ax) + "_" + num(ay), l});
     }
+    // Anisotropic lobes about their own tangent, turned from the frame's (lobe.h, to_lobe_tangent).
+    for (LobeKind kind : {LobeKind::AnisoGgx, LobeKind::AnisoBeckmann, LobeKind::AshikhminShirley}) {
+        Lobe l = lobe_of(kind, 0.1f, Color(0.6f, 0.8f, 0.9f));
+        l.alpha_y = 0.5f;
+        l.kind_colour = Color(std::cos(2.2f) - 1.0f, std::sin(2.2f), 0.0f);
+        v.push_back({"OwnTangent_" + std::to_string(int(kind)), l});
+    }
     // Hair BSDF: r1 = Roughness U (alpha), r2 = Roughness V (alpha_y), Offset (f0.x, radians).
     for (auto [r1, r2, offset] : {std::tuple{0.1f, 1.0f, 0.0f}, std::tuple{0.3f, 0.4f, 0.05f}, std::tuple{0.02f, 0.1f, -0.1f}}) {
         Lobe r = lobe_of(LobeKind::HairReflection, r1, Color(0.8f, 0.6f, 0.4f)), t = r;
@@ -442,6 +449,34 @@ TEST(ClosureFurnace, AshikhminShirleyLosesEnergyOnly) {
                         kCosThetas[i], is.mean(), is.std_error(), quad);
             EXPECT_TRUE(matches_quadrature(is, quad)) << ax << " " << ay << " cos " << kCosThetas[i];
             EXPECT_TRUE(st::at_most(is, 1.0)) << is.mean();
+        }
+}
+
+// An anisotropic lobe about its own tangent at angle phi from the frame's s axis is the same lobe about
+// the frame's, seen in directions turned by -phi: what Cycles' per-closure frame gives.
+TEST(ClosureClosedForm, OwnTangentTurnsTheLobe) {
+    Rng rng(5, 33);
+    for (LobeKind kind : {LobeKind::AnisoGgx, LobeKind::AnisoBeckmann, LobeKind::AshikhminShirley})
+        for (float phi : {0.7f, -2.5f}) {
+            Lobe about_frame = lobe_of(kind, 0.15f);
+            about_frame.alpha_y = 0.6f;
+            Lobe own = about_frame;
+            own.kind_colour = Color(std::cos(phi) - 1.0f, std::sin(phi), 0.0f);
+            auto turned = [&](const Vec3& w) {  // w in the lobe's own frame
+                return Vec3(std::cos(-phi) * w.x - std::sin(-phi) * w.y, std::sin(-phi) * w.x + std::cos(-phi) * w.y, w.z);
+            };
+            int compared = 0;
+            for (int k = 0; k < 2000; ++k) {
+                Vec3 wo = sample_cosine_hemisphere(rand2(rng)), wi = sample_cosine_hemisphere(rand2(rng));
+                float e = lobe_eval(about_frame, turned(wo), turned(wi)).x;
+                ASSERT_TRUE(close_rel(lobe_eval(own, wo, wi).x, e, 1e-3, 1e-6)) << int(kind) << " " << phi;
+                ASSERT_TRUE(close_rel(lobe_pdf(own, wo, wi), lobe_pdf(about_frame, turned(wo), turned(wi)), 1e-3, 1e-6));
+                compared += e > 1e-3f;
+            }
+            EXPECT_GT(compared, 200) << int(kind);
+            // and it is not the lobe about the frame's tangent
+            Vec3 wo = dir_from_cos(0.7f, 0.0f), wi = dir_from_cos(0.3f, 2.0f);
+            EXPECT_FALSE(close_rel(lobe_eval(own, wo, wi).x, lobe_eval(about_frame, wo, wi).x, 1e-2)) << int(kind);
         }
 }
 

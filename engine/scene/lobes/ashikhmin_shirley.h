@@ -5,7 +5,7 @@
 //   f cos_i = cos_i sqrt((n_x + 1)(n_y + 1)) / (8 pi) cos(theta_h)^e(h) / ((wo.h) max(cos_i, cos_o)),
 //   e(h)    = (n_x h_x^2 + n_y h_y^2) / (h_x^2 + h_y^2),
 //
-// with the Phong exponents n = 2 / alpha^2 - 2 of Cycles' alpha_x (along the tangent, the frame's s axis:
+// with the Phong exponents n = 2 / alpha^2 - 2 of Cycles' alpha_x (along the lobe's own tangent:
 // anisotropic.h) and alpha_y, each clamped to [1e-4, 1] as Cycles' setup does; the Glossy BSDF has
 // alpha_x = alpha_y = roughness^2, where e is n everywhere. The half vector is sampled by the paper's
 // eq. 9 density p_h = sqrt((n_x + 1)(n_y + 1)) / (2 pi) cos(theta_h)^e(h) (phi in the first quadrant
@@ -27,6 +27,7 @@ struct AshikhminShirleyLobe : LobeDefaults<AshikhminShirleyLobe> {
     static constexpr RayLabel kLabel = RayLabel::Glossy;
     static constexpr DensityModel kDensity = DensityModel::General;
     static constexpr SpectralFresnel kSpectral = SpectralFresnel::None;
+    static constexpr bool kOwnTangent = true;
 
     static constexpr float kMinAlpha = 1e-4f;  // Cycles' clamp, and its mirror threshold
 
@@ -54,7 +55,8 @@ struct AshikhminShirleyLobe : LobeDefaults<AshikhminShirleyLobe> {
         float cos_oh = std::fmax(std::fabs(dot(wo, h)), 1e-6f);
         float cos_o = std::fmax(wo.z, 1e-6f), cos_i = std::fmax(wi.z, 1e-6f);
         LobeTerms t;
-        t.pdf = half_density(h, exponent(lobe.alpha), exponent(lobe.alpha_y)) / (4.0f * cos_oh);
+        Vec3 h_lobe = lobe_detail::to_lobe_tangent(lobe, h);
+        t.pdf = half_density(h_lobe, exponent(lobe.alpha), exponent(lobe.alpha_y)) / (4.0f * cos_oh);
         t.geom = t.pdf * cos_i / std::fmax(cos_i, cos_o);  // the pump 1 / (wo.h max(cos_i, cos_o))
         t.cos_d = cos_oh;
         return t;
@@ -79,7 +81,7 @@ struct AshikhminShirleyLobe : LobeDefaults<AshikhminShirleyLobe> {
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float) {
         if (!(wo.z > 0.0f)) return {};
         if (is_delta(lobe)) return lobe_detail::mirror_sample(wo, lobe.weight);
-        Vec3 h = sample_half(exponent(lobe.alpha), exponent(lobe.alpha_y), u);
+        Vec3 h = lobe_detail::from_lobe_tangent(lobe, sample_half(exponent(lobe.alpha), exponent(lobe.alpha_y), u));
         if (!(dot(wo, h) > 0.0f)) return {};
         return MicrofacetLobe::reflect_about<AshikhminShirleyLobe>(lobe, wo, h);
     }

@@ -156,6 +156,9 @@ inline bool lobe_dispersive(const Lobe& lobe) {
 inline bool lobe_backface_inverts_eta(const Lobe& lobe) {
     return visit_lobe(lobe.kind, [](auto k) { return decltype(k)::kBackfaceInvertsEta; });
 }
+inline bool lobe_has_own_tangent(const Lobe& lobe) {
+    return visit_lobe(lobe.kind, [](auto k) { return decltype(k)::kOwnTangent; });
+}
 inline bool lobe_colour_f0(const Lobe& lobe) {
     return visit_lobe(lobe.kind, [&](auto k) { return decltype(k)::colour_f0(lobe); });
 }
