@@ -3,7 +3,7 @@
 #
 #   scenes/make_closure_references.sh [WORKDIR] [SET]
 #
-# SET: closures (the default) or closures_principled (scenes/closures.py's sets); SET.blend, SET.exr.
+# SET: closures (the default), closures_principled or closures_aniso (scenes/closures.py's sets); SET.blend, SET.exr.
 # 1. builds SET.blend with scenes/closures.py into WORKDIR (default /tmp/smis_closure_reference_work),
 # 2. renders it twice with Cycles (CPU, unbiased settings, BOX filter 1 px), seeds 1 and 2
 #    (scenes/make_cycles_references.py), SPP samples each,
