@@ -121,35 +121,30 @@ def _reference(shape, set_name="closures"):
     return ref
 
 
-def test_every_closure_sphere_matches_cycles(tmp_path_factory):
-    blend, tiles = _scene(tmp_path_factory)
-    ours = _render(blend, SPP).image
+def _set_matches_cycles(tmp_path_factory, set_name, spp, known):
+    """Every sphere of `set_name` rendered at `spp` within THRESHOLD (or its `known` bound) of Cycles."""
+    blend, tiles = _scene(tmp_path_factory, set_name)
+    ours = _render(blend, spp).image
     assert np.isfinite(ours).all()
-    errors = _tile_errors(ours, _reference(ours.shape), tiles)
-    failing = {k: round(100 * v, 3) for k, v in errors.items() if v > KNOWN.get(k, THRESHOLD)}
+    errors = _tile_errors(ours, _reference(ours.shape, set_name), tiles)
+    failing = {k: round(100 * v, 3) for k, v in errors.items() if v > known.get(k, THRESHOLD)}
     assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
+
+
+def test_every_closure_sphere_matches_cycles(tmp_path_factory):
+    _set_matches_cycles(tmp_path_factory, "closures", SPP, KNOWN)
 
 
 def test_principled_transmission_and_multiscatter_match_cycles(tmp_path_factory):
     """The Principled set: Transmission Roughness, Specular Tint on the glass, the base colour on the
     refraction only, Multiscatter GGX (smooth glass, metal)."""
-    blend, tiles = _scene(tmp_path_factory, "closures_principled")
-    ours = _render(blend, PRINCIPLED_SPP).image
-    assert np.isfinite(ours).all()
-    errors = _tile_errors(ours, _reference(ours.shape, "closures_principled"), tiles)
-    failing = {k: round(100 * v, 3) for k, v in errors.items() if v > PRINCIPLED_KNOWN.get(k, THRESHOLD)}
-    assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
+    _set_matches_cycles(tmp_path_factory, "closures_principled", PRINCIPLED_SPP, PRINCIPLED_KNOWN)
 
 
 def test_ashikhmin_shirley_and_per_closure_tangents_match_cycles(tmp_path_factory):
     """The anisotropic set: Ashikhmin-Shirley glossy and anisotropic; Mix shaders of anisotropic closures
     with different rotations and tangents, each about its own (Cycles' per-closure tangent)."""
-    blend, tiles = _scene(tmp_path_factory, "closures_aniso")
-    ours = _render(blend, ANISO_SPP).image
-    assert np.isfinite(ours).all()
-    errors = _tile_errors(ours, _reference(ours.shape, "closures_aniso"), tiles)
-    failing = {k: round(100 * v, 3) for k, v in errors.items() if v > ANISO_KNOWN.get(k, THRESHOLD)}
-    assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
+    _set_matches_cycles(tmp_path_factory, "closures_aniso", ANISO_SPP, ANISO_KNOWN)
 
 
 def _sphere_means_match(tmp_path_factory, spp, principled_spp, extra, bound):
