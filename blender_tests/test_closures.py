@@ -4,8 +4,10 @@ Toon diffuse and glossy, multiscatter GGX, anisotropic GGX and Beckmann (Anisotr
 Principled Anisotropic), with Lambert, GGX glossy and glass as controls) rendered by our engine matches the Cycles reference scenes/make_closure_references.sh
 rendered into blender_tests/references/closures.exr, sphere by sphere; likewise the Principled set
 (closures_principled: its transmission with Transmission Roughness and Specular Tint, Multiscatter
-GGX) against closures_principled.exr, and the Multiscatter GGX glass set (closures_multiglass) against
-closures_multiglass.exr.
+GGX) against closures_principled.exr, the Multiscatter GGX glass set (closures_multiglass) against
+closures_multiglass.exr, the Beckmann glass set (closures_beckmann) against closures_beckmann.exr, and
+the anisotropic set (closures_aniso: Ashikhmin-Shirley, Mix shaders of anisotropic closures with their
+own rotations and tangents) against closures_aniso.exr.
 
 The error measure of a sphere's 32 x 32 px tile, as in test_node_parity.py:
 
@@ -66,6 +68,16 @@ MULTIGLASS_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "1024"))
 MULTIGLASS_KNOWN = {"glass_multi_0p3": 0.125, "glass_multi_0p8": 0.035, "glass_multi_0p6_tinted": 0.07,
                     "glass_multi_1_ior2": 0.33, "principled_multi_glass_0p5": 0.22,
                     "principled_multi_glass_tinted": 0.10}
+# The anisotropic set (closures_aniso, 3 x 2 spheres): Ashikhmin-Shirley (Glossy and Anisotropic BSDF) and
+# materials mixing anisotropic closures about different tangents and rotations (before each lobe had its
+# own tangent: 12.3%, 4.6% and 14.1%). The rough Ashikhmin-Shirley spheres: where Cycles 3.4's sampled
+# half vector faces away from wo it flips H but reflects with the unflipped H.I
+# (bsdf_ashikhmin_shirley_sample), a non-unit direction that is often above the surface and is valued by
+# eval: about 6% of its samples at roughness 0.7 add 2.8% of the true albedo in a furnace (0.2% at
+# roughness 0.3). Ours loses those samples, as the BRDF says: 0.77% / 0.79% darker at 4096 spp (a steady
+# bias, not noise), 0.79% / 0.90% at 1024; allowed 1.25% so that a change of noise does not fail them.
+ANISO_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "1024"))
+ANISO_KNOWN = {"glossy_ashikhmin_0p7": 0.0125, "anisotropic_ashikhmin": 0.0125}
 _BUILT = {}
 
 
@@ -123,23 +135,18 @@ def _reference(shape, set_name="closures"):
     return ref
 
 
-def test_every_closure_sphere_matches_cycles(tmp_path_factory):
-    blend, tiles = _scene(tmp_path_factory)
-    ours = _render(blend, SPP).image
-    assert np.isfinite(ours).all()
-    errors = _tile_errors(ours, _reference(ours.shape), tiles)
-    failing = {k: round(100 * v, 3) for k, v in errors.items() if v > KNOWN.get(k, THRESHOLD)}
-    assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
-
-
 def _set_matches_cycles(tmp_path_factory, set_name, spp, known):
-    """Every sphere of `set_name` within THRESHOLD (or its `known` bound) of its Cycles reference."""
+    """Every sphere of `set_name` rendered at `spp` within THRESHOLD (or its `known` bound) of Cycles."""
     blend, tiles = _scene(tmp_path_factory, set_name)
     ours = _render(blend, spp).image
     assert np.isfinite(ours).all()
     errors = _tile_errors(ours, _reference(ours.shape, set_name), tiles)
     failing = {k: round(100 * v, 3) for k, v in errors.items() if v > known.get(k, THRESHOLD)}
     assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
+
+
+def test_every_closure_sphere_matches_cycles(tmp_path_factory):
+    _set_matches_cycles(tmp_path_factory, "closures", SPP, KNOWN)
 
 
 def test_principled_transmission_and_multiscatter_match_cycles(tmp_path_factory):
@@ -157,12 +164,13 @@ def test_multiscatter_glass_matches_cycles(tmp_path_factory):
 def test_beckmann_glass_and_refraction_match_cycles(tmp_path_factory):
     """Glass and Refraction with the Beckmann distribution (closures_beckmann, 2 spheres): Beckmann's D
     and rational G1, the glass weighted by the Fresnel term at the normal as Cycles' pair of closures."""
-    blend, tiles = _scene(tmp_path_factory, "closures_beckmann")
-    ours = _render(blend, PRINCIPLED_SPP).image
-    assert np.isfinite(ours).all()
-    errors = _tile_errors(ours, _reference(ours.shape, "closures_beckmann"), tiles)
-    failing = {k: round(100 * v, 3) for k, v in errors.items() if v > THRESHOLD}
-    assert not failing, "spheres over %.0f%% (MRE in %%): %s" % (100 * THRESHOLD, failing)
+    _set_matches_cycles(tmp_path_factory, "closures_beckmann", PRINCIPLED_SPP, {})
+
+
+def test_ashikhmin_shirley_and_per_closure_tangents_match_cycles(tmp_path_factory):
+    """The anisotropic set: Ashikhmin-Shirley glossy and anisotropic; Mix shaders of anisotropic closures
+    with different rotations and tangents, each about its own (Cycles' per-closure tangent)."""
+    _set_matches_cycles(tmp_path_factory, "closures_aniso", ANISO_SPP, ANISO_KNOWN)
 
 
 def _sphere_means_match(tmp_path_factory, spp, principled_spp, extra, bound):

@@ -5,8 +5,9 @@ Run:
 
 SET is `closures` (the default: every closure), `closures_principled` (the Principled BSDF's
 transmission and Multiscatter GGX, 3 x 2 tiles, PRINCIPLED_CLOSURES), `closures_beckmann` (Glass and
-Refraction with the Beckmann distribution, 2 x 1 tiles) or `closures_multiglass` (Multiscatter GGX
-glass, 3 x 2 tiles, MULTIGLASS_CLOSURES). Writes (for the default set)
+Refraction with the Beckmann distribution, 2 x 1 tiles), `closures_multiglass` (Multiscatter GGX
+glass, 3 x 2 tiles, MULTIGLASS_CLOSURES) or `closures_aniso` (Ashikhmin-Shirley and several
+anisotropic closures in one material, 3 x 2 tiles, ANISO_CLOSURES). Writes (for the default set)
   OUTDIR/closures.blend  COLS x ROWS tiles of TILE_PX x TILE_PX pixels (COLS*TILE_PX x ROWS*TILE_PX):
       an orthographic camera looking straight down (-Z) at one sphere per tile (radius 0.85 of the
       tile's half size, so every sphere has its own 32 x 32 px square of 4 x 4 blocks of 8 x 8 px),
@@ -182,9 +183,51 @@ MULTIGLASS_CLOSURES = [
     ("principled_multi_glass_tinted", _principled({"Base Color": (0.9, 0.7, 0.5), "Transmission": 1.0,
                                                    "Roughness": 0.8, "IOR": 1.45}, distribution='MULTI_GGX')),
 ]
+
+
+def _anisotropic(inputs, distribution='GGX'):
+    return lambda nt: _bsdf(nt, "ShaderNodeBsdfAnisotropic", inputs, distribution=distribution)
+
+
+def _radial_x_tangent(build):
+    """`build`'s closure with its Tangent from a Tangent node (radial about the object's X axis)."""
+    def with_tangent(nt):
+        node = build(nt)
+        tangent = nt.nodes.new("ShaderNodeTangent")
+        tangent.direction_type = 'RADIAL'
+        tangent.axis = 'X'
+        nt.links.new(tangent.outputs["Tangent"], node.inputs["Tangent"])
+        return node
+    return with_tangent
+
+
+# Ashikhmin-Shirley (Glossy and Anisotropic BSDF) and materials with several anisotropic closures, each
+# about its own tangent and rotation (closures_aniso.blend, 3 x 2 tiles; the default tangent is radial
+# about the object's Z, the view axis).
+ANISO_CLOSURES = [
+    ("glossy_ashikhmin_0p3", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlossy", {"Color": (0.8, 0.8, 0.8), "Roughness": 0.3},
+                                              distribution='ASHIKHMIN_SHIRLEY')),
+    ("glossy_ashikhmin_0p7", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlossy", {"Color": (0.9, 0.6, 0.3), "Roughness": 0.7},
+                                              distribution='ASHIKHMIN_SHIRLEY')),
+    ("anisotropic_ashikhmin", _anisotropic({"Color": (0.7, 0.8, 0.9), "Roughness": 0.4, "Anisotropy": 0.7,
+                                            "Rotation": 0.1}, 'ASHIKHMIN_SHIRLEY')),
+    ("anisotropic_mix_rotations", lambda nt: _mix(
+        nt, 0.5, _anisotropic({"Color": (0.9, 0.5, 0.2), "Roughness": 0.3, "Anisotropy": 0.8})(nt),
+        _anisotropic({"Color": (0.2, 0.5, 0.9), "Roughness": 0.3, "Anisotropy": 0.8, "Rotation": 0.25})(nt))),
+    ("principled_mix_ashikhmin", lambda nt: _mix(
+        nt, 0.5, _principled({"Base Color": (0.9, 0.6, 0.3), "Metallic": 1.0, "Roughness": 0.4,
+                              "Anisotropic": 0.8})(nt),
+        _anisotropic({"Color": (0.3, 0.6, 0.9), "Roughness": 0.35, "Anisotropy": -0.6, "Rotation": 0.15},
+                     'ASHIKHMIN_SHIRLEY')(nt))),
+    ("anisotropic_mix_tangents", lambda nt: _mix(
+        nt, 0.5, _radial_x_tangent(_anisotropic({"Color": (0.8, 0.8, 0.3), "Roughness": 0.3,
+                                                  "Anisotropy": 0.8}))(nt),
+        _anisotropic({"Color": (0.3, 0.8, 0.8), "Roughness": 0.3, "Anisotropy": 0.8})(nt))),
+]
 # name -> (closures, columns, rows)
 CLOSURE_SETS = {"closures": (CLOSURES, COLS, ROWS), "closures_principled": (PRINCIPLED_CLOSURES, 3, 2),
-                "closures_beckmann": (BECKMANN_CLOSURES, 2, 1), "closures_multiglass": (MULTIGLASS_CLOSURES, 3, 2)}
+                "closures_beckmann": (BECKMANN_CLOSURES, 2, 1), "closures_multiglass": (MULTIGLASS_CLOSURES, 3, 2),
+                "closures_aniso": (ANISO_CLOSURES, 3, 2)}
 
 
 def node_material(name, build):

@@ -47,6 +47,7 @@ inline bool lobe_is_caustic(const Lobe& lobe, bool reflective_off, bool refracti
         case LobeKind::GgxMultiple:
         case LobeKind::AnisoGgx:
         case LobeKind::AnisoBeckmann:
+        case LobeKind::AshikhminShirley:
         case LobeKind::Clearcoat: return reflective_off;
         case LobeKind::Refraction: return refractive_off;
         case LobeKind::Dielectric:
@@ -82,6 +83,7 @@ inline void blur_lobe(Lobe& lobe, float alpha) {
         case LobeKind::Refraction: lobe.alpha = std::max(lobe.alpha, alpha); break;
         case LobeKind::AnisoGgx:
         case LobeKind::AnisoBeckmann:
+        case LobeKind::AshikhminShirley:
         case LobeKind::PrincipledGlass:  // alpha_y: its refraction's alpha
             lobe.alpha = std::max(lobe.alpha, alpha);
             lobe.alpha_y = std::max(lobe.alpha_y, alpha);

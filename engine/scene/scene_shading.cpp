@@ -149,6 +149,21 @@ static Frame tangent_frame(const Vec3& n, const Vec3& tangent, float turns) {
     return f;
 }
 
+// Every anisotropic lobe about its own tangent and rotation (ShaderResult::lobe_tangents), Cycles'
+// per-closure frame: its tangent's direction (cos phi, sin phi) in `frame`, stored as lobe.h's
+// to_lobe_tangent reads it (the frame's own tangent where the closure had none).
+static void own_tangents_in_frame(const Frame& frame, ShaderResult* res) {
+    for (int i = 0; i < res->count; ++i) {
+        Lobe& lobe = res->lobes[i];
+        if (!lobe_has_own_tangent(lobe)) continue;
+        const LobeTangent& lt = res->lobe_tangents[i];
+        Vec3 t(lt.x, lt.y, lt.z);
+        if (!(length_sq(t) > 0.0f)) continue;
+        Vec3 s = tangent_frame(frame.n, t, lt.turns).s;
+        lobe.kind_colour = Color(dot(s, frame.s) - 1.0f, dot(s, frame.t), 0.0f);
+    }
+}
+
 Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, bool backfacing,
                          const ShaderRay& ray, Vec3* ns_out, Color* holdout_out) const {
     ShaderContext ctx;
@@ -162,6 +177,7 @@ Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3
         *holdout_out = keep > 1e-6f ? vmax(res.holdout, Color(0.0f)) / keep : Color(0.0f);
     }
     Frame frame = res.has_tangent ? tangent_frame(ns, res.tangent, res.tangent_rotation) : Frame(ns);
+    if (res.has_tangent) own_tangents_in_frame(frame, &res);
     Bsdf bsdf = materials_[material].program_bsdf(res, frame, ctx.Ng, backfacing);
     if (!(ns == ctx.N)) bsdf.set_bump_base(ctx.N);
     return bsdf;

@@ -219,6 +219,20 @@ void tex_coord_background(const ShaderOp& op, const ShaderContext& c, const floa
     store3(r, op.out[6], c.I);
 }
 
+// The lobe kind of a Glossy op's distribution (i[0]: 0 sharp, 1 GGX, 2 Beckmann, 3 multiscatter GGX,
+// 4 Ashikhmin-Shirley) and of an Anisotropic op's (1 GGX, 2 Beckmann, 3 Ashikhmin-Shirley).
+LobeKind glossy_kind(int32_t mode) {
+    switch (mode) {
+        case 2: return LobeKind::Beckmann;
+        case 3: return LobeKind::MultiGgx;
+        case 4: return LobeKind::AshikhminShirley;
+        default: return LobeKind::Microfacet;
+    }
+}
+LobeKind anisotropic_kind(int32_t mode) {
+    return mode == 2 ? LobeKind::AnisoBeckmann : mode == 3 ? LobeKind::AshikhminShirley : LobeKind::AnisoGgx;
+}
+
 }  // namespace
 
 bool ShaderProgram::op_by_name(const std::string& name, ShaderOpCode* code) {
@@ -315,16 +329,16 @@ void ShaderProgram::analyse() {
                     templates_.push_back(l);
                     break;
                 }
-                case Op::Glossy:  // i[0]: 0 sharp, 1 GGX, 2 Beckmann, 3 multiscatter GGX (two lobes)
-                    l.kind = op.i[0] == 2 ? LobeKind::Beckmann : op.i[0] == 3 ? LobeKind::MultiGgx : LobeKind::Microfacet;
+                case Op::Glossy:  // i[0]: 0 sharp, 1 GGX, 2 Beckmann, 3 multiscatter GGX (two lobes), 4 Ashikhmin-Shirley
+                    l.kind = glossy_kind(op.i[0]);
                     templates_.push_back(l);
                     if (op.i[0] == 3) {
                         l.kind = LobeKind::GgxMultiple;
                         templates_.push_back(l);
                     }
                     break;
-                case Op::Anisotropic:  // i[0]: 1 GGX, 2 Beckmann
-                    l.kind = op.i[0] == 2 ? LobeKind::AnisoBeckmann : LobeKind::AnisoGgx;
+                case Op::Anisotropic:  // i[0]: 1 GGX, 2 Beckmann, 3 Ashikhmin-Shirley
+                    l.kind = anisotropic_kind(op.i[0]);
                     templates_.push_back(l);
                     break;
                 case Op::Hair:  // i[0]: 0 reflection, 1 transmission
@@ -463,18 +477,21 @@ void ShaderProgram::eval(const ShaderContext& ctx_in, ShaderResult* out) const {
 
 namespace {
 
-// Adds a lobe, keeping the heaviest ones when a mix has more lobes than a Bsdf holds.
-void push_lobe(ShaderResult* out, const Lobe& lobe) {
-    if (!(average(lobe.weight) > 0.0f) || !is_finite(lobe.weight)) return;
+// Adds a lobe, keeping the heaviest ones when a mix has more lobes than a Bsdf holds; returns its slot
+// in out->lobes, or -1 where it was left out.
+int push_lobe(ShaderResult* out, const Lobe& lobe) {
+    if (!(average(lobe.weight) > 0.0f) || !is_finite(lobe.weight)) return -1;
     if (out->count < Bsdf::kMaxLobes) {
-        out->lobes[out->count++] = lobe;
-        return;
+        out->lobes[out->count] = lobe;
+        return out->count++;
     }
     out->truncated = true;
     int smallest = 0;
     for (int i = 1; i < out->count; ++i)
         if (average(out->lobes[i].weight) < average(out->lobes[smallest].weight)) smallest = i;
-    if (average(out->lobes[smallest].weight) < average(lobe.weight)) out->lobes[smallest] = lobe;
+    if (!(average(out->lobes[smallest].weight) < average(lobe.weight))) return -1;
+    out->lobes[smallest] = lobe;
+    return smallest;
 }
 
 void set_normal(ShaderResult* out, const float* r, uint16_t reg) {
@@ -485,8 +502,9 @@ void set_normal(ShaderResult* out, const float* r, uint16_t reg) {
     out->has_normal = true;
 }
 
-// The first anisotropic closure's tangent and rotation (in turns about the normal) become the shading
-// frame's s axis (Scene::program_bsdf); Cycles gives each closure its own, we share the first one.
+// The first anisotropic (or hair) closure's tangent and rotation (in turns about the normal) become the
+// shading frame's s axis (Scene::program_bsdf); anisotropic lobes turn from it to their own
+// (push_anisotropic_lobe), hair lobes keep it.
 void set_tangent(ShaderResult* out, const float* r, uint16_t reg, float rotation) {
     if (reg == kNoReg || out->has_tangent) return;
     Vec3 t = load3(r, reg, Vec3(0.0f));
@@ -494,6 +512,18 @@ void set_tangent(ShaderResult* out, const float* r, uint16_t reg, float rotation
     out->tangent = t;
     out->tangent_rotation = rotation;
     out->has_tangent = true;
+}
+
+// An anisotropic closure's lobe about its own Tangent (register) and Rotation (turns), as Cycles gives
+// each closure its own (svm/closure.h); the first one's is also the shading frame's s axis. An unusable
+// tangent leaves the lobe about the frame's.
+void push_anisotropic_lobe(ShaderResult* out, const Lobe& lobe, const float* r, uint16_t tangent, float rotation) {
+    set_tangent(out, r, tangent, rotation);
+    int slot = push_lobe(out, lobe);
+    if (slot < 0) return;
+    Vec3 t = load3(r, tangent, Vec3(0.0f));
+    bool usable = is_finite(t) && std::isfinite(rotation);
+    out->lobe_tangents[slot] = usable ? LobeTangent{t.x, t.y, t.z, rotation} : LobeTangent{0.0f, 0.0f, 0.0f, 0.0f};
 }
 
 // Cycles' alpha_x, alpha_y of the Anisotropic BSDF (svm/closure.h): alpha = roughness^2 stretched along
@@ -718,7 +748,11 @@ void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
         l->alpha_y = std::min(l->alpha * aspect, 1.0f);
         l->alpha = std::min(l->alpha / aspect, 1.0f);
     };
-    if (aniso) set_tangent(out, r, op.in[Tangent], load1(r, op.in[AnisotropicRotation], 0.0f));
+    float rotation = aniso ? load1(r, op.in[AnisotropicRotation], 0.0f) : 0.0f;
+    auto push_specular = [&](const Lobe& l) {
+        if (aniso) push_anisotropic_lobe(out, l, r, op.in[Tangent], rotation);
+        else push_lobe(out, l);
+    };
     float f0 = std::min(0.08f * specular, 0.99f);
     if (f0 > 0.0f) {
         float spec_ior = 2.0f / (1.0f - std::sqrt(f0)) - 1.0f;
@@ -727,12 +761,12 @@ void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
                            uint8_t(idx + 1));
         s.f0 = Color(f0);
         stretch(&s);
-        push_lobe(out, s);
+        push_specular(s);
     }
     Lobe metal = make_lobe(spec_kind, FresnelMode::Schlick, Color(w * m), rough, 1.5f, uint8_t(idx + 2));
     metal.f0 = vmin(base, Color(1.0f));
     stretch(&metal);
-    push_lobe(out, metal);
+    push_specular(metal);
     if (multi_reflection) metal_multiple_scattering(metal, uint8_t(idx + 6), out);
     if (t > 0.0f) principled_glass(base, w * t, rough, load1(r, op.in[TransmissionRoughness], 0.0f), spec_tint, ior,
                                    multiscatter, uint8_t(idx + 3), out);
@@ -1338,18 +1372,18 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
                 multiscatter_ggx(c, w, rough, uint8_t(op.i[5]), out);
                 break;
             }
-            push_lobe(out, make_lobe(op.i[0] == 2 ? LobeKind::Beckmann : LobeKind::Microfacet, FresnelMode::None, c * w, rough, 1.5f,
-                                     uint8_t(op.i[5])));
+            Lobe l = make_lobe(glossy_kind(op.i[0]), FresnelMode::None, c * w, rough, 1.5f, uint8_t(op.i[5]));
+            l.alpha_y = l.alpha;  // isotropic (read by the Ashikhmin-Shirley lobe only)
+            push_lobe(out, l);
             break;
         }
         case Op::Anisotropic: {  // in: weight, colour, roughness, anisotropy, rotation, normal, tangent
             float w = load1(r, op.in[0], 1.0f);
             set_normal(out, r, op.in[5]);
-            set_tangent(out, r, op.in[6], load1(r, op.in[4], 0.0f));
-            Lobe l = make_lobe(op.i[0] == 2 ? LobeKind::AnisoBeckmann : LobeKind::AnisoGgx, FresnelMode::None,
-                               load3(r, op.in[1], Color(0.8f)) * w, 0.0f, 1.5f, uint8_t(op.i[5]));
+            Lobe l = make_lobe(anisotropic_kind(op.i[0]), FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, 0.0f,
+                               1.5f, uint8_t(op.i[5]));
             anisotropic_alphas(load1(r, op.in[2], 0.5f), load1(r, op.in[3], 0.5f), &l);
-            push_lobe(out, l);
+            push_anisotropic_lobe(out, l, r, op.in[6], load1(r, op.in[4], 0.0f));
             break;
         }
         case Op::Hair: {  // in: weight, colour, offset (radians), roughness U, roughness V, tangent (lobes/hair.h)

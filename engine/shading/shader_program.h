@@ -63,6 +63,12 @@ struct ShaderOp {
 };
 
 // What a program produced at a point: Cycles' closure list and the non-BSDF outputs.
+// An anisotropic closure's own tangent (world space, as its Tangent input gives it) and Rotation (turns
+// about the normal), for the lobe in the same slot of ShaderResult::lobes.
+struct LobeTangent {
+    float x, y, z, turns;
+};
+
 struct ShaderResult {
     Lobe lobes[Bsdf::kMaxLobes];
     int count = 0;
@@ -74,6 +80,10 @@ struct ShaderResult {
     Vec3 tangent;                   // the first anisotropic closure's tangent (the shading frame's s axis),
     float tangent_rotation = 0.0f;  // turned about the normal by this many turns (Cycles' Rotation)
     bool has_tangent = false;
+    // Every anisotropic lobe's own (kOwnTangent kinds; read only where has_tangent, so left
+    // uninitialised: materials without one pay nothing). Scene::program_bsdf turns each into the
+    // lobe's tangent within the shading frame (lobe.h, lobe_detail::to_lobe_tangent).
+    LobeTangent lobe_tangents[Bsdf::kMaxLobes];
     bool truncated = false;   // more lobes than a Bsdf holds: the smallest were dropped
 };
 

@@ -118,6 +118,20 @@ std::vector<NamedLobe> new_lobes() {
         v.push_back({"AnisoGgx_" + num(ax) + "_" + num(ay), g});
         v.push_back({"AnisoBeckmann_" + num(ax) + "_" + num(ay), b});
     }
+    // Ashikhmin-Shirley: the Glossy BSDF's (alpha_x = alpha_y) and the Anisotropic BSDF's.
+    for (auto [ax, ay] : {std::pair{0.09f, 0.09f}, std::pair{0.49f, 0.49f}, std::pair{1.0f, 1.0f},
+                          std::pair{0.05f, 0.4f}, std::pair{0.6f, 0.15f}}) {
+        Lobe l = lobe_of(LobeKind::AshikhminShirley, ax, Color(0.9f, 0.6f, 0.3f));
+        l.alpha_y = ay;
+        v.push_back({"AshikhminShirley_" + num(ax) + "_" + num(ay), l});
+    }
+    // Anisotropic lobes about their own tangent, turned from the frame's (lobe.h, to_lobe_tangent).
+    for (LobeKind kind : {LobeKind::AnisoGgx, LobeKind::AnisoBeckmann, LobeKind::AshikhminShirley}) {
+        Lobe l = lobe_of(kind, 0.1f, Color(0.6f, 0.8f, 0.9f));
+        l.alpha_y = 0.5f;
+        l.kind_colour = Color(std::cos(2.2f) - 1.0f, std::sin(2.2f), 0.0f);
+        v.push_back({"OwnTangent_" + std::to_string(int(kind)), l});
+    }
     // Hair BSDF: r1 = Roughness U (alpha), r2 = Roughness V (alpha_y), Offset (f0.x, radians).
     for (auto [r1, r2, offset] : {std::tuple{0.1f, 1.0f, 0.0f}, std::tuple{0.3f, 0.4f, 0.05f}, std::tuple{0.02f, 0.1f, -0.1f}}) {
         Lobe r = lobe_of(LobeKind::HairReflection, r1, Color(0.8f, 0.6f, 0.4f)), t = r;
@@ -429,6 +443,51 @@ TEST(ClosureFurnace, AnisotropicLosesEnergyOnlyAndIsIsotropicAtEqualAlphas) {
     }
 }
 
+// Ashikhmin-Shirley (no Fresnel; eval / pdf = cos_i / max(cos_i, cos_o)) loses energy only, isotropic
+// or not; its sampling matches quadrature of eval().
+TEST(ClosureFurnace, AshikhminShirleyLosesEnergyOnly) {
+    for (auto [ax, ay] : {std::pair{0.09f, 0.09f}, std::pair{1.0f, 1.0f}, std::pair{0.1f, 0.5f}, std::pair{0.8f, 0.2f}})
+        for (int i = 0; i < 3; ++i) {
+            Lobe lobe = lobe_of(LobeKind::AshikhminShirley, ax);
+            lobe.alpha_y = ay;
+            Vec3 wo = dir_from_cos(kCosThetas[i], kPhis[i]);
+            st::MeanEstimator is = sampled_albedo(lobe, wo, 300000, 71 + i);
+            double quad = quadrature_albedo(lobe, wo);
+            std::printf("[furnace] AshikhminShirley %.2f/%.2f cos %.2f: IS %.5f +- %.2g, quadrature %.5f\n", ax, ay,
+                        kCosThetas[i], is.mean(), is.std_error(), quad);
+            EXPECT_TRUE(matches_quadrature(is, quad)) << ax << " " << ay << " cos " << kCosThetas[i];
+            EXPECT_TRUE(st::at_most(is, 1.0)) << is.mean();
+        }
+}
+
+// An anisotropic lobe about its own tangent at angle phi from the frame's s axis is the same lobe about
+// the frame's, seen in directions turned by -phi: what Cycles' per-closure frame gives.
+TEST(ClosureClosedForm, OwnTangentTurnsTheLobe) {
+    Rng rng(5, 33);
+    for (LobeKind kind : {LobeKind::AnisoGgx, LobeKind::AnisoBeckmann, LobeKind::AshikhminShirley})
+        for (float phi : {0.7f, -2.5f}) {
+            Lobe about_frame = lobe_of(kind, 0.15f);
+            about_frame.alpha_y = 0.6f;
+            Lobe own = about_frame;
+            own.kind_colour = Color(std::cos(phi) - 1.0f, std::sin(phi), 0.0f);
+            auto turned = [&](const Vec3& w) {  // w in the lobe's own frame
+                return Vec3(std::cos(-phi) * w.x - std::sin(-phi) * w.y, std::sin(-phi) * w.x + std::cos(-phi) * w.y, w.z);
+            };
+            int compared = 0;
+            for (int k = 0; k < 2000; ++k) {
+                Vec3 wo = sample_cosine_hemisphere(rand2(rng)), wi = sample_cosine_hemisphere(rand2(rng));
+                float e = lobe_eval(about_frame, turned(wo), turned(wi)).x;
+                ASSERT_TRUE(close_rel(lobe_eval(own, wo, wi).x, e, 1e-3, 1e-6)) << int(kind) << " " << phi;
+                ASSERT_TRUE(close_rel(lobe_pdf(own, wo, wi), lobe_pdf(about_frame, turned(wo), turned(wi)), 1e-3, 1e-6));
+                compared += e > 1e-3f;
+            }
+            EXPECT_GT(compared, 200) << int(kind);
+            // and it is not the lobe about the frame's tangent
+            Vec3 wo = dir_from_cos(0.7f, 0.0f), wi = dir_from_cos(0.3f, 2.0f);
+            EXPECT_FALSE(close_rel(lobe_eval(own, wo, wi).x, lobe_eval(about_frame, wo, wi).x, 1e-2)) << int(kind);
+        }
+}
+
 // The Principled transmission (lobes/principled_glass.h): untinted white, at one roughness, it is the
 // Glass lobe exactly (Cycles' pair of closures at the same alpha); apart, a smooth one keeps all the
 // energy (value / pdf 1 for a reflection, (eta_i / eta_t)^2 for a refraction, undone here) and a rough
@@ -655,6 +714,45 @@ TEST(ClosureClosedForm, AnisotropicIsCyclesFormula) {
             l.kind = LobeKind::AnisoBeckmann;
             EXPECT_NEAR(lobe_eval(l, wo, wi).x, beck, 1e-4 * beck + 1e-7) << ax << " " << i;
         }
+}
+
+// bsdf_ashikhmin_shirley.h's eval, as Cycles writes it (its isotropic branch where n_x = n_y, else the
+// exponent from H's projections on the tangent frame over 1 - (H.N)^2), value and pdf, and a roughness
+// at or under 0.01 (alpha 1e-4) is Cycles' mirror.
+TEST(ClosureClosedForm, AshikhminShirleyIsCyclesFormula) {
+    const double pi = 3.14159265358979323846;
+    auto exponent = [](double alpha) {
+        alpha = std::min(std::max(alpha, 1e-4), 1.0);
+        return 2.0 / (alpha * alpha) - 2.0;
+    };
+    for (auto [ax, ay] : {std::pair{0.3, 0.3}, std::pair{0.81, 0.81}, std::pair{0.2, 0.6}, std::pair{0.7, 0.05}})
+        for (int i = 0; i < 3; ++i) {
+            Vec3 wo = dir_from_cos(kCosThetas[i], kPhis[i]), wi = dir_from_cos(0.6f, kPhis[i] + 2.5f);
+            Vec3 h = normalize(wo + wi);
+            double n_dot_o = wo.z, n_dot_i = wi.z, h_dot_o = std::fabs(dot(h, wo)), h_dot_n = h.z;
+            double pump = 1.0 / (h_dot_o * std::max(n_dot_o, n_dot_i));
+            double nx = exponent(ax), ny = exponent(ay), lobe, norm;
+            if (nx == ny) {
+                lobe = std::pow(h_dot_n, nx);
+                norm = (nx + 1.0) / (8.0 * pi);
+            } else {
+                double e = (nx * h.x * h.x + ny * h.y * h.y) / (1.0 - h_dot_n * h_dot_n);
+                lobe = std::pow(h_dot_n, e);
+                norm = std::sqrt((nx + 1.0) * (ny + 1.0)) / (8.0 * pi);
+            }
+            double expected = n_dot_i * norm * lobe * pump, expected_pdf = norm * lobe / h_dot_o;
+            Lobe l = lobe_of(LobeKind::AshikhminShirley, float(ax));
+            l.alpha_y = float(ay);
+            EXPECT_NEAR(lobe_eval(l, wo, wi).x, expected, 1e-4 * expected + 1e-7) << ax << " " << ay << " " << i;
+            EXPECT_NEAR(lobe_pdf(l, wo, wi), expected_pdf, 1e-4 * expected_pdf + 1e-7) << ax << " " << ay << " " << i;
+        }
+    Lobe mirror = lobe_of(LobeKind::AshikhminShirley, 1e-4f, Color(0.5f));
+    mirror.alpha_y = 1e-4f;
+    Vec3 wo = dir_from_cos(0.5f, 1.0f);
+    BsdfSample s = lobe_sample(mirror, wo, {0.3f, 0.7f}, 0.5f);
+    EXPECT_TRUE(s.delta && s.valid());
+    EXPECT_NEAR(s.wi.z, wo.z, 1e-6f);
+    EXPECT_FLOAT_EQ(s.value.x, 0.5f);
 }
 
 TEST(ClosureClosedForm, ToonIsCyclesFormula) {

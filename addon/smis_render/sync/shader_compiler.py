@@ -902,17 +902,17 @@ def _distribution(c, node, supported=("SHARP", "GGX")):
     return 0 if node.distribution == "SHARP" else 1
 
 
-GLOSSY_MODES = {"BECKMANN": 2, "MULTI_GGX": 3}
+GLOSSY_MODES = {"BECKMANN": 2, "MULTI_GGX": 3, "ASHIKHMIN_SHIRLEY": 4}
 
 
 def _glossy(c, node, ctx, weight):
-    """Sharp (0), GGX (1), Beckmann (2) or multiscatter GGX (3); Ashikhmin-Shirley as GGX (warned)."""
+    """Sharp (0), GGX (1), Beckmann (2), multiscatter GGX (3) or Ashikhmin-Shirley (4)."""
     mode = GLOSSY_MODES.get(node.distribution) or _distribution(c, node)
     c.op("glossy", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Roughness", ctx, FLOAT),
                     _closure_normal(c, node, ctx)], ints=[mode])
 
 
-ANISOTROPIC_MODES = {"GGX": 1, "BECKMANN": 2}
+ANISOTROPIC_MODES = {"GGX": 1, "BECKMANN": 2, "ASHIKHMIN_SHIRLEY": 3}
 
 
 def _tangent_input(c, node, ctx):
@@ -926,8 +926,8 @@ def _tangent_input(c, node, ctx):
 
 
 def _anisotropic(c, node, ctx, weight):
-    """Anisotropic GGX (1) or Beckmann (2) about the Tangent turned by Rotation; multiscatter GGX and
-    Ashikhmin-Shirley as single-scatter GGX (warned)."""
+    """Anisotropic GGX (1), Beckmann (2) or Ashikhmin-Shirley (3) about the Tangent turned by Rotation;
+    multiscatter GGX as single-scatter GGX (warned)."""
     mode = ANISOTROPIC_MODES.get(node.distribution)
     if mode is None:
         c.warn_node(node, "uses the %s distribution, which is not supported; using GGX" % node.distribution)

@@ -1,8 +1,9 @@
 // Anisotropic GGX and Beckmann reflection (the Anisotropic BSDF; the Principled BSDF's Anisotropic),
 // Cycles 3.4's single-scattering closures with alpha_x along the tangent and alpha_y across it
-// (bsdf_microfacet.h): the Bsdf's shading frame has the closure's tangent as its s axis (Scene::
-// program_bsdf), so here x is along the tangent, y = n x tangent, as Cycles' make_orthonormals_tangent.
-// Lobe::alpha is alpha_x, Lobe::alpha_y alpha_y.
+// (bsdf_microfacet.h): each lobe has its own tangent within the Bsdf's shading frame (kOwnTangent,
+// lobe_detail::to_lobe_tangent: the first anisotropic closure's tangent is the frame's s axis, Scene::
+// program_bsdf), and in the lobe's frame x is along its tangent, y = n x tangent, as Cycles'
+// make_orthonormals_tangent. Lobe::alpha is alpha_x, Lobe::alpha_y alpha_y.
 //
 //  * GGX: D(m) = 1 / (pi ax ay (m_x^2 / ax^2 + m_y^2 / ay^2 + m_z^2)^2) and the separable Smith
 //    G1(w) = 2 / (1 + sqrt(1 + (ax^2 w_x^2 + ay^2 w_y^2) / w_z^2)) (Heitz 2014, "Understanding the
@@ -40,6 +41,7 @@ struct AnisoGgxLobe : LobeDefaults<AnisoGgxLobe> {
     static constexpr DensityModel kDensity = DensityModel::General;
     static constexpr SpectralFresnel kSpectral = SpectralFresnel::Tinted;
     static constexpr bool kTinted = true;
+    static constexpr bool kOwnTangent = true;
 
     static bool is_delta(const Lobe& lobe) { return lobe_detail::aniso_is_delta(lobe); }
     static Color fresnel(const Lobe& lobe, float cos_d) { return MicrofacetLobe::fresnel(lobe, cos_d); }
@@ -56,8 +58,8 @@ struct AnisoGgxLobe : LobeDefaults<AnisoGgxLobe> {
         return std::isfinite(g) ? g : 0.0f;
     }
 
-    [[gnu::noinline]] static LobeTerms terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
-        Vec3 wm;
+    [[gnu::noinline]] static LobeTerms terms(const Lobe& lobe, const Vec3& wo_frame, const Vec3& wi_frame) {
+        Vec3 wo = lobe_detail::to_lobe_tangent(lobe, wo_frame), wi = lobe_detail::to_lobe_tangent(lobe, wi_frame), wm;
         if (!lobe_detail::reflection_half_vector(wo, wi, &wm)) return {};
         float ax = lobe_detail::sanitize_alpha(lobe.alpha), ay = lobe_detail::sanitize_alpha(lobe.alpha_y);
         float common = D(wm, ax, ay) * G1(wo, ax, ay) / (4.0f * wo.z);
@@ -71,8 +73,8 @@ struct AnisoGgxLobe : LobeDefaults<AnisoGgxLobe> {
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float) {
         if (!(wo.z > 0.0f)) return {};
         if (is_delta(lobe)) return lobe_detail::mirror_sample(wo, lobe.weight * fresnel(lobe, wo.z));
-        Vec3 wm = ggx_sample_visible_normal(wo, lobe.alpha, lobe.alpha_y, u);
-        return MicrofacetLobe::reflect_about<AnisoGgxLobe>(lobe, wo, wm);
+        Vec3 wm = ggx_sample_visible_normal(lobe_detail::to_lobe_tangent(lobe, wo), lobe.alpha, lobe.alpha_y, u);
+        return MicrofacetLobe::reflect_about<AnisoGgxLobe>(lobe, wo, lobe_detail::from_lobe_tangent(lobe, wm));
     }
 
     static Color albedo(const Lobe& lobe) { return MicrofacetLobe::albedo(lobe); }
@@ -86,6 +88,7 @@ struct AnisoBeckmannLobe : LobeDefaults<AnisoBeckmannLobe> {
     static constexpr RayLabel kLabel = RayLabel::Glossy;
     static constexpr DensityModel kDensity = DensityModel::General;
     static constexpr SpectralFresnel kSpectral = SpectralFresnel::None;
+    static constexpr bool kOwnTangent = true;
 
     static bool is_delta(const Lobe& lobe) { return lobe_detail::aniso_is_delta(lobe); }
 
@@ -104,8 +107,8 @@ struct AnisoBeckmannLobe : LobeDefaults<AnisoBeckmannLobe> {
         return ((2.181f * a + 3.535f) * a) / ((2.577f * a + 2.276f) * a + 1.0f);
     }
 
-    [[gnu::noinline]] static LobeTerms terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
-        Vec3 wm;
+    [[gnu::noinline]] static LobeTerms terms(const Lobe& lobe, const Vec3& wo_frame, const Vec3& wi_frame) {
+        Vec3 wo = lobe_detail::to_lobe_tangent(lobe, wo_frame), wi = lobe_detail::to_lobe_tangent(lobe, wi_frame), wm;
         if (!lobe_detail::reflection_half_vector(wo, wi, &wm)) return {};
         float cos_om = dot(wo, wm);
         if (!(cos_om > 0.0f)) return {};
@@ -123,7 +126,8 @@ struct AnisoBeckmannLobe : LobeDefaults<AnisoBeckmannLobe> {
         if (!(wo.z > 0.0f)) return {};
         if (is_delta(lobe)) return lobe_detail::mirror_sample(wo, lobe.weight);
         float r = std::sqrt(-std::log(std::max(1.0f - u.x, 1e-30f))), phi = 2.0f * kPi * u.y;
-        Vec3 wm = normalize(Vec3(lobe.alpha * r * std::cos(phi), lobe.alpha_y * r * std::sin(phi), 1.0f));
+        Vec3 wm = lobe_detail::from_lobe_tangent(
+            lobe, normalize(Vec3(lobe.alpha * r * std::cos(phi), lobe.alpha_y * r * std::sin(phi), 1.0f)));
         if (!(dot(wo, wm) > 0.0f)) return {};
         return MicrofacetLobe::reflect_about<AnisoBeckmannLobe>(lobe, wo, wm);
     }

@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "scene/lobes/anisotropic.h"
+#include "scene/lobes/ashikhmin_shirley.h"
 #include "scene/lobes/beckmann.h"
 #include "scene/lobes/clearcoat.h"
 #include "scene/lobes/dielectric.h"
@@ -46,7 +47,7 @@ using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, C
                                   GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe, PrincipledGlassLobe, SubsurfaceLobe,
                                   PrincipledPartLobe, HairReflectionLobe, HairTransmissionLobe, PrincipledHairRLobe,
                                   PrincipledHairTTLobe, PrincipledHairTRTLobe, PrincipledHairTRRTLobe, MultiGlassLobe,
-                                  GlassMultipleLobe>;
+                                  GlassMultipleLobe, AshikhminShirleyLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -110,6 +111,7 @@ template <bool kGated = true, class F>
         case PrincipledHairTRRTLobe::kKind: return call_kind<PrincipledHairTRRTLobe, kGated>(f);
         case MultiGlassLobe::kKind: return call_kind<MultiGlassLobe, kGated>(f);
         case GlassMultipleLobe::kKind: return call_kind<GlassMultipleLobe, kGated>(f);
+        case AshikhminShirleyLobe::kKind: return call_kind<AshikhminShirleyLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate
@@ -157,6 +159,9 @@ inline bool lobe_dispersive(const Lobe& lobe) {
 }
 inline bool lobe_backface_inverts_eta(const Lobe& lobe) {
     return visit_lobe(lobe.kind, [](auto k) { return decltype(k)::kBackfaceInvertsEta; });
+}
+inline bool lobe_has_own_tangent(const Lobe& lobe) {
+    return visit_lobe(lobe.kind, [](auto k) { return decltype(k)::kOwnTangent; });
 }
 inline bool lobe_colour_f0(const Lobe& lobe) {
     return visit_lobe(lobe.kind, [&](auto k) { return decltype(k)::colour_f0(lobe); });

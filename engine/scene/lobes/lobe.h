@@ -21,6 +21,7 @@
 //   kSpectral, kDispersive            its spectral terms (spectral_path.cpp): where its Fresnel lives,
 //                                     and whether its Dirac refraction disperses
 //   kBackfaceInvertsEta               its IOR is inverted when the hit is on the back face (glass)
+//   kOwnTangent                       an anisotropic lobe about its own tangent (to_lobe_tangent)
 //   kTinted                           eval = weight * fresnel(cos_d) * geom (else weight * geom)
 //   is_delta(lobe)                    a Dirac lobe (no eval/pdf)
 //   terms(lobe, wo, wi)               eval and pdf, factored (LobeTerms)
@@ -68,6 +69,7 @@ enum class LobeKind : uint8_t {
     PrincipledHairTRRT,
     MultiGlass,     // Multiscatter GGX glass, its single scattering (lobes/multi_glass.h)
     GlassMultiple,  // Multiscatter GGX glass, its multiple scattering (lobes/glass_multiple.h)
+    AshikhminShirley,  // Glossy / Anisotropic BSDF with the Ashikhmin-Shirley distribution (lobes/ashikhmin_shirley.h)
     Count
 };
 
@@ -95,8 +97,9 @@ struct Lobe {
     float alpha_y = 0.0f;  // anisotropic lobes: alpha across the tangent (alpha is along it, the frame's s);
                            // GlassMultiple: the albedo its weight holds (lobes/glass_multiple.h)
     // A colour parameter of the lobe's own kind: Subsurface's mean free path per channel
-    // (lobes/subsurface.h), the Principled glass' Specular Tint in x (lobes/principled_glass.h). One
-    // field for both keeps Lobe small: every hit copies its lobes.
+    // (lobes/subsurface.h), the Principled glass' Specular Tint in x (lobes/principled_glass.h), an
+    // anisotropic lobe's own tangent in the Bsdf's frame (kOwnTangent: lobe_detail::to_lobe_tangent).
+    // One field for all keeps Lobe small: every hit copies its lobes.
     Color kind_colour{0.0f};
 };
 
@@ -204,6 +207,20 @@ inline bool reflection_half_vector(const Vec3& wo, const Vec3& wi, Vec3* wm) {
     return true;
 }
 
+// An anisotropic lobe's own tangent (kOwnTangent kinds): Cycles gives every anisotropic closure its
+// Tangent and Rotation, a Bsdf has one frame. Scene::program_bsdf stores the lobe's tangent direction
+// (cos phi, sin phi) in that frame as kind_colour = (cos phi - 1, sin phi), so that the default 0 is the
+// frame's own s axis; these turn a direction of the Bsdf's frame into the lobe's (x along its tangent,
+// y = n x tangent, as Cycles' make_orthonormals_tangent) and back.
+inline Vec3 to_lobe_tangent(const Lobe& lobe, const Vec3& w) {
+    float c = 1.0f + lobe.kind_colour.x, s = lobe.kind_colour.y;
+    return Vec3(c * w.x + s * w.y, c * w.y - s * w.x, w.z);
+}
+inline Vec3 from_lobe_tangent(const Lobe& lobe, const Vec3& w) {
+    float c = 1.0f + lobe.kind_colour.x, s = lobe.kind_colour.y;
+    return Vec3(c * w.x - s * w.y, s * w.x + c * w.y, w.z);
+}
+
 // The perfect mirror of a delta reflection lobe, carrying `value` (weight x Fresnel).
 [[gnu::always_inline]] inline BsdfSample mirror_sample(const Vec3& wo, const Color& value) {
     BsdfSample s;
@@ -308,6 +325,7 @@ struct LobeDefaults {
     static constexpr bool kTinted = false;  // no Fresnel factor outside terms().geom
     static constexpr bool kDispersive = false;
     static constexpr bool kBackfaceInvertsEta = false;
+    static constexpr bool kOwnTangent = false;  // kind_colour is its tangent in the frame (to_lobe_tangent)
     static Color fresnel(const Lobe&, float) { return Color(1.0f); }
     // No wo-only shortcut: fixed_wo_pdf evaluates the lobe (out of line, so that the loops over the
     // lobes inline only the shortcuts).
