@@ -142,6 +142,9 @@ def _settings_code(prop_group, settings):
     for key, value in settings.items():
         if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", key):
             raise ValueError("bad setting name %r" % key)
+        # a Blender property of that name, or an error: an engine-only key (e.g. camera_volume_only) or a
+        # misspelt one would otherwise be set as a plain attribute and change nothing
+        lines.append("assert %r in %s.bl_rna.properties, 'no setting %s on %s'" % (key, prop_group, key, prop_group))
         lines.append("setattr(%s, %r, %s)" % (prop_group, key, _py_literal(value)))
         # read back: a float property rounds, an enum must be what we asked for
         if isinstance(value, str):
