@@ -20,6 +20,7 @@
 
 using namespace smis;
 namespace st = smis::stats;
+using st::num;
 
 namespace {
 
@@ -97,25 +98,14 @@ const char* fresnel_name(FresnelMode m) {
     return "?";
 }
 
-// Test-name friendly number: 0.05 -> "0p05", -0.5 -> "m0p5".
-std::string num(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof(buf), "%g", v);
-    std::string s;
-    for (char c : std::string(buf)) s += c == '.' ? 'p' : (c == '-' ? 'm' : c);
-    return s;
-}
-
 st::DirSample as_dir_sample(const BsdfSample& s) {
     if (!s.valid()) return st::DirSample::invalid();
     if (s.delta) return st::DirSample::delta();
     return st::DirSample::valid(s.wi, s.pdf);
 }
 
-// |a - b| small relative to their magnitude.
-bool close_rel(double a, double b, double rel = 1e-3, double abs_floor = 1e-7) {
-    return std::fabs(a - b) <= rel * std::max(std::fabs(a), std::fabs(b)) + abs_floor;
-}
+// |a - b| small relative to their magnitude, per channel (beside the scalar one of stats.h).
+using st::close_rel;
 bool close_rel(const Color& a, const Color& b, double rel = 1e-3, double abs_floor = 1e-7) {
     return close_rel(a.x, b.x, rel, abs_floor) && close_rel(a.y, b.y, rel, abs_floor) &&
            close_rel(a.z, b.z, rel, abs_floor);

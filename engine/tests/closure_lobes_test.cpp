@@ -32,6 +32,8 @@
 
 using namespace smis;
 namespace st = smis::stats;
+using st::close_rel;
+using st::num;
 
 namespace {
 
@@ -65,17 +67,6 @@ Lobe principled_glass_lobe(float alpha_r, float alpha_t, Color base = Color(1.0f
     return l;
 }
 
-std::string num(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof(buf), "%g", v);
-    std::string s;
-    for (char c : std::string(buf)) s += c == '.' ? 'p' : (c == '-' ? 'm' : c);
-    return s;
-}
-
-bool close_rel(double a, double b, double rel = 1e-3, double abs_floor = 1e-7) {
-    return std::fabs(a - b) <= rel * std::max(std::fabs(a), std::fabs(b)) + abs_floor;
-}
 
 // The new lobes with the parameters the tests sweep (name, lobe, whether wo may be under the surface).
 struct NamedLobe {

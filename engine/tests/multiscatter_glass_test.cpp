@@ -28,6 +28,8 @@
 
 using namespace smis;
 namespace st = smis::stats;
+using st::close_rel;
+using st::num;
 
 namespace {
 
@@ -54,17 +56,6 @@ Pair glass_pair(float rough, float eta, Color c = Color(1.0f), uint8_t variant =
     return p;
 }
 
-std::string num(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof(buf), "%g", v);
-    std::string s;
-    for (char ch : std::string(buf)) s += ch == '.' ? 'p' : (ch == '-' ? 'm' : ch);
-    return s;
-}
-
-bool close_rel(double a, double b, double rel = 1e-3, double abs_floor = 1e-7) {
-    return std::fabs(a - b) <= rel * std::max(std::fabs(a), std::fabs(b)) + abs_floor;
-}
 
 struct NamedLobe {
     std::string name;

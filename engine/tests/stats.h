@@ -435,5 +435,19 @@ Chi2Result chi2_test_directions(SampleFn&& sample_fn, PdfFn&& pdf_fn, int n_thet
     return chi2_test_directions(sample_fn, pdf_fn, n_samples, opt);
 }
 
+// A parameter in a test's name ("0.5" -> "0p5", "-1" -> "m1": gtest names allow neither '.' nor '-').
+inline std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof(buf), "%g", v);
+    std::string s;
+    for (char c : std::string(buf)) s += c == '.' ? 'p' : (c == '-' ? 'm' : c);
+    return s;
+}
+
+// a and b within a relative tolerance of the larger, plus an absolute floor.
+inline bool close_rel(double a, double b, double rel = 1e-3, double abs_floor = 1e-7) {
+    return std::fabs(a - b) <= rel * std::max(std::fabs(a), std::fabs(b)) + abs_floor;
+}
+
 }  // namespace stats
 }  // namespace smis
