@@ -15,12 +15,6 @@ const std::pair<const char*, SpectralMode> kModeNames[] = {
 constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
 }  // namespace
 
-bool parse_spectral_mode(const std::string& name, SpectralMode* mode) {
-    for (auto& [n, m] : kModeNames)
-        if (name == n) return *mode = m, true;
-    return false;
-}
-
 const char* spectral_mode_name(SpectralMode mode) {
     for (auto& [n, m] : kModeNames)
         if (m == mode) return n;

@@ -36,8 +36,8 @@
 namespace smis::spectral {
 
 enum class SpectralMode { Rgb, Uniform, SpectralIs, Hero, Smis, SmisIndependent, BruteForce };
-// RGB, UNIFORM, SPECTRAL_IS, HERO, SMIS, SMIS_INDEPENDENT, BRUTE_FORCE (AUTO is resolved by the scene).
-bool parse_spectral_mode(const std::string& name, SpectralMode* mode);
+// RGB, UNIFORM, SPECTRAL_IS, HERO, SMIS, SMIS_INDEPENDENT, BRUTE_FORCE (for messages; the setting's
+// names are the settings table's, render_settings.h).
 const char* spectral_mode_name(SpectralMode mode);
 
 constexpr int kMaxWavelengths = 512;
