@@ -46,6 +46,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
+from callgrind import callgrind_wrapper  # noqa: E402
 from render import remove, render_smis  # noqa: E402
 
 # The last commit before spectral rendering and participating media were added (path tracer and
@@ -89,8 +90,6 @@ FEATURE_SETTINGS = {"cornell": {"integrator": "PATH", "samples": 8}, "psf_room":
                     "psf_glossy": {"integrator": "PSF_SMIS", "samples": 2}}
 FEATURE_COMMON = dict(COMMON, sampling_pattern="RANDOM")
 GOAL_PERCENT = 2.0
-CALLGRIND = ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", "--collect-atstart=no",
-             "--toggle-collect=smis::RenderSession::render_loop*"]
 
 
 def log(msg):
@@ -148,7 +147,7 @@ def current_scripts():
 def count_instructions(blend, settings, scripts):
     """Instructions executed by the engine's render loop (callgrind, one thread), the run, and the
     image's SHA-1 (two builds that trace the same rays write the same image)."""
-    run = render_smis(blend, settings, threads=1, addon_scripts=scripts, wrapper=CALLGRIND, retries=0)
+    run = render_smis(blend, settings, threads=1, addon_scripts=scripts, wrapper=callgrind_wrapper(), retries=0)
     digest = hashlib.sha1(run.image.tobytes()).hexdigest()[:12]
     remove(run)
     found = re.findall(r"Collected\s*:\s*(\d+)", run.output)
