@@ -1402,7 +1402,7 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             push_anisotropic_lobe(out, l, r, op.in[6], load1(r, op.in[4], 0.0f));
             break;
         }
-        case Op::Hair: {  // in: weight, colour, offset (radians), roughness U, roughness V, tangent (lobes/hair.h)
+        case Op::Hair: {  // in: weight, colour, offset (radians), roughness U, roughness V, tangent, Cycles' sampler flag (lobes/hair.h)
             float w = load1(r, op.in[0], 1.0f);
             set_tangent(out, r, op.in[5], 0.0f);
             Lobe l = make_lobe(op.i[0] == 1 ? LobeKind::HairTransmission : LobeKind::HairReflection, FresnelMode::None,
@@ -1411,6 +1411,9 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             l.alpha_y = load1(r, op.in[4], 1.0f);
             float offset = -load1(r, op.in[2], 0.0f);  // Cycles' closure tilts by minus the node's Offset
             l.f0 = Color(std::isfinite(offset) ? offset : 0.0f, 0.0f, 0.0f);
+            // in[6]: the hair_geometry op's first LCG number, >= 0 only with hair_cycles_sampling (the
+            // path's key is set only then): Cycles' biased sampler.
+            if (load1(r, op.in[6], -1.0f) >= 0.0f) l.variant = HairReflectionLobe::kCyclesSampler;
             push_lobe(out, l);
             break;
         }

@@ -953,13 +953,16 @@ def _anisotropic(c, node, ctx, weight):
 def _hair(c, node, ctx, weight):
     """Cycles' Hair BSDF, Reflection (0) or Transmission (1) (lobes/hair.h), about the Tangent, by
     default the curve's own (a `tangent` op of mode 2: it reads the hit, so the material stays a
-    program and the shading frame follows the strand)."""
+    program and the shading frame follows the strand). With hair_cycles_sampling, Cycles' own sampler
+    (lobes/hair.h, kCyclesSampler), told by the hair_geometry op's LCG number."""
     t = c.normal_input(node, "Tangent", ctx)
     if t is None:
         t = c.alloc(VEC)
         c.op("tangent", [], [t], [2, 0, -1])
+    cycles = c.alloc(FLOAT)  # >= 0 with hair_cycles_sampling: Cycles' sampler (the hair_geometry op's LCG number)
+    c.op("hair_geometry", [t], [None, None, cycles, None])
     c.op("hair", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Offset", ctx, FLOAT),
-                  c.input(node, "RoughnessU", ctx, FLOAT), c.input(node, "RoughnessV", ctx, FLOAT), t],
+                  c.input(node, "RoughnessU", ctx, FLOAT), c.input(node, "RoughnessV", ctx, FLOAT), t, cycles],
          ints=[1 if node.component == "Transmission" else 0])
 
 
