@@ -6,15 +6,21 @@ matches the Cycles 3.4 references in blender_tests/references/hair_*.exr
     as particle hair and as a Curves object (the same strands converted);
   * hair_bsdf_direct, principled_*_direct: the Hair BSDF and the Principled Hair BSDF's three colour
     parametrisations lit by the sun alone (max bounces 0);
+  * principled_random_direct, principled_random_curves_direct: the Principled Hair BSDF with Random
+    Color and Random Roughness, each strand's melanin and roughness varied by Hair Info's Random (the
+    hash of the strand's index, as Cycles), as particle hair and as a Curves object; without the
+    variation the image is 25-30% off Cycles' (test_principled_hair_random_is_seen);
+  * hair_bsdf: Cycles' Hair BSDF through 8 bounces under sun and world; with hair_cycles_sampling we
+    sample it as Cycles (whose sampler and eval disagree) and match, the default is darker;
   * principled_color_sun, principled_color: the Principled Hair BSDF through 8 bounces, lit by the sun
     alone and by the sun and the world. Cycles draws the longitudinal sample of every bounce from an
     LCG seeded 16 apart per bounce, so its samples along a path are correlated and its light bounced
     between strands is brighter than the converged integral (lobes/principled_hair.h,
     cycles_bounce_lcg). With the setting hair_cycles_sampling we draw the same numbers and match
     Cycles' image; without (the default, unbiased) the sun-lit scene's mean is about 20% darker.
-    Both scenes are too noisy at the test's samples for the 8x8 bar (Cycles against Cycles, two
-    seeds of 256 spp: 3.3% in the full scene), so they check the image mean per channel, within 2%,
-    and the block error against a looser bar.
+    Both miss the 8x8 bar: the full scene against a 2 x 2048 spp reference by a mean excess of ours
+    of 1.5-2% (3.5% at 128 spp, 2.34% at 1024), the sun-lit one by noise; they check the image mean
+    per channel, within 2%, and the block error against a looser bar.
 
 Error: mean relative error over 8x8-pixel blocks and R, G, B (as test_closures.py, EPS 0.02), at
 most 2% (the issue's bar for hair).
@@ -35,9 +41,17 @@ THRESHOLD = 0.02
 BLOCK = 8
 SPP = int(os.environ.get("SMIS_HAIR_SPP", "128"))
 SCENES = ["diffuse", "diffuse_curves", "hair_bsdf_direct", "principled_color_direct", "principled_melanin_direct",
-          "principled_absorption_direct"]
+          "principled_absorption_direct", "principled_random_direct", "principled_random_curves_direct"]
+# Samples per scene where not SPP: the varied strands' speckle is noisier (the Curves object's 64 spp
+# against its 256 spp reference: 3.1%).
+SCENE_SPP = {"principled_random_direct": 2 * SPP, "principled_random_curves_direct": 2 * SPP}
+# What Random Color and Random Roughness change: without them the mean strand (roughness 0.4, melanin
+# 0.35) is far from Cycles' image (29% at 64 spp).
+RANDOM_UNSEEN_MIN = 0.10
 # Multiple bounces between Principled Hair strands: the mean within MEAN_THRESHOLD, the 8x8 blocks
-# within their noise (ours at SPP against the 2 x 256 spp reference: 4.3% measured in the full scene).
+# within their noise. The full scene's reference is 2 x 2048 spp (8x8 noise 0.6% rms): ours at 128
+# spp 3.5% (mean +1.55%), at 1024 spp 2.34% (mean +2.0%), so the 2% bar is missed by a mean excess
+# of ours, not by noise any more (cause open); the sun-lit scene's is 2 x 256 spp (7.1% at 128).
 BOUNCE_SCENES = ["principled_color_sun", "principled_color"]
 MEAN_THRESHOLD = 0.02
 NOISY_THRESHOLD = 0.10
@@ -60,13 +74,13 @@ def block_mre(ours, ref):
     return float((np.abs(a - b) / np.maximum(b, EPS)).mean())
 
 
-def _render_and_reference(tmp_path_factory, name, cycles_sampling=False):
+def _render_and_reference(tmp_path_factory, name, cycles_sampling=False, setup=""):
     run = render(_blend(tmp_path_factory, name), f"""
-scene.smis.samples = {SPP}
+scene.smis.samples = {SCENE_SPP.get(name, SPP)}
 scene.smis.seed = 1
 scene.smis.integrator = 'PATH'
 scene.smis.hair_cycles_sampling = {cycles_sampling}
-""", timeout=600)
+""" + setup, timeout=600)
     assert run.returncode == 0, run.output[-3000:]
     bad = [ln for ln in run.output.splitlines() if ln.startswith("Warning") and "not supported" in ln]
     assert not bad, "\n".join(bad)
@@ -84,6 +98,35 @@ scene.smis.hair_cycles_sampling = {cycles_sampling}
 def test_hair_matches_cycles(tmp_path_factory, name):
     _, _, err = _render_and_reference(tmp_path_factory, name)
     assert err <= THRESHOLD, "%s: MRE %.3f%%" % (name, 100 * err)
+
+
+def test_principled_hair_random_is_seen(tmp_path_factory):
+    """The random scene tells varied strands from the mean strand: with Random Color and Random
+    Roughness zeroed the image is far from Cycles' (so the 2% above checks the variation)."""
+    _, _, err = _render_and_reference(tmp_path_factory, "principled_random_direct", setup="""
+for m in bpy.data.materials:
+    for n in (m.node_tree.nodes if m.use_nodes else []):
+        if n.bl_idname == 'ShaderNodeBsdfHairPrincipled':
+            n.inputs['Random Color'].default_value = 0.0
+            n.inputs['Random Roughness'].default_value = 0.0
+""")
+    assert err > RANDOM_UNSEEN_MIN, "without the variation: MRE %.3f%%" % (100 * err)
+
+
+def test_hair_bsdf_bounces_are_cycles_sampler(tmp_path_factory):
+    """Cycles' Hair BSDF through 8 bounces under sun and world (hair_bsdf, 2 x 256 spp reference):
+    Cycles' sampler counts directions its own eval gives nothing (R below N or on the far azimuth)
+    with value/pdf 1 and never samples TT's outer azimuths (lobes/hair.h), so its image is brighter
+    than its BSDF's integral. Sampling as Cycles does (hair_cycles_sampling) gives Cycles' image
+    (0.56% at 256 spp); the default, one consistent BSDF, is darker (-22/-14/-9% R/G/B)."""
+    ours, ref, err = _render_and_reference(tmp_path_factory, "hair_bsdf", cycles_sampling=True)
+    bias = ours[..., :3].mean(axis=(0, 1)) / ref[..., :3].mean(axis=(0, 1)) - 1.0
+    assert np.all(np.abs(bias) <= MEAN_THRESHOLD), "mean bias %s %%" % np.round(100 * bias, 2)
+    assert err <= THRESHOLD, "hair_bsdf with Cycles' sampler: MRE %.3f%%" % (100 * err)
+    unbiased, _, _ = _render_and_reference(tmp_path_factory, "hair_bsdf")
+    gap = unbiased[..., :3].mean() / ref[..., :3].mean() - 1.0
+    print("%-24s consistent BSDF: mean %+.2f %% against Cycles" % ("hair_bsdf", 100 * gap))
+    assert -0.30 < gap < -0.08, gap
 
 
 @pytest.mark.parametrize("name", BOUNCE_SCENES)

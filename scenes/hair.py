@@ -6,7 +6,8 @@ Run:
 
 MATERIAL: `hair_bsdf` (default: Cycles' Hair BSDF, a Reflection plus a Transmission closure), or the
 Principled Hair BSDF `principled_color`, `principled_melanin`, `principled_absorption` (its three
-colour parametrisations); with the suffix `_direct`, the same lit by the sun alone (black world, max
+colour parametrisations), `principled_random` (melanin and roughness varied per strand by Random Color
+and Random Roughness); with the suffix `_direct`, the same lit by the sun alone (black world, max
 bounces 0: direct light only, where Cycles' Hair BSDF evaluates what it defines, lobes/hair.h); with
 `_curves` (before `_direct`), the strands converted to a Curves object (hair curves) instead; with
 the suffix `_sun`, lit by the sun alone through max bounces 8 (light bounced between strands).
@@ -14,7 +15,7 @@ Writes OUTDIR/hair_<MATERIAL>.blend for each: a 64 x 48 px view at 45 degrees do
 plane (a grey diffuse emitter) growing 400 parent strands with 8 interpolated children each (3,600
 strands of 9 points as Cycles renders them: render_step 3), 0.5 m long and tilted at random, of
 radius 0.01 m at the root to 0 at the tip (Cycles' default thick round curves), lit by a sun
-(3 W/m^2, 5 degrees wide) from the side and a uniform grey world (0.25). Saved for Cycles with the
+(3 W/m^2, 20 for principled_random; 5 degrees wide) from the side and a uniform grey world (0.25). Saved for Cycles with the
 project's unbiased settings (scenes/cycles_settings.py) and for SMIS (path tracing, BOX filter 1 px),
 max bounces 8, view transform Standard.
 """
@@ -82,7 +83,14 @@ MATERIALS = {
     "principled_melanin": _principled_hair('MELANIN', Melanin=0.4, **{"Melanin Redness": 0.7, "Roughness": 0.4}),
     "principled_absorption": _principled_hair('ABSORPTION', **{"Absorption Coefficient": (0.3, 0.6, 1.2),
                                                                "Radial Roughness": 0.5, "Coat": 0.0}),
+    # per-strand variation from Hair Info's Random (the node's Random unlinked): melanin from 0.07 to
+    # 0.63 and roughnesses from 0.15x to 1.85x their values, strand by strand
+    "principled_random": _principled_hair('MELANIN', Melanin=0.35, **{"Melanin Redness": 0.6, "Roughness": 0.4,
+                                                                     "Random Color": 0.8, "Random Roughness": 0.85}),
 }
+# The sun's strength (W/m^2) where not 3: bright enough that the direct-light image's 8x8 blocks lie
+# above the error's floor (EPS 0.02 in blender_tests/test_hair.py), so its error is relative.
+SUN_STRENGTH = {"principled_random": 20.0}
 
 
 def build(out_dir, material, direct=False, curves=False, sun_only=False):
@@ -139,7 +147,7 @@ def build(out_dir, material, direct=False, curves=False, sun_only=False):
 
     bpy.ops.object.light_add(type='SUN', rotation=(math.radians(50), math.radians(-20), math.radians(30)))
     sun = bpy.context.object
-    sun.data.energy = 3.0
+    sun.data.energy = SUN_STRENGTH.get(material, 3.0)
     sun.data.angle = math.radians(5.0)
 
     bpy.ops.object.camera_add(location=(0.0, -2.6, 2.2), rotation=(math.radians(52), 0.0, 0.0))

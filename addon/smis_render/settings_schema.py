@@ -217,12 +217,14 @@ SETTINGS = [
             "Maximum number of bounces of a path, as Cycles' Max Bounces: 0 renders direct lighting only",
             why="Cycles' meaning: 0 = direct lighting only", min=0, soft_max=64, panel="light_paths"),
     Setting("hair_cycles_sampling", "bool", False, "Cycles Hair Sampling",
-            "Principled Hair BSDF: draw each bounce's longitudinal sample from Cycles 3.4's per-bounce generator, "
-            "as Cycles does. Its numbers are correlated between bounces, so light bounced between strands comes "
-            "out brighter than the converged image (about 20% after 8 bounces of sunlight): matches Cycles' "
-            "image, but biased. Off: independent samples, unbiased",
+            "Sample the hair closures as Cycles 3.4 does. Principled Hair BSDF: each bounce's longitudinal sample "
+            "from Cycles' per-bounce generator, whose numbers are correlated between bounces, so light bounced "
+            "between strands comes out brighter than the converged image (about 20% after 8 bounces of sunlight). "
+            "Hair BSDF: Cycles' sampler, which counts directions its own evaluation gives nothing. Matches Cycles' "
+            "image, but biased. Off: independent samples of one consistent BSDF, unbiased",
             why="Cycles' correlated per-bounce LCG numbers for the Principled Hair's theta sample "
-                "(lobes/principled_hair.h, ShaderRay::path_key): Cycles' look, biased; off by default.",
+                "(lobes/principled_hair.h, ShaderRay::path_key) and its Hair BSDF sampler inconsistent with its "
+                "eval (lobes/hair.h, kCyclesSampler): Cycles' look, biased; off by default.",
             panel="light_paths"),
     Setting("mis_heuristic", MIS_HEURISTIC, "POWER", "MIS Heuristic",
             "How multiple importance sampling weights the sampling techniques", field="mis", panel="light_paths"),

@@ -529,17 +529,19 @@ PYBIND11_MODULE(_smis, m) {
             "None at evenly spaced times over the shutter; ValueError (the mesh unchanged) when they do not fit")
         .def(
             "add_curves",
-            [](Scene& s, FloatArray points, IntArray curve_offsets, uint32_t material) {
+            [](Scene& s, FloatArray points, IntArray curve_offsets, uint32_t material, uint32_t first_curve) {
                 if (points.ndim() != 2 || points.shape(1) != 4) throw py::value_error("points must be (N, 4): x, y, z, radius");
                 if (curve_offsets.ndim() != 1 || curve_offsets.shape(0) < 1)
                     throw py::value_error("curve_offsets must be (curves + 1,)");
                 size_t np = points.shape(0), nc = curve_offsets.shape(0) - 1;
                 py::gil_scoped_release release;
-                return value_errors([&] { return s.add_curves(points.data(), np, curve_offsets.data(), nc, material); });
+                return value_errors(
+                    [&] { return s.add_curves(points.data(), np, curve_offsets.data(), nc, material, first_curve); });
             },
-            py::arg("points"), py::arg("curve_offsets"), py::arg("material"),
+            py::arg("points"), py::arg("curve_offsets"), py::arg("material"), py::arg("first_curve") = 0,
             "Hair: Catmull-Rom curves through (N, 4) points (x, y, z, radius), curve c from curve_offsets[c] to "
-            "curve_offsets[c + 1] - 1, all with one material; returns a mesh id for add_instance")
+            "curve_offsets[c + 1] - 1, all with one material; first_curve: the index of curve 0 among the "
+            "object's hair (Hair Info's Random hashes first_curve + c, as Cycles); returns a mesh id for add_instance")
         .def("attribute_id", [](Scene& s, const std::string& name) { return s.attribute_id(name); },
              "The id shader programs use for a mesh attribute (UV map or colour attribute) by name")
         .def(

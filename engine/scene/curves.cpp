@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include "scene/scene.h"
+#include "shading/procedural_noise.h"
 
 namespace smis {
 namespace {
@@ -69,7 +70,8 @@ bool inside_segment_tube(const float* p, const Vec3& o) {
 
 }  // namespace
 
-uint32_t Scene::add_curves(const float* points, size_t np, const int32_t* curve_offsets, size_t nc, uint32_t material) {
+uint32_t Scene::add_curves(const float* points, size_t np, const int32_t* curve_offsets, size_t nc, uint32_t material,
+                           uint32_t first_curve) {
     if (committed_) throw std::logic_error("scene already committed");
     if (material >= materials_.size()) throw std::invalid_argument("curves with an unknown material");
     Mesh mesh;
@@ -96,6 +98,7 @@ uint32_t Scene::add_curves(const float* points, size_t np, const int32_t* curve_
         for (int32_t j = 0; j < end - first - 1; ++j) {
             mesh.indices.push_back(base + uint32_t(j));
             mesh.materials.push_back(material);
+            mesh.segment_curves.push_back(first_curve + uint32_t(c));
         }
     }
     meshes_.push_back(std::move(mesh));
@@ -217,6 +220,10 @@ ShaderContext Scene::curve_shader_context(const SurfaceAttribs& at, const Vec3& 
     ctx.I = wo;
     ctx.backfacing = dot(wo, n) < 0.0f;
     ctx.Ng = ctx.N = ctx.backfacing ? -n : n;
+    // Hair Info's Random: Cycles' ATTR_STD_CURVE_RANDOM, hash_uint2_to_float(curve, 0) of the curve's
+    // index in its object's hair (blender/curves.cpp, ExportCurveSegments and export_hair_curves).
+    ctx.curve = true;
+    ctx.curve_random = shading::hash_uint2_to_float(mesh.segment_curves[at.prim], 0u);
     ctx.N_object = inst.identity ? normalize(inst.to_world.normal_to_object(n)) : normalize(inst.to_object.vector(n));
     ctx.dPdu = c.tangent;
     set_object_inputs(inst, &ctx);

@@ -97,7 +97,10 @@ public:
     // curve_offsets[c] to curve_offsets[c + 1] - 1 (nc + 1 offsets), rendered as Embree round
     // Catmull-Rom curves (Cycles' 3D curves), all with `material`. Curves with fewer than two points
     // and non-finite points are dropped (counted in mesh_dropped()). Placed by add_instance as a mesh.
-    uint32_t add_curves(const float* points, size_t np, const int32_t* curve_offsets, size_t nc, uint32_t material);
+    // `first_curve`: the index of curve 0 among its object's hair (Cycles numbers an object's curves
+    // across all its particle systems), from which Hair Info's Random is hashed (curves.cpp).
+    uint32_t add_curves(const float* points, size_t np, const int32_t* curve_offsets, size_t nc, uint32_t material,
+                        uint32_t first_curve = 0);
     // The mesh's texture space (Blender's texspace_location / texspace_size), for Generated coordinates.
     void set_mesh_texspace(uint32_t mesh, const Vec3& location, const Vec3& size);
     // Attribute names are interned: shader programs refer to them by id.
@@ -277,9 +280,11 @@ private:
         const Scene* owner = nullptr;        // for the cut-out filter, which gets only the mesh
         // Hair (add_curves): control points x, y, z, radius, each curve's ends doubled as Cycles
         // does for Catmull-Rom; `indices` then holds each segment's first control point and
-        // `materials` one id per segment.
+        // `materials` one id per segment, `segment_curves` the index of each segment's curve in its
+        // object's hair (add_curves' first_curve + c, dropped curves counted).
         bool curves = false;
         std::vector<float> curve_points;
+        std::vector<uint32_t> segment_curves;
     };
     // Hair (curves.cpp): rays leaving a hair ignore the curve they start on (Cycles' self skip);
     // the Embree geometry; a sole user's curves moved into world space; a hit and what its program reads.

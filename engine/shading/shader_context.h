@@ -65,6 +65,9 @@ struct ShaderContext {
     Color object_color{1.0f};
     float object_alpha = 1.0f, object_random = 0.0f, object_index = 0.0f, material_index = 0.0f;
     Vec3 texspace_location{0.0f}, texspace_size{1.0f};
+    // Hair (Scene::curve_shader_context): Hair Info's Is Strand and Random (per curve, as Cycles').
+    bool curve = false;
+    float curve_random = 0.0f;
     ShaderRay ray;
     // The World (Cycles' background shader data, EnvironmentLight::context): P is the direction the
     // ray leaves the scene in, N = Ng = I = -P, no object; Texture Coordinate reads it differently.

@@ -58,6 +58,7 @@ constexpr struct {
     {"tex_sky", Op::TexSky},
     {"background", Op::Background}, {"anisotropic", Op::Anisotropic}, {"subsurface", Op::Subsurface},
     {"hair", Op::Hair}, {"principled_hair", Op::PrincipledHair}, {"hair_geometry", Op::HairGeometry},
+    {"hair_info", Op::HairInfo},
 };
 
 bool is_closure(Op code) { return code >= Op::Diffuse; }
@@ -68,7 +69,7 @@ bool reads_context(const ShaderOp& op) {
     switch (op.code) {
         case Op::TexCoord: case Op::UvMap: case Op::Attribute: case Op::Geometry: case Op::ObjectInfo:
         case Op::LightPath: case Op::Fresnel: case Op::LayerWeight: case Op::CameraData: case Op::Tangent:
-        case Op::HairGeometry: case Op::BumpEnter: case Op::BumpLeave: case Op::Bump: case Op::NormalMap: case Op::VectorTransform:
+        case Op::HairGeometry: case Op::HairInfo: case Op::BumpEnter: case Op::BumpLeave: case Op::Bump: case Op::NormalMap: case Op::VectorTransform:
         case Op::Displacement:
             return true;
         default: return false;
@@ -552,8 +553,9 @@ Lobe make_lobe(LobeKind kind, FresnelMode fresnel, const Color& weight, float ro
 // Cycles' Principled Hair closure (svm/closure.h, bsdf_principled_hair_setup) as four lobes
 // (lobes/principled_hair.h) whose weights carry A_p at the hit's wo. in: weight, colour, melanin,
 // melanin redness, tint, absorption coefficient, roughness, radial roughness, coat, IOR, offset,
-// tangent, sin theta_o, |h|, Cycles' per-bounce LCG numbers (the hair_geometry op); i[0]: 0 absorption coefficient, 1 melanin concentration, 2 direct colouring.
-// Random Color / Random Roughness are not applied (their default 0 leaves Cycles' values alone).
+// tangent, sin theta_o, |h|, Cycles' per-bounce LCG numbers (the hair_geometry op), Random (the
+// node's, or Hair Info's per-strand one: the hair_info op), Random Color, Random Roughness; i[0]: 0
+// absorption coefficient, 1 melanin concentration, 2 direct colouring.
 float hair_albedo_roughness_scale(float x) {
     return (((((0.245f * x) + 5.574f) * x - 10.73f) * x + 2.532f) * x - 0.215f) * x + 5.969f;
 }
@@ -570,7 +572,14 @@ float hair_remap_roughness(float v) {
 void principled_hair_closure(const ShaderOp& op, const float* r, ShaderResult* out) {
     float w = load1(r, op.in[0], 1.0f);
     set_tangent(out, r, op.in[11], 0.0f);
-    float roughness = load1(r, op.in[6], 0.3f), radial = load1(r, op.in[7], 0.3f);
+    // Per-strand variation, Cycles 3.4's (svm/closure.h, CLOSURE_BSDF_HAIR_PRINCIPLED_ID): factors
+    // 1 + 2 (random - 0.5) x amount, the roughness's on both roughnesses before they are clamped
+    // (so the Color parametrisation's sigma sees the varied radial roughness too), Random Color's
+    // (clamped to [0, 1]) on the Melanin input before its -log(1 - m) remap.
+    const float random = load1(r, op.in[16], 0.0f);
+    const float random_color = clamp01(load1(r, op.in[17], 0.0f)), random_roughness = load1(r, op.in[18], 0.0f);
+    const float roughness_factor = 1.0f + 2.0f * (random - 0.5f) * random_roughness;
+    float roughness = load1(r, op.in[6], 0.3f) * roughness_factor, radial = load1(r, op.in[7], 0.3f) * roughness_factor;
     float coat = clamp01(load1(r, op.in[8], 0.0f));
     float eta = load1(r, op.in[9], 1.55f), alpha = load1(r, op.in[10], 0.0349f);
     if (!std::isfinite(eta) || !(eta > 1e-3f)) eta = 1.55f;
@@ -579,7 +588,8 @@ void principled_hair_closure(const ShaderOp& op, const float* r, ShaderResult* o
     if (op.i[0] == 0) {
         sigma = vmax(load3(r, op.in[5], Color(0.245531f, 0.52f, 1.365f)), Color(0.0f));
     } else if (op.i[0] == 1) {
-        float melanin = -std::log(std::max(1.0f - load1(r, op.in[2], 0.8f), 0.0001f));
+        float melanin = load1(r, op.in[2], 0.8f) * (1.0f + 2.0f * (random - 0.5f) * random_color);
+        melanin = -std::log(std::max(1.0f - melanin, 0.0001f));
         float redness = load1(r, op.in[3], 1.0f);
         float eu = melanin * (1.0f - redness), pheo = melanin * redness;
         sigma = Color(0.506f, 0.841f, 1.653f) * eu + Color(0.343f, 0.733f, 1.924f) * pheo +
@@ -941,6 +951,12 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             if (c.ray.path_key != 0) lcg = principled_hair::cycles_bounce_lcg(c.ray.path_key, c.ray.depth);
             store1(r, op.out[2], lcg.x);
             store1(r, op.out[3], lcg.y);
+            break;
+        }
+        case Op::HairInfo: {  // in: the Random off hair; out: Is Strand, Random (Cycles' per-curve hash)
+            const ShaderContext& c = *ctxp;
+            store1(r, op.out[0], c.curve ? 1.0f : 0.0f);
+            store1(r, op.out[1], c.curve ? c.curve_random : load1(r, op.in[0], 0.0f));
             break;
         }
         case Op::BumpEnter: {
@@ -1386,7 +1402,7 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             push_anisotropic_lobe(out, l, r, op.in[6], load1(r, op.in[4], 0.0f));
             break;
         }
-        case Op::Hair: {  // in: weight, colour, offset (radians), roughness U, roughness V, tangent (lobes/hair.h)
+        case Op::Hair: {  // in: weight, colour, offset (radians), roughness U, roughness V, tangent, Cycles' sampler flag (lobes/hair.h)
             float w = load1(r, op.in[0], 1.0f);
             set_tangent(out, r, op.in[5], 0.0f);
             Lobe l = make_lobe(op.i[0] == 1 ? LobeKind::HairTransmission : LobeKind::HairReflection, FresnelMode::None,
@@ -1395,6 +1411,9 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             l.alpha_y = load1(r, op.in[4], 1.0f);
             float offset = -load1(r, op.in[2], 0.0f);  // Cycles' closure tilts by minus the node's Offset
             l.f0 = Color(std::isfinite(offset) ? offset : 0.0f, 0.0f, 0.0f);
+            // in[6]: the hair_geometry op's first LCG number, >= 0 only with hair_cycles_sampling (the
+            // path's key is set only then): Cycles' biased sampler.
+            if (load1(r, op.in[6], -1.0f) >= 0.0f) l.variant = HairReflectionLobe::kCyclesSampler;
             push_lobe(out, l);
             break;
         }

@@ -25,7 +25,7 @@ namespace smis {
 enum class ShaderOpCode : uint16_t {
     // inputs (read the hit)
     TexCoord, UvMap, Attribute, Geometry, ObjectInfo, LightPath, Fresnel, LayerWeight, CameraData, Tangent,
-    HairGeometry,
+    HairGeometry, HairInfo,
     // bump evaluation: the ops between Enter and Leave see the point moved by one footprint in x or y
     BumpEnter, BumpLeave, Bump, NormalMap,
     // textures

@@ -3,6 +3,9 @@
 // with the ray's own); other strands still block it.
 #include <gtest/gtest.h>
 
+#include "program_builder.h"
+#include "shading/node_math.h"
+#include "shading/procedural_noise.h"
 #include "test_scenes.h"
 
 using namespace smis;
@@ -35,4 +38,43 @@ TEST(Curves, RaysLeavingAStrandIgnoreAllOfItsSegments) {
     // From the straight strand's surface the hairpin is another strand: its second arm, the mirror
     // image of the first about x = 0.1, is hit.
     EXPECT_NEAR(hit_x(Vec3(0.5f - r, 0.0f, 0.5f), -1.0f), 0.2f - arm, 1e-4f);
+}
+
+// Hair Info (the hair_info op): Random is Cycles' per-curve hash_uint2_to_float(curve, 0) of the
+// strand's index among its object's hair (add_curves' first_curve + c), constant along the strand;
+// Is Strand 1. Off hair, Random is the op's input (the Principled Hair BSDF's own Random socket).
+TEST(Curves, HairInfoRandomIsCyclesHashOfTheStrandIndex) {
+    auto s = std::make_shared<Scene>();
+    ProgramBuilder b;
+    uint16_t is_strand = b.alloc(1), random = b.alloc(1), sum = b.alloc(1);
+    ShaderOp& info = b.op(ShaderOpCode::HairInfo);
+    info.in[0] = b.constant(0.25f);
+    info.out[0] = is_strand, info.out[1] = random;
+    ShaderOp& add = b.op(ShaderOpCode::Math);  // strength = Random + 10 x Is Strand
+    add.i[0] = int(shading::MathOp::MultiplyAdd);
+    add.in[0] = is_strand, add.in[1] = b.constant(10.0f), add.in[2] = random, add.out[0] = sum;
+    ShaderOp& e = b.op(ShaderOpCode::Emission);
+    e.in[1] = b.constant3(Color(1.0f)), e.in[2] = sum;
+    Material mat;
+    mat.name = "hair info";
+    mat.program = b.build();
+    uint32_t m = s->add_material(mat);
+    const float r = 0.02f;
+    const float points[] = {0.0f, 0.0f, 0.0f, r, 0.0f, 0.0f, 0.5f, r, 0.0f, 0.0f, 1.0f, r,
+                            0.5f, 0.0f, 0.0f, r, 0.5f, 0.0f, 1.0f, r};
+    const int32_t offsets[] = {0, 3, 5};
+    s->add_instance(s->add_curves(points, 5, offsets, 2, m, 5), Transform());
+    const float v[] = {-1, 2, -1, 2, 2, -1, 2, 2, 2, -1, 2, 2};
+    const int32_t t[] = {0, 1, 2, 0, 2, 3};
+    s->add_instance(s->add_mesh(v, 4, t, 2, nullptr, nullptr, {m}), Transform());
+    s->set_camera(camera_at(Vec3(0.0f, -5.0f, 0.5f), 4, 4));
+    s->commit();
+    auto strength = [&](float x, float z) {
+        SurfaceHit h;
+        EXPECT_TRUE(s->intersect(Ray{Vec3(x, -1.0f, z), Vec3(0.0f, 1.0f, 0.0f)}, &h));
+        return s->emission_at(h, Vec3(0.0f, -1.0f, 0.0f)).x;
+    };
+    for (float z : {0.2f, 0.7f}) EXPECT_FLOAT_EQ(strength(0.0f, z), 10.0f + shading::hash_uint2_to_float(5, 0));
+    EXPECT_FLOAT_EQ(strength(0.5f, 0.5f), 10.0f + shading::hash_uint2_to_float(6, 0));
+    EXPECT_FLOAT_EQ(strength(0.25f, 0.5f), 0.25f);  // the wall behind: no strand
 }

@@ -8,6 +8,9 @@
   the last point with Close Tip. Material: the settings' material slot.
 * Curves objects (3.4's hair curves): `position`, the `radius` attribute (Cycles' 0.005 without one)
   and the curve offsets, all through foreach_get; the first material slot.
+* Hair Info's Random (and the Principled Hair BSDF's default Random): Cycles hashes each strand's
+  index in its object's hair, counted over the object's particle systems in modifier order
+  (instances.py passes add_curves the running count), so the strands vary as in Cycles.
 
 `co_hair` is one Python call per point (no bulk accessor exists for evaluated children in 3.4):
 about 14 us each, 0.38 s for 3,000 strands of 9 points (measured on this machine).
@@ -29,17 +32,12 @@ def _strand_radius(times, shape, root, tip):
     return radius * (root - tip) + tip
 
 
-def _psys_rendered(obj, psys):
-    for mod in obj.modifiers:
-        if mod.type == 'PARTICLE_SYSTEM' and mod.particle_system == psys:
-            return mod.show_render
-    return False
-
-
 def particle_hair_systems(obj):
-    """The particle systems of an evaluated object that Cycles renders as hair curves."""
-    return [p for p in obj.particle_systems
-            if p.settings.type == 'HAIR' and p.settings.render_type == 'PATH' and _psys_rendered(obj, p)]
+    """The particle systems of an evaluated object that Cycles renders as hair curves, in its order
+    (the modifiers', which numbers the strands for Hair Info's Random)."""
+    return [m.particle_system for m in obj.modifiers
+            if m.type == 'PARTICLE_SYSTEM' and m.show_render and m.particle_system.settings.type == 'HAIR'
+            and m.particle_system.settings.render_type == 'PATH']
 
 
 def particle_strands(obj, psys):

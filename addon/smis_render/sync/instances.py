@@ -289,10 +289,12 @@ def _export_hair(kind, inst, obj, scene, materials, counts, view_layer):
                    for p in hair.particle_hair_systems(obj)]
     else:
         systems = [(hair.curves_strands(obj.data), hair.curves_material(obj))]
+    first_curve = 0  # Cycles numbers an object's strands across its particle systems (Hair Info's Random)
     for (points, offsets), material in systems:
         if len(offsets) < 2:
             continue
-        mesh_id = scene.add_curves(points, offsets, materials.id_for(material))
+        mesh_id = scene.add_curves(points, offsets, materials.id_for(material), first_curve)
+        first_curve += len(offsets) - 1
         counts.meshes += 1
         counts.dropped_curves += scene.mesh_dropped(mesh_id)
         scene.add_instance(mesh_id, instance_matrix(inst), obj.color[:], (inst.random_id & 0xFFFFFFFF) / 4294967295.0,

@@ -413,6 +413,18 @@ def _object_info(c, node, ctx):
     return res
 
 
+def _hair_info(c, node, ctx):
+    """Hair Info: Is Strand and Random (per strand, Cycles' hash of the curve's index); the other
+    outputs are not exported with the curves (0, warned)."""
+    for name in ("Intercept", "Length", "Thickness", "Tangent Normal"):
+        sock = node.outputs.get(name)
+        if sock is not None and sock.is_linked:
+            c.warn_node(node, "output %s is not supported (0)" % name)
+    res, regs = _outs(c, node, [("Is Strand", FLOAT), ("Random", FLOAT)])
+    c.op("hair_info", [], regs)
+    return res
+
+
 def _light_path(c, node, ctx):
     names = ["Is Camera Ray", "Is Shadow Ray", "Is Diffuse Ray", "Is Glossy Ray", "Is Singular Ray",
              "Is Reflection Ray", "Is Transmission Ray", "Ray Length", "Ray Depth", "Diffuse Depth",
@@ -794,6 +806,7 @@ VALUE_NODES = {
     "ShaderNodeVertexColor": _attribute,
     "ShaderNodeNewGeometry": _new_geometry,
     "ShaderNodeObjectInfo": _object_info,
+    "ShaderNodeHairInfo": _hair_info,
     "ShaderNodeLightPath": _light_path,
     "ShaderNodeFresnel": _fresnel,
     "ShaderNodeLayerWeight": _layer_weight,
@@ -940,13 +953,16 @@ def _anisotropic(c, node, ctx, weight):
 def _hair(c, node, ctx, weight):
     """Cycles' Hair BSDF, Reflection (0) or Transmission (1) (lobes/hair.h), about the Tangent, by
     default the curve's own (a `tangent` op of mode 2: it reads the hit, so the material stays a
-    program and the shading frame follows the strand)."""
+    program and the shading frame follows the strand). With hair_cycles_sampling, Cycles' own sampler
+    (lobes/hair.h, kCyclesSampler), told by the hair_geometry op's LCG number."""
     t = c.normal_input(node, "Tangent", ctx)
     if t is None:
         t = c.alloc(VEC)
         c.op("tangent", [], [t], [2, 0, -1])
+    cycles = c.alloc(FLOAT)  # >= 0 with hair_cycles_sampling: Cycles' sampler (the hair_geometry op's LCG number)
+    c.op("hair_geometry", [t], [None, None, cycles, None])
     c.op("hair", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Offset", ctx, FLOAT),
-                  c.input(node, "RoughnessU", ctx, FLOAT), c.input(node, "RoughnessV", ctx, FLOAT), t],
+                  c.input(node, "RoughnessU", ctx, FLOAT), c.input(node, "RoughnessV", ctx, FLOAT), t, cycles],
          ints=[1 if node.component == "Transmission" else 0])
 
 
@@ -964,17 +980,31 @@ def _principled_hair(c, node, ctx, weight):
         c.op("tangent", [], [t], [2, 0, -1])
     sin_o, abs_h, lcg0, lcg1 = c.alloc(FLOAT), c.alloc(FLOAT), c.alloc(FLOAT), c.alloc(FLOAT)
     c.op("hair_geometry", [t], [sin_o, abs_h, lcg0, lcg1])
-    for name in ("Random Color", "Random Roughness"):
-        sock = node.inputs.get(name)
-        if sock is not None and (sock.is_linked or sock.default_value != 0.0):
-            c.warn_node(node, "uses %s, which is not supported (no per-strand randomisation)" % name)
+    rand, rand_color, rand_roughness = _principled_hair_random(c, node, ctx)
     c.op("principled_hair", [weight, c.input(node, "Color", ctx, COLOR), c.input(node, "Melanin", ctx, FLOAT),
                              c.input(node, "Melanin Redness", ctx, FLOAT), c.input(node, "Tint", ctx, COLOR),
                              c.input(node, "Absorption Coefficient", ctx, VEC), c.input(node, "Roughness", ctx, FLOAT),
                              c.input(node, "Radial Roughness", ctx, FLOAT), c.input(node, "Coat", ctx, FLOAT),
                              c.input(node, "IOR", ctx, FLOAT), c.input(node, "Offset", ctx, FLOAT), t, sin_o, abs_h,
-                             lcg0, lcg1],
+                             lcg0, lcg1, rand, rand_color, rand_roughness],
          ints=[PRINCIPLED_HAIR_MODES.get(node.parametrization, 2)])
+
+
+def _principled_hair_random(c, node, ctx):
+    """Random, Random Color and Random Roughness of a Principled Hair BSDF (None each when neither
+    amount is used: Cycles' factors are then 1). Random is the linked input's, or unlinked, Hair
+    Info's per-strand Random on hair and the socket's own value elsewhere (Cycles' PrincipledHairBsdfNode
+    asks for ATTR_STD_CURVE_RANDOM when Random is unlinked; svm/closure.h falls back to the socket)."""
+    amounts = [node.inputs.get(n) for n in ("Random Color", "Random Roughness")]
+    if not any(s is not None and (nodes.linked_output(s) is not None or s.default_value != 0.0) for s in amounts):
+        return None, None, None
+    sock = node.inputs["Random"]
+    if nodes.linked_output(sock) is not None:
+        rand = c.input(node, "Random", ctx, FLOAT)
+    else:
+        rand = c.alloc(FLOAT)
+        c.op("hair_info", [c.input(node, "Random", ctx, FLOAT)], [None, rand])
+    return rand, c.input(node, "Random Color", ctx, FLOAT), c.input(node, "Random Roughness", ctx, FLOAT)
 
 
 def _glass(c, node, ctx, weight):

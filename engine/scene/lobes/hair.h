@@ -26,6 +26,10 @@
 // Labelled glossy, as in Cycles. A sample is a transmission when it leaves through the fibre (wi
 // below N, eta 1), whichever lobe drew it (the other side's samples carry 0).
 // Lobe::alpha is r1, Lobe::alpha_y r2, Lobe::f0.x the Offset in radians.
+// Variant kCyclesSampler (the setting hair_cycles_sampling): Cycles' own estimator, inconsistent as
+// above and so biased, to reproduce its image: the sampled lobe's value is its sampler's density
+// (value/pdf = 1 wherever it goes, bsdf_hair_*_sample), TT sampled over |phi - pi| <= pi/2 only,
+// while eval and pdf (light samples, the other lobe's share, MIS) stay Cycles' eval.
 #pragma once
 #include "scene/lobes/lobe.h"
 
@@ -92,6 +96,8 @@ struct HairReflectionLobe : LobeDefaults<HairReflectionLobe> {
     static constexpr DensityModel kDensity = DensityModel::General;
     static constexpr SpectralFresnel kSpectral = SpectralFresnel::None;
 
+    static constexpr uint8_t kCyclesSampler = 1;
+
     static bool is_delta(const Lobe&) { return false; }
 
     // The azimuth density of the R sampler at |phi|.
@@ -109,6 +115,7 @@ struct HairReflectionLobe : LobeDefaults<HairReflectionLobe> {
         LobeTerms t;
         t.pdf = theta_density(l, a.theta_r, a.theta_i, r1, offset) * phi_density(std::acos(a.cos_phi), r2);
         t.geom = wi.z >= 0.0f && a.cos_phi >= 0.0f ? t.pdf : 0.0f;
+        if (lobe.variant == kCyclesSampler) t.pdf = t.geom;  // Cycles' eval is its pdf
         return t;
     }
 
@@ -120,7 +127,24 @@ struct HairReflectionLobe : LobeDefaults<HairReflectionLobe> {
         float phi = 2.0f * std::asin(clampf(1.0f - 2.0f * u.y, -1.0f, 1.0f)) * r2;
         Vec3 wi;
         if (!fibre_direction(wo, theta_i, phi, &wi)) return {};
+        if (lobe.variant == kCyclesSampler) {
+            float pdf = theta_density(theta_lobe(theta_r, r1, offset), theta_r, theta_i, r1, offset) *
+                        phi_density(phi, r2);
+            return cycles_sample(lobe, wi, pdf);
+        }
         return lobe_sample_at<HairReflectionLobe>(lobe, wo, wi, wi.z < 0.0f, 1.0f);
+    }
+
+    // Cycles' sample of either hair closure: value = weight x its sampler's density.
+    static BsdfSample cycles_sample(const Lobe& lobe, const Vec3& wi, float pdf) {
+        BsdfSample s;
+        if (!(pdf > 0.0f) || !std::isfinite(pdf)) return s;
+        s.wi = wi;
+        s.value = lobe.weight * pdf;
+        s.pdf = pdf;
+        s.transmission = wi.z < 0.0f;
+        s.eta = 1.0f;
+        return s;
     }
 
     static Color albedo(const Lobe& lobe) { return lobe.weight; }
@@ -152,6 +176,7 @@ struct HairTransmissionLobe : LobeDefaults<HairTransmissionLobe> {
         LobeTerms t;
         t.pdf = theta * cauchy(p, r2, kPi);
         t.geom = wi.z < 0.0f ? theta * cauchy(p, r2, 0.5f * kPi) : 0.0f;  // Cycles' eval
+        if (lobe.variant == HairReflectionLobe::kCyclesSampler) t.pdf = t.geom;
         return t;
     }
 
@@ -160,9 +185,16 @@ struct HairTransmissionLobe : LobeDefaults<HairTransmissionLobe> {
         float r1 = clamp_roughness(lobe.alpha), r2 = clamp_roughness(lobe.alpha_y), offset = lobe.f0.x;
         float theta_r = std::asin(clampf(wo.x, -1.0f, 1.0f));
         float theta_i = sample_theta(theta_lobe(theta_r, r1, offset), theta_r, r1, offset, u.x);
-        float p = r2 * std::tan(2.0f * std::atan(kPi / r2) * (u.y - 0.5f));
+        const bool cycles = lobe.variant == HairReflectionLobe::kCyclesSampler;
+        float half_width = cycles ? 0.5f * kPi : kPi;  // Cycles' c_TT covers |phi - pi| <= pi/2
+        float p = r2 * std::tan(2.0f * std::atan(half_width / r2) * (u.y - 0.5f));
         Vec3 wi;
         if (!fibre_direction(wo, theta_i, kPi + p, &wi)) return {};
+        if (cycles) {
+            float pdf = theta_density(theta_lobe(theta_r, r1, offset), theta_r, theta_i, r1, offset) *
+                        cauchy(p, r2, half_width);
+            return HairReflectionLobe::cycles_sample(lobe, wi, pdf);
+        }
         return lobe_sample_at<HairTransmissionLobe>(lobe, wo, wi, wi.z < 0.0f, 1.0f);
     }
 
