@@ -7,7 +7,8 @@ rendered into blender_tests/references/closures.exr, sphere by sphere; likewise 
 GGX) against closures_principled.exr, the Multiscatter GGX glass set (closures_multiglass) against
 closures_multiglass.exr, the Beckmann glass set (closures_beckmann) against closures_beckmann.exr, and
 the anisotropic set (closures_aniso: Ashikhmin-Shirley, Mix shaders of anisotropic closures with their
-own rotations and tangents) against closures_aniso.exr.
+own rotations and tangents) against closures_aniso.exr, and the anisotropic Multiscatter GGX set
+(closures_msaniso) against closures_msaniso.exr.
 
 The error measure of a sphere's 32 x 32 px tile, as in test_node_parity.py:
 
@@ -78,6 +79,18 @@ MULTIGLASS_KNOWN = {"glass_multi_0p3": 0.125, "glass_multi_0p8": 0.035, "glass_m
 # bias, not noise), 0.79% / 0.90% at 1024; allowed 1.25% so that a change of noise does not fail them.
 ANISO_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "1024"))
 ANISO_KNOWN = {"glossy_ashikhmin_0p7": 0.0125, "anisotropic_ashikhmin": 0.0125}
+# Anisotropic Multiscatter GGX (closures_msaniso, 3 x 2 spheres: lobes/multiscatter_aniso_ggx.h), white
+# Anisotropic BSDFs and Principled metal and dielectric, against Cycles' walk on the stretched
+# microsurface; the single-scatter anisotropic GGX sphere of the same alphas is the control (0.23%).
+# Under a white world with Cycles' world sampling off (a furnace in the scene: Cycles' sampled walk alone)
+# every sphere is within 0.14-0.75% of Cycles: the energy is the walk's. Under the sun the table's shape
+# is coarse where the anisotropy is strong (alphas 0.19 / 1: 5-25% off fresh walks pointwise), and
+# Cycles' light samples evaluate a walk started from the shallower direction (94.4% of a white furnace
+# at normal view): measured 5.1% (0.8 / 0.7), 1.7%, 2.4%, 1.4% (metal), allowed those plus a margin so
+# that a regression fails; not the 1% issue 19 asks for (README, the material table).
+MSANISO_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "1024"))
+MSANISO_KNOWN = {"aniso_multi_0p8_0p7": 0.06, "aniso_multi_1_m0p5": 0.025, "aniso_multi_0p6_0p9_tangent": 0.03,
+                 "principled_multi_aniso_metal": 0.02}
 _BUILT = {}
 
 
@@ -171,6 +184,13 @@ def test_ashikhmin_shirley_and_per_closure_tangents_match_cycles(tmp_path_factor
     """The anisotropic set: Ashikhmin-Shirley glossy and anisotropic; Mix shaders of anisotropic closures
     with different rotations and tangents, each about its own (Cycles' per-closure tangent)."""
     _set_matches_cycles(tmp_path_factory, "closures_aniso", ANISO_SPP, ANISO_KNOWN)
+
+
+def test_anisotropic_multiscatter_ggx_matches_cycles(tmp_path_factory):
+    """Anisotropic Multiscatter GGX: the Anisotropic BSDF (Roughness / Anisotropy 0.8 / 0.7, 1 / -0.5
+    turned, 0.6 / 0.9 about a radial-X tangent) and the Principled BSDF (metal, dielectric) with
+    Anisotropic, each within 1% of Cycles or its measured bound (MSANISO_KNOWN)."""
+    _set_matches_cycles(tmp_path_factory, "closures_msaniso", MSANISO_SPP, MSANISO_KNOWN)
 
 
 def _sphere_means_match(tmp_path_factory, spp, principled_spp, extra, bound):

@@ -6,8 +6,9 @@ Run:
 SET is `closures` (the default: every closure), `closures_principled` (the Principled BSDF's
 transmission and Multiscatter GGX, 3 x 2 tiles, PRINCIPLED_CLOSURES), `closures_beckmann` (Glass and
 Refraction with the Beckmann distribution, 2 x 1 tiles), `closures_multiglass` (Multiscatter GGX
-glass, 3 x 2 tiles, MULTIGLASS_CLOSURES) or `closures_aniso` (Ashikhmin-Shirley and several
-anisotropic closures in one material, 3 x 2 tiles, ANISO_CLOSURES). Writes (for the default set)
+glass, 3 x 2 tiles, MULTIGLASS_CLOSURES), `closures_aniso` (Ashikhmin-Shirley and several
+anisotropic closures in one material, 3 x 2 tiles, ANISO_CLOSURES) or `closures_msaniso` (anisotropic
+Multiscatter GGX, 3 x 2 tiles, MSANISO_CLOSURES). Writes (for the default set)
   OUTDIR/closures.blend  COLS x ROWS tiles of TILE_PX x TILE_PX pixels (COLS*TILE_PX x ROWS*TILE_PX):
       an orthographic camera looking straight down (-Z) at one sphere per tile (radius 0.85 of the
       tile's half size, so every sphere has its own 32 x 32 px square of 4 x 4 blocks of 8 x 8 px),
@@ -224,10 +225,27 @@ ANISO_CLOSURES = [
                                                   "Anisotropy": 0.8}))(nt),
         _anisotropic({"Color": (0.3, 0.8, 0.8), "Roughness": 0.3, "Anisotropy": 0.8})(nt))),
 ]
+# Anisotropic Multiscatter GGX (closures_msaniso.blend, 3 x 2 tiles): the Anisotropic BSDF and the Principled
+# BSDF with Multiscatter GGX and Anisotropy != 0 (lobes/multiscatter_aniso_ggx.h), white where Cycles' eval
+# would tint its further bounces twice (see the coloured Glossy), with the single-scatter GGX sphere of the
+# first as a control (how much the multiple scattering adds).
+MSANISO_CLOSURES = [
+    ("aniso_multi_0p8_0p7", _anisotropic({"Color": (1.0, 1.0, 1.0), "Roughness": 0.8, "Anisotropy": 0.7},
+                                         'MULTI_GGX')),
+    ("aniso_multi_1_m0p5", _anisotropic({"Color": (1.0, 1.0, 1.0), "Roughness": 1.0, "Anisotropy": -0.5,
+                                         "Rotation": 0.15}, 'MULTI_GGX')),
+    ("aniso_multi_0p6_0p9_tangent", _radial_x_tangent(_anisotropic({"Color": (1.0, 1.0, 1.0), "Roughness": 0.6,
+                                                                    "Anisotropy": 0.9}, 'MULTI_GGX'))),
+    ("principled_multi_aniso_metal", _principled({"Base Color": (0.95, 0.95, 0.95), "Metallic": 1.0, "Roughness": 0.8,
+                                                  "Anisotropic": 0.6}, 'MULTI_GGX')),
+    ("principled_multi_aniso_dielectric", _principled({"Base Color": (0.8, 0.3, 0.2), "Roughness": 0.6,
+                                                       "Anisotropic": 0.8, "Anisotropic Rotation": 0.1}, 'MULTI_GGX')),
+    ("aniso_ggx_0p8_0p7", _anisotropic({"Color": (1.0, 1.0, 1.0), "Roughness": 0.8, "Anisotropy": 0.7})),
+]
 # name -> (closures, columns, rows)
 CLOSURE_SETS = {"closures": (CLOSURES, COLS, ROWS), "closures_principled": (PRINCIPLED_CLOSURES, 3, 2),
                 "closures_beckmann": (BECKMANN_CLOSURES, 2, 1), "closures_multiglass": (MULTIGLASS_CLOSURES, 3, 2),
-                "closures_aniso": (ANISO_CLOSURES, 3, 2)}
+                "closures_aniso": (ANISO_CLOSURES, 3, 2), "closures_msaniso": (MSANISO_CLOSURES, 3, 2)}
 
 
 def node_material(name, build):

@@ -5,6 +5,8 @@
 // Smith microsurface is sampled from the masking function (a uniform height distribution), the
 // microfacet normal there from the visible normals of the direction it travels, and the ray reflects
 // about it; it leaves when the height sampling says it escapes, or dies after 10 bounces as in Cycles.
+// The same walk runs on the anisotropic microsurface (alpha_x, alpha_y: Anisotropic, walk(wi, ax, ay)),
+// tabulated by scene/tools/ggx_aniso_gen.cpp for lobes/multiscatter_aniso_ggx.h.
 //
 // The engine does not walk at render time: scene/tools/ggx_multiple_gen.cpp tabulates where the walks
 // of more than one bounce leave (lobes/multiscatter_ggx.h evaluates that table), and the tests compare
@@ -88,38 +90,74 @@ inline void sample_unit_slopes(float cos_i, float ux, float uy, float* sx, float
     *sy = (uy >= 0.5f ? 1.0f : -1.0f) * z * std::sqrt(1.0f + *sx * *sx);
 }
 
-// A microfacet normal visible from w (stretch, sample the unit slopes, rotate, unstretch).
-inline Vec3 visible_normal(const Vec3& w, float alpha, float ux, float uy) {
-    Vec3 w11 = normalize(Vec3(alpha * w.x, alpha * w.y, w.z));
+// The anisotropic microsurface of Cycles' anisotropic Multiscatter GGX (alpha_x along the tangent x,
+// alpha_y across it): Lambda of the stretched direction (Cycles' mf_lambda with a float2 alpha) and
+// a microfacet normal visible from w (Cycles' mf_sample_vndf: stretch by (alpha_x, alpha_y), sample the
+// unit slopes, rotate, unstretch).
+inline float lambda(const Vec3& w, float ax, float ay) {
+    if (w.z > 0.9999f) return 0.0f;
+    if (w.z < -0.9999f) return -0.9999f;
+    float inv_z2 = 1.0f / std::max(w.z * w.z, 1e-7f);
+    float v = std::sqrt(1.0f + (sqr(ax * w.x) + sqr(ay * w.y)) * inv_z2);
+    return 0.5f * ((w.z <= 0.0f ? -v : v) - 1.0f);
+}
+inline Vec3 visible_normal(const Vec3& w, float ax, float ay, float ux, float uy) {
+    Vec3 w11 = normalize(Vec3(ax * w.x, ay * w.y, w.z));
     float sx, sy;
     sample_unit_slopes(w11.z, ux, uy, &sx, &sy);
     float len = std::sqrt(w11.x * w11.x + w11.y * w11.y);
     float c = len > 0.0f ? w11.x / len : 1.0f, s = len > 0.0f ? w11.y / len : 0.0f;
-    float x = alpha * (c * sx - s * sy), y = alpha * (s * sx + c * sy);
+    float x = ax * (c * sx - s * sy), y = ay * (s * sx + c * sy);
     return normalize(Vec3(-x, -y, 1.0f));
 }
+// The isotropic one (the same arithmetic at ax = ay).
+inline Vec3 visible_normal(const Vec3& w, float alpha, float ux, float uy) {
+    return visible_normal(w, alpha, alpha, ux, uy);
+}
+
+// The two microsurfaces the glossy walk runs on.
+struct Isotropic {
+    float alpha;
+    float lam(const Vec3& w) const { return lambda(w, alpha); }
+    Vec3 normal(const Vec3& w, float ux, float uy) const { return visible_normal(w, alpha, ux, uy); }
+};
+struct Anisotropic {
+    float ax, ay;
+    float lam(const Vec3& w) const { return lambda(w, ax, ay); }
+    Vec3 normal(const Vec3& w, float ux, float uy) const { return visible_normal(w, ax, ay, ux, uy); }
+};
 
 struct Exit {
     Vec3 dir;          // where the walk left the surface (z > 0)
     int bounces = 0;   // 1 = single scattering; 0 = the walk died (after kMaxBounces)
 };
 
-// One walk for light arriving from wi (z > 0), rand() returning uniform numbers in [0, 1).
-template <class Rand>
-Exit walk(const Vec3& wi, float alpha, Rand&& rand) {
+// One walk for light arriving from wi (z > 0) on the microsurface `surface` (Isotropic, Anisotropic),
+// rand() returning uniform numbers in [0, 1).
+template <class Surface, class Rand>
+Exit walk_on(const Vec3& wi, const Surface& surface, Rand& rand) {
     State s;
     s.dir = -wi;
-    s.lam = lambda(s.dir, alpha);
+    s.lam = surface.lam(s.dir);
     for (int bounces = 0; bounces < kMaxBounces; ++bounces) {
         if (!next_height(&s, rand())) return {s.dir, bounces};
         float uy = rand(), ux = rand();
         Vec3 back = -s.dir;
-        Vec3 wm = visible_normal(back, alpha, ux, uy);
+        Vec3 wm = surface.normal(back, ux, uy);
         s.dir = wm * (2.0f * dot(back, wm)) - back;
-        s.lam = lambda(s.dir, alpha);
+        s.lam = surface.lam(s.dir);
         s.escape = escape_probability(s.dir, s.cdf, s.lam);
     }
     return {Vec3(0, 0, 1), 0};
+}
+template <class Rand>
+Exit walk(const Vec3& wi, float alpha, Rand&& rand) {
+    return walk_on(wi, Isotropic{alpha}, rand);
+}
+// The anisotropic walk, wi in the frame of the tangent (x) and n x tangent (y).
+template <class Rand>
+Exit walk(const Vec3& wi, float ax, float ay, Rand&& rand) {
+    return walk_on(wi, Anisotropic{ax, ay}, rand);
 }
 
 // The unpolarised dielectric Fresnel reflectance at cosine c (>= 0) for relative IOR eta (the far

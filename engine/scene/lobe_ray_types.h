@@ -48,6 +48,8 @@ inline bool lobe_is_caustic(const Lobe& lobe, bool reflective_off, bool refracti
         case LobeKind::AnisoGgx:
         case LobeKind::AnisoBeckmann:
         case LobeKind::AshikhminShirley:
+        case LobeKind::MultiAnisoGgx:
+        case LobeKind::AnisoGgxMultiple:
         case LobeKind::Clearcoat: return reflective_off;
         case LobeKind::Refraction: return refractive_off;
         case LobeKind::Dielectric:
@@ -84,6 +86,8 @@ inline void blur_lobe(Lobe& lobe, float alpha) {
         case LobeKind::AnisoGgx:
         case LobeKind::AnisoBeckmann:
         case LobeKind::AshikhminShirley:
+        case LobeKind::MultiAnisoGgx:
+        case LobeKind::AnisoGgxMultiple:  // keeps its energy, as GgxMultiple
         case LobeKind::PrincipledGlass:  // alpha_y: its refraction's alpha
             lobe.alpha = std::max(lobe.alpha, alpha);
             lobe.alpha_y = std::max(lobe.alpha_y, alpha);

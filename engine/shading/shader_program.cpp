@@ -221,7 +221,8 @@ void tex_coord_background(const ShaderOp& op, const ShaderContext& c, const floa
 }
 
 // The lobe kind of a Glossy op's distribution (i[0]: 0 sharp, 1 GGX, 2 Beckmann, 3 multiscatter GGX,
-// 4 Ashikhmin-Shirley) and of an Anisotropic op's (1 GGX, 2 Beckmann, 3 Ashikhmin-Shirley).
+// 4 Ashikhmin-Shirley) and of an Anisotropic op's (1 GGX, 2 Beckmann, 3 Ashikhmin-Shirley,
+// 4 multiscatter GGX: its single scattering, the first of its two lobes).
 LobeKind glossy_kind(int32_t mode) {
     switch (mode) {
         case 2: return LobeKind::Beckmann;
@@ -231,7 +232,12 @@ LobeKind glossy_kind(int32_t mode) {
     }
 }
 LobeKind anisotropic_kind(int32_t mode) {
-    return mode == 2 ? LobeKind::AnisoBeckmann : mode == 3 ? LobeKind::AshikhminShirley : LobeKind::AnisoGgx;
+    switch (mode) {
+        case 2: return LobeKind::AnisoBeckmann;
+        case 3: return LobeKind::AshikhminShirley;
+        case 4: return LobeKind::MultiAnisoGgx;
+        default: return LobeKind::AnisoGgx;
+    }
 }
 
 }  // namespace
@@ -338,9 +344,13 @@ void ShaderProgram::analyse() {
                         templates_.push_back(l);
                     }
                     break;
-                case Op::Anisotropic:  // i[0]: 1 GGX, 2 Beckmann, 3 Ashikhmin-Shirley
+                case Op::Anisotropic:  // i[0]: 1 GGX, 2 Beckmann, 3 Ashikhmin-Shirley, 4 multiscatter GGX (two lobes)
                     l.kind = anisotropic_kind(op.i[0]);
                     templates_.push_back(l);
+                    if (op.i[0] == 4) {
+                        l.kind = LobeKind::AnisoGgxMultiple;
+                        templates_.push_back(l);
+                    }
                     break;
                 case Op::Hair:  // i[0]: 0 reflection, 1 transmission
                     l.kind = op.i[0] == 1 ? LobeKind::HairTransmission : LobeKind::HairReflection;
@@ -634,6 +644,24 @@ void multiscatter_ggx(const Color& c, float w, float roughness, uint8_t index, S
     if (multiple_scattering_lobe(single, c, &multiple)) push_lobe(out, multiple);
 }
 
+// Anisotropic Multiscatter GGX of colour c (lobes/multiscatter_aniso_ggx.h), `single` its single
+// scattering, about the Tangent register `tangent` turned by `rotation`: the multiple scattering in the
+// next lobe; at alpha_x = alpha_y (Anisotropy 0) the isotropic pair, as Cycles walks the isotropic
+// microsurface there.
+void multiscatter_aniso_ggx(const Lobe& single, const Color& c, const float* r, uint16_t tangent, float rotation,
+                            ShaderResult* out) {
+    Lobe multiple;
+    if (single.alpha == single.alpha_y) {
+        Lobe iso = single;
+        iso.kind = LobeKind::MultiGgx;
+        push_lobe(out, iso);
+        if (multiple_scattering_lobe(iso, c, &multiple)) push_lobe(out, multiple);
+        return;
+    }
+    push_anisotropic_lobe(out, single, r, tangent, rotation);
+    if (aniso_multiple_scattering_lobe(single, c, &multiple)) push_anisotropic_lobe(out, multiple, r, tangent, rotation);
+}
+
 // Multiscatter GGX glass (lobes/multi_glass.h, glass_multiple.h) of weight w, walk colour c (colour
 // model `variant`), Specular Tint `spec_tint` of its reflection: the single scattering at `index`, the
 // multiple scattering at `multiple_index` where there is any to speak of. The Glass BSDF's colour is
@@ -675,14 +703,17 @@ void principled_glass(const Color& base, float g, float rough, float transmissio
 // bounce by one effective colour, the cosine-weighted hemispherical average of Schlick's,
 // f0 + (1 - f0) / 21, through multiscatter_tint (lobes/multiscatter_ggx.h). The dielectric layer's
 // multiple scattering (F^2, under 1% of its light) is left out.
-void metal_multiple_scattering(const Lobe& metal, uint8_t index, ShaderResult* out) {
+// An anisotropic metal (MultiAnisoGgx) has the anisotropic multiple scattering. False where there is
+// next to none.
+bool metal_multiple_scattering(const Lobe& metal, uint8_t index, Lobe* multiple) {
     Color c = metal.f0 + (Color(1.0f) - metal.f0) * (1.0f / 21.0f);
-    Lobe multiple;
-    if (!multiple_scattering_lobe(metal, c, &multiple)) return;
-    multiple.weight *= c;  // the first bounce's colour (the Glossy BSDF's is in its weight)
-    multiple.fresnel = FresnelMode::None;
-    multiple.index = index;
-    push_lobe(out, multiple);
+    bool made = metal.kind == LobeKind::MultiAnisoGgx ? aniso_multiple_scattering_lobe(metal, c, multiple)
+                                                      : multiple_scattering_lobe(metal, c, multiple);
+    if (!made) return false;
+    multiple->weight *= c;  // the first bounce's colour (the Glossy BSDF's is in its weight)
+    multiple->fresnel = FresnelMode::None;
+    multiple->index = index;
+    return true;
 }
 
 // Cycles' CLOSURE_WEIGHT_CUTOFF on Principled's Subsurface: below, the principled diffuse.
@@ -747,11 +778,12 @@ void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
     // about the Tangent turned by Anisotropic Rotation; 0 is the isotropic lobe.
     float anisotropic = load1(r, op.in[Anisotropic], 0.0f);
     bool aniso = anisotropic != 0.0f && std::isfinite(anisotropic);
-    // Multiscatter GGX above roughness 0.075 (Cycles' threshold), isotropic only (anisotropic: single GGX,
-    // warned by the compiler).
+    // Multiscatter GGX above roughness 0.075 (Cycles' threshold), isotropic or anisotropic
+    // (lobes/multiscatter_ggx.h, multiscatter_aniso_ggx.h).
     bool multiscatter = op.i[0] == 1;
-    bool multi_reflection = multiscatter && rough > 0.075f && !aniso;
-    LobeKind spec_kind = aniso ? LobeKind::AnisoGgx : multi_reflection ? LobeKind::MultiGgx : LobeKind::Microfacet;
+    bool multi_reflection = multiscatter && rough > 0.075f;
+    LobeKind spec_kind = aniso ? (multi_reflection ? LobeKind::MultiAnisoGgx : LobeKind::AnisoGgx)
+                               : multi_reflection ? LobeKind::MultiGgx : LobeKind::Microfacet;
     auto stretch = [&](Lobe* l) {
         if (!aniso) return;
         float aspect = std::max(safe_sqrt(1.0f - 0.9f * anisotropic), 1e-3f);
@@ -777,7 +809,9 @@ void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
     metal.f0 = vmin(base, Color(1.0f));
     stretch(&metal);
     push_specular(metal);
-    if (multi_reflection) metal_multiple_scattering(metal, uint8_t(idx + 6), out);
+    Lobe metal_multiple;
+    if (multi_reflection && metal_multiple_scattering(metal, uint8_t(idx + 6), &metal_multiple))
+        push_specular(metal_multiple);
     if (t > 0.0f) principled_glass(base, w * t, rough, load1(r, op.in[TransmissionRoughness], 0.0f), spec_tint, ior,
                                    multiscatter, uint8_t(idx + 3), out);
     float sheen = std::max(load1(r, op.in[Sheen], 0.0f), 0.0f);
@@ -1399,6 +1433,10 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             Lobe l = make_lobe(anisotropic_kind(op.i[0]), FresnelMode::None, load3(r, op.in[1], Color(0.8f)) * w, 0.0f,
                                1.5f, uint8_t(op.i[5]));
             anisotropic_alphas(load1(r, op.in[2], 0.5f), load1(r, op.in[3], 0.5f), &l);
+            if (op.i[0] == 4) {
+                multiscatter_aniso_ggx(l, load3(r, op.in[1], Color(0.8f)), r, op.in[6], load1(r, op.in[4], 0.0f), out);
+                break;
+            }
             push_anisotropic_lobe(out, l, r, op.in[6], load1(r, op.in[4], 0.0f));
             break;
         }

@@ -925,7 +925,7 @@ def _glossy(c, node, ctx, weight):
                     _closure_normal(c, node, ctx)], ints=[mode])
 
 
-ANISOTROPIC_MODES = {"GGX": 1, "BECKMANN": 2, "ASHIKHMIN_SHIRLEY": 3}
+ANISOTROPIC_MODES = {"GGX": 1, "BECKMANN": 2, "ASHIKHMIN_SHIRLEY": 3, "MULTI_GGX": 4}
 
 
 def _tangent_input(c, node, ctx):
@@ -939,8 +939,8 @@ def _tangent_input(c, node, ctx):
 
 
 def _anisotropic(c, node, ctx, weight):
-    """Anisotropic GGX (1), Beckmann (2) or Ashikhmin-Shirley (3) about the Tangent turned by Rotation;
-    multiscatter GGX as single-scatter GGX (warned)."""
+    """Anisotropic GGX (1), Beckmann (2), Ashikhmin-Shirley (3) or multiscatter GGX (4, its two lobes:
+    engine/scene/lobes/multiscatter_aniso_ggx.h) about the Tangent turned by Rotation."""
     mode = ANISOTROPIC_MODES.get(node.distribution)
     if mode is None:
         c.warn_node(node, "uses the %s distribution, which is not supported; using GGX" % node.distribution)
@@ -1055,16 +1055,6 @@ def _principled(c, node, ctx, weight):
             ins.append(n if n is not None or name != "Normal" else c.surface_normal)
         else:
             ins.append(c.socket_value(sock, ctx, VEC if name in VECTOR_INPUTS_OF_PRINCIPLED else None))
-    ignored = []
-    if node.distribution == "MULTI_GGX":
-        # Cycles' anisotropic multiscatter reflection is single-scatter GGX here; the isotropic
-        # reflection and the glass (Roughness > 0.05 with Transmission) are multiscatter GGX.
-        rough = node.inputs["Roughness"]
-        rough_glass = rough.is_linked or rough.default_value > 0.05
-        if rough_glass and used("Anisotropic"):
-            ignored.append("anisotropic Multiscatter GGX (using GGX)")
-    if ignored:
-        c.warn_node(node, "uses %s, not supported" % ", ".join(ignored))
     # ints: the distribution (1: Multiscatter GGX), the subsurface method
     c.op("principled", ins, ints=[1 if node.distribution == "MULTI_GGX" else 0,
                                   SUBSURFACE_METHODS.get(node.subsurface_method, 0)])

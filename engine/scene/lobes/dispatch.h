@@ -19,6 +19,7 @@
 #include "scene/lobes/lobe.h"
 #include "scene/lobes/microfacet.h"
 #include "scene/lobes/multi_glass.h"
+#include "scene/lobes/multiscatter_aniso_ggx.h"
 #include "scene/lobes/multiscatter_ggx.h"
 #include "scene/lobes/oren_nayar.h"
 #include "scene/lobes/principled_diffuse.h"
@@ -47,7 +48,8 @@ using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, C
                                   GgxMultipleLobe, AnisoGgxLobe, AnisoBeckmannLobe, PrincipledGlassLobe, SubsurfaceLobe,
                                   PrincipledPartLobe, HairReflectionLobe, HairTransmissionLobe, PrincipledHairRLobe,
                                   PrincipledHairTTLobe, PrincipledHairTRTLobe, PrincipledHairTRRTLobe, MultiGlassLobe,
-                                  GlassMultipleLobe, AshikhminShirleyLobe>;
+                                  GlassMultipleLobe, AshikhminShirleyLobe, MultiAnisoGgxLobe,
+                                  AnisoGgxMultipleLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -112,6 +114,8 @@ template <bool kGated = true, class F>
         case MultiGlassLobe::kKind: return call_kind<MultiGlassLobe, kGated>(f);
         case GlassMultipleLobe::kKind: return call_kind<GlassMultipleLobe, kGated>(f);
         case AshikhminShirleyLobe::kKind: return call_kind<AshikhminShirleyLobe, kGated>(f);
+        case MultiAnisoGgxLobe::kKind: return call_kind<MultiAnisoGgxLobe, kGated>(f);
+        case AnisoGgxMultipleLobe::kKind: return call_kind<AnisoGgxMultipleLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate

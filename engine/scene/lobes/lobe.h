@@ -70,6 +70,8 @@ enum class LobeKind : uint8_t {
     MultiGlass,     // Multiscatter GGX glass, its single scattering (lobes/multi_glass.h)
     GlassMultiple,  // Multiscatter GGX glass, its multiple scattering (lobes/glass_multiple.h)
     AshikhminShirley,  // Glossy / Anisotropic BSDF with the Ashikhmin-Shirley distribution (lobes/ashikhmin_shirley.h)
+    MultiAnisoGgx,     // anisotropic Multiscatter GGX, its single scattering (lobes/multiscatter_aniso_ggx.h)
+    AnisoGgxMultiple,  // anisotropic Multiscatter GGX, its multiple scattering (lobes/multiscatter_aniso_ggx.h)
     Count
 };
 

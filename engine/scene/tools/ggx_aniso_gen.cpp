@@ -1,0 +1,172 @@
+// Build-time generator of the multiple-scattering table of anisotropic multiscatter GGX
+// (lobes/multiscatter_aniso_ggx.h): Heitz et al.'s random walk on the anisotropic microsurface as
+// Cycles 3.4 runs it (scene/ggx_walk.h, walk(wi, ax, ay)), from a fixed seed, and where the walks of
+// two or more bounces leave:
+//
+//   ggx_aniso_gen OUT.inc [WALKS]
+//
+// Why a table over both roughnesses: the stretch (x / alpha_x, y / alpha_y, z) maps the anisotropic
+// microsurface onto the isotropic one of alpha 1 and keeps a ray a ray, so heights, masking (Lambda)
+// and the visible normals are those of the stretched direction (that is how Lambda and the sampling
+// are computed), but it does not keep reflection: the mirror direction about a normal, stretched, is
+// not the mirror of the stretched direction about the stretched normal unless alpha_x = alpha_y. After
+// the first bounce the walk is no longer the isotropic one stretched, so its multiple scattering
+// depends on (alpha_x, alpha_y) and on the view's azimuth from the tangent, not on one alpha. (The
+// previous attempt, the isotropic table at an averaged alpha, kept 71-119% of a white furnace.) What
+// the walk does keep: the microsurface is symmetric under x -> -x and y -> -y (the view's azimuth is
+// folded into [0, pi/2], the exit mirrored with it), and swapping x and y swaps alpha_x and alpha_y
+// (phi -> pi/2 - phi): the rows alpha_x > alpha_y are the mirrored rows alpha_x < alpha_y, not walked.
+//
+// Writes, for roughness rows rx, ry (sqrt alpha = r / (kRough - 1), alpha clamped to 1e-4 as Cycles),
+// the view at the centres of kCosO x kPhiO cells, the exit in cells of cos_i^2 (equal projected solid
+// angle) and of its azimuth phi_i in [0, 2 pi) from the tangent:
+//   kAnisoBrdf[rx][ry][o][p][i][k]  the white BRDF of the multiple scattering f_ms (the cell's mean),
+//   kAnisoEnergy[rx][ry][o][p]      its albedo from that view,
+//   kAnisoAverage[rx][ry]           the albedo averaged over a cosine-weighted view,
+//   kAnisoHalf[rx][ry]              that average with a colour of 0.5 applied at each bounce after the
+//                                   first (as Cycles' walk does), over the white one.
+// Deterministic (std::mt19937 per cell, seeded by its indices). Runs its rows on all cores.
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <thread>
+#include <vector>
+
+#include "scene/ggx_aniso_layout.h"
+#include "scene/ggx_walk.h"
+
+using namespace smis;
+using namespace smis::ggx_aniso;
+
+namespace {
+
+constexpr int kCells = kCosI * kPhiI;
+
+struct Row {  // one (rx, ry) pair, rx <= ry
+    std::vector<double> brdf = std::vector<double>(size_t(kCosO * kPhiO * kCells), 0.0);
+    std::vector<double> energy = std::vector<double>(size_t(kCosO * kPhiO), 0.0);
+    double white = 0.0, half = 0.0;
+};
+
+float alpha_of_row(int r) { return std::max(sqr(float(r) / float(kRough - 1)), 1e-4f); }
+
+Row walk_row(int rx, int ry, long walks) {
+    Row row;
+    float ax = alpha_of_row(rx), ay = alpha_of_row(ry);
+    for (int o = 0; o < kCosO; ++o)
+        for (int p = 0; p < kPhiO; ++p) {
+            std::mt19937 gen(uint32_t(((rx * kRough + ry) * kCosO + o) * kPhiO + p + 1));
+            auto rand = [&] { return float(gen() >> 8) * 0x1p-24f; };
+            float mu = cos_o_of_cell(o), phi_o = phi_o_of_cell(p), s = std::sqrt(1.0f - mu * mu);
+            Vec3 wo(s * std::cos(phi_o), s * std::sin(phi_o), mu);
+            double white = 0.0, half = 0.0;
+            double* cells = &row.brdf[size_t((o * kPhiO + p) * kCells)];
+            for (long n = 0; n < walks; ++n) {
+                ggx_walk::Exit e = ggx_walk::walk(wo, ax, ay, rand);
+                if (e.bounces < 2 || !(e.dir.z > 0.0f)) continue;
+                int ci = std::min(int(e.dir.z * e.dir.z * kCosI), kCosI - 1);
+                float d = std::atan2(e.dir.y, e.dir.x);
+                while (d < 0.0f) d += 2.0f * kPi;
+                int k = std::min(int(d / (2.0f * kPi) * kPhiI), kPhiI - 1);
+                cells[ci * kPhiI + k] += 1.0;
+                white += 1.0;
+                half += std::pow(0.5, e.bounces - 1);
+            }
+            // A cell's projected solid angle: 1/kCosI of cos^2 over 2, 2 pi / kPhiI of azimuth.
+            double measure = (1.0 / kCosI) * 0.5 * (2.0 * kPi / kPhiI);
+            for (int c = 0; c < kCells; ++c) cells[c] /= double(walks) * measure;
+            row.energy[size_t(o * kPhiO + p)] = white / double(walks);
+            // Cosine-weighted over the views (midpoint rule of 2 int E mu dmu, mean over the azimuths).
+            row.white += 2.0 * mu * white / double(walks) / (kCosO * kPhiO);
+            row.half += 2.0 * mu * half / double(walks) / (kCosO * kPhiO);
+        }
+    return row;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: ggx_aniso_gen OUT.inc [WALKS]\n");
+        return 2;
+    }
+    long walks = argc > 2 ? std::atol(argv[2]) : 200000;
+    std::vector<std::pair<int, int>> pairs;
+    for (int rx = 0; rx < kRough; ++rx)
+        for (int ry = rx; ry < kRough; ++ry) pairs.push_back({rx, ry});
+    std::vector<Row> rows(pairs.size());
+    std::vector<std::thread> threads;
+    unsigned n = std::max(1u, std::thread::hardware_concurrency());
+    for (unsigned t = 0; t < n; ++t)
+        threads.emplace_back([&, t] {
+            for (size_t j = t; j < pairs.size(); j += n) rows[j] = walk_row(pairs[j].first, pairs[j].second, walks);
+        });
+    for (std::thread& t : threads) t.join();
+    // The row of (rx, ry) and whether it is the mirror (x <-> y) of the walked row (ry, rx).
+    auto row_of = [&](int rx, int ry, bool* mirrored) -> const Row& {
+        *mirrored = rx > ry;
+        int a = std::min(rx, ry), b = std::max(rx, ry);
+        for (size_t j = 0; j < pairs.size(); ++j)
+            if (pairs[j].first == a && pairs[j].second == b) return rows[j];
+        return rows[0];
+    };
+
+    FILE* f = std::fopen(argv[1], "w");
+    if (!f) return 1;
+    std::fprintf(f, "// Generated by ggx_aniso_gen (engine/scene/tools/ggx_aniso_gen.cpp), %ld walks per view.\n", walks);
+    std::fprintf(f, "const float kAnisoBrdf[%d][%d][%d][%d][%d] = {\n", kRough * kRough, kCosO, kPhiO, kCosI, kPhiI);
+    for (int rx = 0; rx < kRough; ++rx)
+        for (int ry = 0; ry < kRough; ++ry) {
+            bool m;
+            const Row& row = row_of(rx, ry, &m);
+            std::fprintf(f, "{");
+            for (int o = 0; o < kCosO; ++o) {
+                std::fprintf(f, "{");
+                for (int p = 0; p < kPhiO; ++p) {
+                    std::fprintf(f, "{");
+                    int src_p = m ? kPhiO - 1 - p : p;
+                    for (int i = 0; i < kCosI; ++i) {
+                        std::fprintf(f, "{");
+                        for (int k = 0; k < kPhiI; ++k) {
+                            // phi -> pi/2 - phi: cell k from cell (kPhiI/4 - 1 - k) mod kPhiI
+                            int src_k = m ? (kPhiI + kPhiI / 4 - 1 - k) % kPhiI : k;
+                            std::fprintf(f, "%.5g,", row.brdf[size_t((o * kPhiO + src_p) * kCells + i * kPhiI + src_k)]);
+                        }
+                        std::fprintf(f, "},");
+                    }
+                    std::fprintf(f, "},\n");
+                }
+                std::fprintf(f, "},");
+            }
+            std::fprintf(f, "},\n");
+        }
+    std::fprintf(f, "};\nconst float kAnisoEnergy[%d][%d][%d] = {\n", kRough * kRough, kCosO, kPhiO);
+    for (int rx = 0; rx < kRough; ++rx)
+        for (int ry = 0; ry < kRough; ++ry) {
+            bool m;
+            const Row& row = row_of(rx, ry, &m);
+            std::fprintf(f, "{");
+            for (int o = 0; o < kCosO; ++o) {
+                std::fprintf(f, "{");
+                for (int p = 0; p < kPhiO; ++p)
+                    std::fprintf(f, "%.6g,", row.energy[size_t(o * kPhiO + (m ? kPhiO - 1 - p : p))]);
+                std::fprintf(f, "},");
+            }
+            std::fprintf(f, "},\n");
+        }
+    std::fprintf(f, "};\nconst float kAnisoAverage[%d] = {", kRough * kRough);
+    for (int rx = 0; rx < kRough; ++rx)
+        for (int ry = 0; ry < kRough; ++ry) {
+            bool m;
+            std::fprintf(f, "%.6g,", row_of(rx, ry, &m).white);
+        }
+    std::fprintf(f, "};\nconst float kAnisoHalf[%d] = {", kRough * kRough);
+    for (int rx = 0; rx < kRough; ++rx)
+        for (int ry = 0; ry < kRough; ++ry) {
+            bool m;
+            const Row& row = row_of(rx, ry, &m);
+            std::fprintf(f, "%.6g,", row.white > 0.0 ? row.half / row.white : 0.5);
+        }
+    std::fprintf(f, "};\n");
+    return std::fclose(f) == 0 ? 0 : 1;
+}
