@@ -140,3 +140,24 @@ TEST(SpectralResampled, SameSeedSameImageWhateverTheThreadCount) {
         expect_same_image_whatever_the_thread_count(fog_scene(), st, 3, name);
     }
 }
+
+// Every spectral mode with RIS and every ReSTIR MIS, in fog dense enough for transmittances to
+// underflow to 0 (optical depths of thousands), with a lamp inside it: no refusal, no non-finite
+// pixel, no NaN sample caught.
+TEST(SpectralResampled, EveryModeInDenseFogStaysFinite) {
+    auto scene = foggy_mirror_and_glass(medium_of(Color(100.0f), Color(1000.0f), 0.95f),
+                                        medium_of(Color(50.0f, 0.0f, 5.0f), Color(0.0f), 0.0f), true, 10, 10);
+    for (const char* mode : {"UNIFORM", "SPECTRAL_IS", "HERO", "SMIS", "SMIS_INDEPENDENT", "BRUTE_FORCE"})
+        for (const char* name : {"PATH+RIS", "PATH+RESTIR_SEED", "PATH+RESTIR_TALBOT", "PATH+RESTIR_NONE"}) {
+            RenderSettings st = spectral(mode, name);
+            st.samples = 2;
+            st.threads = 2;
+            RenderSession session(scene, st);
+            session.run();
+            EXPECT_TRUE(session.error().empty()) << mode << " " << name << ": " << session.error();
+            size_t bad = 0;
+            for (float v : session.pixels()) bad += !std::isfinite(v);
+            EXPECT_EQ(bad, 0u) << mode << " " << name;
+            EXPECT_EQ(session.progress().nan_caught, 0u) << mode << " " << name;
+        }
+}
