@@ -204,11 +204,11 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             // Clamping (Cycles' Clamp Direct / Indirect) takes the resampled estimate as the vertex's
             // one light sample.
             Color direct;
-            if (spectral_) {  // the sample at each wavelength, through its own shadow ray
+            if (spectral_) {  // the sample at each wavelength, through its own shadow ray unless known
                 const float weight = resampled_weight(scene, settings, me.sp, c.r, c.at_q);
                 if (weight > 0.0f)
                     direct = spectral_->shade_restir_vertex(scene, me, &lambda_[i * n_lambda], &weight_[i * n_lambda],
-                                                            c.at_q, weight);
+                                                            c.at_q, weight, c.visibility_known);
             } else {
                 direct = me.beta * (c.visibility_known && !scene.has_media()
                                         ? visible_reservoir_contribution(scene, settings, me.sp, c.r, c.at_q)

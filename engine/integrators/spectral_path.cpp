@@ -294,15 +294,17 @@ public:
             L += clamped(light_sample(scene, sp, s.e, s.weight, state.medium), state.depth == 0);
     }
     // The light sample e (evaluated at sp) at the path's wavelengths: f(l) Le(l) T(l) / pdf times
-    // `weight`, through its shadow ray from `medium`, as RGB.
+    // `weight`, through its shadow ray from `medium`, as RGB. `visible`: known to be visible from sp
+    // (ReSTIR's MIS traced it), so a scene without media needs no shadow ray.
     Color light_sample(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e, float weight,
-                       int32_t medium) {
+                       int32_t medium, bool visible = false) {
         const Light& light = scene.light(e.light);
         DirectSample lit;
         lit.hidden = ~light.visibility & kRayBounceTypes;
         if (!(lit.hidden ? eval_spectral(lit_lobes(sp, lit), *sm_, p_, e.ls.wi, f_) : eval_spectral(sp, *sm_, p_, e.ls.wi, f_)))
             return Color(0.0f);
-        if (light.cast_shadow) {  // Cycles' Cast Shadow off: no shadow ray, nor the media on the way
+        // Cycles' Cast Shadow off: no shadow ray, nor the media on the way.
+        if (light.cast_shadow && !(visible && !scene.has_media())) {
             const ShadowRay shadow = shadow_ray(sp, e.ls.wi, e.ls.dist);
             if (!scene.has_media()) {
                 if (scene.occluded(shadow.o, shadow.d, shadow.tmax, shadow.time)) return Color(0.0f);
@@ -507,7 +509,8 @@ Color SpectralPathIntegrator::trace_restir_pixel(const RenderContext& ctx, uint3
 }
 
 Color SpectralPathIntegrator::shade_restir_vertex(const Scene& scene, const RestirPixel& vertex, const float* lambda,
-                                                  const Color* weight, const CandidateEval& e, float w) const {
+                                                  const Color* weight, const CandidateEval& e, float w,
+                                                  bool visible) const {
     // The path at the vertex with its weights folded into the responses (beta 1, mixture 1).
     SpectralPath p;
     p.n = p.ws.n = wavelength_count();
@@ -519,7 +522,7 @@ Color SpectralPathIntegrator::shade_restir_vertex(const Scene& scene, const Rest
     p.inv_mix = 1.0f;
     SpectralThroughput at_vertex(spectral_, p);
     at_vertex.at_material(vertex.sp);
-    return at_vertex.light_sample(scene, vertex.sp, e, w, vertex.medium);
+    return at_vertex.light_sample(scene, vertex.sp, e, w, vertex.medium, visible);
 }
 
 }  // namespace smis

@@ -33,9 +33,9 @@ public:
                              LocalCounters& counters, RestirPixel& vertex, float* lambda, Color* weight) const;
     // The direct light at a recorded vertex from light sample e (evaluated at vertex.sp) with
     // resampled weight w (direct_lighting.h, resampled_weight): at each of the path's wavelengths,
-    // through its own shadow ray, as RGB.
+    // through its own shadow ray (none without media when `visible`: the reuse traced it), as RGB.
     Color shade_restir_vertex(const Scene& scene, const RestirPixel& vertex, const float* lambda, const Color* weight,
-                              const CandidateEval& e, float w) const;
+                              const CandidateEval& e, float w, bool visible) const;
 
 protected:
     // A wavelength offset from rng (a lone camera ray)...
