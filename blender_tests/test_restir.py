@@ -18,6 +18,7 @@ scene.smis.max_bounces = 1
 scene.smis.direct_light = '{direct}'
 scene.smis.restir_mis = '{mis}'
 scene.smis.restir_radius_px = 8.0
+scene.smis.spectral = '{spectral}'
 """
 
 
@@ -32,8 +33,8 @@ def test_settings_exist_with_defaults_and_tooltips():
         assert props[name].description, f"{name} has no tooltip"
 
 
-def _image_mean(direct, mis="SEED"):
-    run = render(scene_path("many_lights.blend"), SETUP.format(direct=direct, mis=mis))
+def _image_mean(direct, mis="SEED", spectral="AUTO"):
+    run = render(scene_path("many_lights.blend"), SETUP.format(direct=direct, mis=mis, spectral=spectral))
     assert run.returncode == 0, run.output[-2000:]
     img = run.image[..., :3]
     assert np.isfinite(img).all()
@@ -46,4 +47,14 @@ def test_ris_and_restir_render_the_many_lights_scene_like_nee():
     for direct, mis in (("RIS", "SEED"), ("RESTIR", "SEED"), ("RESTIR", "TALBOT")):
         mean = _image_mean(direct, mis)
         # 64x64 pixels, 16 samples: the image means agree within a few percent; 8% is generous.
+        assert abs(mean / nee - 1.0) < 0.08, (direct, mis, mean, nee)
+
+
+def test_ris_and_restir_render_spectrally_like_spectral_nee():
+    # Spectral modes take RIS and ReSTIR (refused before): the chosen light sample is shaded at each
+    # wavelength (engine/tests/spectral_resampled_test.cpp tests the convergence per pixel).
+    nee = _image_mean("NEE", spectral="HERO")
+    assert nee > 0.0
+    for direct, mis in (("RIS", "SEED"), ("RESTIR", "TALBOT")):
+        mean = _image_mean(direct, mis, spectral="HERO")
         assert abs(mean / nee - 1.0) < 0.08, (direct, mis, mean, nee)

@@ -3,11 +3,11 @@
 namespace smis {
 namespace {
 
-// The contribution of r's sample (e, evaluated at sp) in a scene with media: g T W w_light.
-[[gnu::noinline]] Color shaded_through_media(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
-                                             const Reservoir& r, const CandidateEval& e, int32_t medium) {
+// The contribution g T weight of a sample e evaluated at sp in a scene with media.
+[[gnu::noinline]] Color shaded_through_media(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e,
+                                             float weight, int32_t medium) {
     const Color tr = candidate_transmittance(scene, sp, e, medium);
-    return is_black(tr) ? Color(0.0f) : visible_reservoir_contribution(scene, settings, sp, r, e) * tr;
+    return is_black(tr) ? Color(0.0f) : e.g * weight * tr;
 }
 
 }  // namespace
@@ -72,14 +72,14 @@ Color reservoir_contribution(const Scene& scene, const RenderSettings& settings,
     if (!r.has_sample()) return Color(0.0f);
     CandidateEval e = evaluate_candidate(scene, sp, r.y);
     if (!(e.target > 0.0f)) return Color(0.0f);
-    if (scene.has_media()) return shaded_through_media(scene, settings, sp, r, e, medium);
+    if (scene.has_media()) return shaded_through_media(scene, sp, e, resampled_weight(scene, settings, sp, r, e), medium);
     if (!candidate_visible(scene, sp, e)) return Color(0.0f);
     return visible_reservoir_contribution(scene, settings, sp, r, e);
 }
 
-Color visible_reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
-                                     const Reservoir& r, const CandidateEval& e) {
-    if (!r.has_sample() || !(e.target > 0.0f)) return Color(0.0f);
+float resampled_weight(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, const Reservoir& r,
+                       const CandidateEval& e) {
+    if (!r.has_sample() || !(e.target > 0.0f)) return 0.0f;
     float w_light = 1.0f;
     if (!e.ls.delta && scene.light(r.y.light).use_mis) {  // Multiple Importance off: unweighted
         float light_pdf = resampled_light_pdf_scale(settings) * scene.light_pmf(r.y.light) * e.ls.pdf;
@@ -87,18 +87,30 @@ Color visible_reservoir_contribution(const Scene& scene, const RenderSettings& s
         const float bsdf_pdf = hidden ? hidden_light_pdf(sp.bsdf, hidden, sp.wo, e.ls.wi) : sp.bsdf.pdf(sp.wo, e.ls.wi);
         w_light = mis_weight(settings.mis, light_pdf, bsdf_pdf);
     }
-    return e.g * (w_light * r.W);
+    return w_light * r.W;
+}
+
+Color visible_reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                                     const Reservoir& r, const CandidateEval& e) {
+    const float weight = resampled_weight(scene, settings, sp, r, e);
+    return weight > 0.0f ? e.g * weight : Color(0.0f);
+}
+
+ResampledLight ris_light(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng) {
+    // No visibility reuse: the one shadow ray is traced for the contribution itself.
+    ResampledLight out;
+    Reservoir r = ris_reservoir(scene, sp, settings.ris_candidates, false, rng, &out.e);
+    out.weight = resampled_weight(scene, settings, sp, r, out.e);
+    return out;
 }
 
 Color ris_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
                  int32_t medium) {
-    // No visibility reuse: the one shadow ray is traced for the contribution itself.
-    CandidateEval chosen;
-    Reservoir r = ris_reservoir(scene, sp, settings.ris_candidates, false, rng, &chosen);
-    if (!r.has_sample()) return Color(0.0f);
-    if (scene.has_media()) return shaded_through_media(scene, settings, sp, r, chosen, medium);
-    if (!candidate_visible(scene, sp, chosen)) return Color(0.0f);
-    return visible_reservoir_contribution(scene, settings, sp, r, chosen);
+    const ResampledLight s = ris_light(scene, settings, sp, rng);
+    if (!(s.weight > 0.0f)) return Color(0.0f);
+    if (scene.has_media()) return shaded_through_media(scene, sp, s.e, s.weight, medium);
+    if (!candidate_visible(scene, sp, s.e)) return Color(0.0f);
+    return s.e.g * s.weight;
 }
 
 }  // namespace smis

@@ -90,13 +90,31 @@ Color reservoir_contribution(const Scene& scene, const RenderSettings& settings,
 // no evaluation, no shadow ray.
 Color visible_reservoir_contribution(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
                                      const Reservoir& r, const CandidateEval& e);
+// The weight w_light(y) W that reservoir_contribution multiplies g(y) V(y) by: r's unbiased
+// contribution weight times its sample's MIS weight against the BSDF sample (0 without a sample).
+// For any integrand h of the same light sample, h(y) V(y) times this weight is the resampled
+// estimate of h's MIS-weighted share, provided h vanishes where the target p^ does: so a spectral
+// path evaluates the chosen sample at each of its wavelengths (h = f(l) Le(l) T(l) / pdf_i) with
+// the RGB target, which is positive wherever a wavelength's integrand is (the RGB colours of a
+// lobe and an emitter are black only where their spectra are).
+float resampled_weight(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                       const Reservoir& r, const CandidateEval& e);
 // The multiple of the NEE density used for resampled light sampling in the MIS weights (above).
 inline float resampled_light_pdf_scale(const RenderSettings& settings) {
     return float(std::max(1, settings.ris_candidates));
 }
 
-// The RIS strategy of the path tracer: ris_reservoir + reservoir_contribution (`medium`: the one the
-// path arrived in, scenes with media).
+// RIS's chosen light sample at sp (ris_reservoir without visibility reuse): the candidate evaluated
+// at sp and its resampled_weight, unshadowed; weight 0 when no candidate had a positive target.
+struct ResampledLight {
+    CandidateEval e;
+    float weight = 0.0f;
+};
+ResampledLight ris_light(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng);
+
+// The RIS strategy of the RGB path tracer: ris_light, shaded in RGB through its shadow ray
+// (`medium`: the one the path arrived in, scenes with media). The spectral path tracer shades
+// ris_light's sample at its wavelengths instead (spectral_path.cpp).
 Color ris_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
                  int32_t medium = kNoMedium);
 

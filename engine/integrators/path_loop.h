@@ -140,7 +140,9 @@ template <class Spectrum, bool kMedia, bool kRules>
             bool resample = false;
             if (kWithResampledLights && state.first_vertex_ahead && !sp.bsdf.is_delta()) {
                 state.first_vertex_ahead = false;
-                resample = settings.direct_light == DirectLightStrategy::Ris;
+                // RIS, or ReSTIR's stage 1 on spectral paths (the policy records the vertex); the RGB
+                // path tracer meets ReSTIR only after this vertex (restir.cpp traces the prefix).
+                resample = settings.direct_light != DirectLightStrategy::Nee;
             }
             state.light_pdf_scale = resample ? resampled_light_pdf_scale(settings) : 1.0f;
             if (resample) path.resampled_direct(L, clamped, scene, settings, sp, rng, state);

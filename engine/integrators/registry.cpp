@@ -80,28 +80,31 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, cons
     if (settings.volume_estimator != VolumeEstimator::Path) require_feature(kWithVolumes, "photon planes", "volumes");
     if (settings.sampling_pattern == SamplingPattern::Stratified)
         require_feature(kWithStratified, "the stratified sampling pattern", "stratified");
-    // RIS / ReSTIR live in the RGB path tracer: their resampling knows no spectra, so that
-    // combination is refused rather than rendered wrong. (Media are supported: direct_lighting.h.)
-    if (settings.direct_light != DirectLightStrategy::Nee && spectral != SpectralSetting::Rgb)
-        throw std::invalid_argument("RIS/ReSTIR direct lighting does not support spectral rendering yet: use NEE "
-                                    "(or set Spectral to RGB)");
     if (settings.volume_estimator != VolumeEstimator::Path &&
         (spectral != SpectralSetting::Rgb || settings.spectral_wavelength != 0.0f))
         throw std::invalid_argument(std::string("photon planes (") + setting_name(settings.volume_estimator) +
                                     ") render in RGB only: set Spectral to RGB or AUTO, or the volume estimator to PATH");
     if (settings.volume_estimator != VolumeEstimator::Path) return make_volume_integrator(settings);
+    // ReSTIR turns the path tracer into a multi-stage integrator (per-pixel reservoirs are reused).
+    // RIS and ReSTIR resample with RGB targets and shade the chosen sample at a spectral path's
+    // wavelengths (direct_lighting.h, resampled_weight).
+    const bool restir = path && settings.direct_light == DirectLightStrategy::Restir;
     if (settings.spectral_wavelength != 0.0f) {
         if (!(settings.spectral_wavelength >= spectral::kLambdaMin && settings.spectral_wavelength <= spectral::kLambdaMax))
             throw std::invalid_argument("spectral_wavelength must lie within [360, 830] nm (or be 0: off)");
         if (!path) throw std::invalid_argument("spectral_wavelength applies to PATH only");
         require_feature(kWithSpectral, "spectral rendering", "spectral");
+        if (restir)
+            return std::make_unique<RestirIntegrator>(scene, spectral::SpectralMode::Uniform, 1,
+                                                      settings.spectral_wavelength);
         return std::make_unique<SpectralPathIntegrator>(scene, spectral::SpectralMode::Uniform, 1,
                                                         settings.spectral_wavelength);
     }
+    if (restir && spectral != SpectralSetting::Rgb)
+        return std::make_unique<RestirIntegrator>(scene, spectral_mode(spectral), settings.wavelengths, 0.0f);
     if (path && spectral != SpectralSetting::Rgb)
         return std::make_unique<SpectralPathIntegrator>(scene, spectral_mode(spectral), settings.wavelengths);
-    // ReSTIR turns the path tracer into a multi-stage integrator (per-pixel reservoirs are reused).
-    if (path && settings.direct_light == DirectLightStrategy::Restir) return std::make_unique<RestirIntegrator>();
+    if (restir) return std::make_unique<RestirIntegrator>();
     return make_surface_integrator(settings.integrator);
 }
 

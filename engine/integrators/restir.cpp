@@ -104,6 +104,10 @@ Rng stage_rng(const RenderContext& ctx, int x, int y, uint32_t s, uint32_t strea
 
 }  // namespace
 
+RestirIntegrator::RestirIntegrator(const Scene& scene, spectral::SpectralMode mode, int wavelengths,
+                                   float fixed_wavelength)
+    : spectral_(std::make_unique<SpectralPathIntegrator>(scene, mode, wavelengths, fixed_wavelength)) {}
+
 void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     const Scene& scene = ctx.scene;
     const RenderSettings& settings = ctx.settings;
@@ -118,6 +122,9 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     // faulting in a fresh image-sized array per iteration was measurable).
     std::vector<RestirPixel>& cur = cur_;
     cur.resize(n_pixels);
+    const size_t n_lambda = spectral_ ? size_t(spectral_->wavelength_count()) : 0;
+    lambda_.resize(n_pixels * n_lambda);
+    weight_.resize(n_pixels * n_lambda);
     std::atomic<uint64_t> pdf_evaluations{0}, shadow_rays{0}, neighbours{0}, vertices{0};
     auto flush_cost = [&](const ReuseCost& c) {
         pdf_evaluations += c.pdf_evaluations;
@@ -134,8 +141,15 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
         local.sample_transparency = 0.0f;
-        if (scene.has_media()) trace_pixel<true>(scene, settings, ray, rng, local, me);
-        else trace_pixel<false>(scene, settings, ray, rng, local, me);
+        if (spectral_) {
+            const Camera& cam = scene.camera();
+            me.fixed = spectral_->trace_restir_pixel(ctx, x + cam.window_x0(), y + cam.window_y0(), s, ray, rng, local,
+                                                     me, &lambda_[i * n_lambda], &weight_[i * n_lambda]);
+        } else if (scene.has_media()) {
+            trace_pixel<true>(scene, settings, ray, rng, local, me);
+        } else {
+            trace_pixel<false>(scene, settings, ray, rng, local, me);
+        }
         me.transparency = local.sample_transparency;
         ++local.paths;
         const RestirPixel& old = temporal ? prev_[i] : me;
@@ -189,11 +203,18 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             // (with media, only whether its transmittance is black: the shading traces it again).
             // Clamping (Cycles' Clamp Direct / Indirect) takes the resampled estimate as the vertex's
             // one light sample.
-            L += clamp_contribution(settings,
-                                    me.beta * (c.visibility_known && !scene.has_media()
-                                                   ? visible_reservoir_contribution(scene, settings, me.sp, c.r, c.at_q)
-                                                   : reservoir_contribution(scene, settings, me.sp, c.r, me.medium)),
-                                    me.camera_hit);
+            Color direct;
+            if (spectral_) {  // the sample at each wavelength, through its own shadow ray unless known
+                const float weight = resampled_weight(scene, settings, me.sp, c.r, c.at_q);
+                if (weight > 0.0f)
+                    direct = spectral_->shade_restir_vertex(scene, me, &lambda_[i * n_lambda], &weight_[i * n_lambda],
+                                                            c.at_q, weight, c.visibility_known);
+            } else {
+                direct = me.beta * (c.visibility_known && !scene.has_media()
+                                        ? visible_reservoir_contribution(scene, settings, me.sp, c.r, c.at_q)
+                                        : reservoir_contribution(scene, settings, me.sp, c.r, me.medium));
+            }
+            L += clamp_contribution(settings, direct, me.camera_hit);
         }
         if (ctx.film.has_aux()) {  // diagnostic pass: the candidates the shaded reservoir stands for (M)
             Rng camera_rng;

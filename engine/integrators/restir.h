@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "integrators/reservoir_reuse.h"
+#include "integrators/spectral_path.h"
 
 namespace smis {
 
@@ -23,6 +24,12 @@ struct RestirPixel {
 
 class RestirIntegrator : public IterativeIntegrator {
 public:
+    RestirIntegrator() = default;
+    // On spectral paths: stage 1 traces the spectral path tracer's paths (SpectralPathIntegrator's
+    // arguments), the reservoirs resample light samples with their RGB targets as in RGB rendering
+    // (a sample and its W are independent of wavelengths), and the shading evaluates the final
+    // sample at each of the pixel's wavelengths (direct_lighting.h, resampled_weight).
+    RestirIntegrator(const Scene& scene, spectral::SpectralMode mode, int wavelengths, float fixed_wavelength);
     std::map<std::string, double> stats() const override;
 
 private:
@@ -30,6 +37,11 @@ private:
     std::vector<RestirPixel> prev_;  // the last finished iteration (empty before the first)
     std::vector<RestirPixel> cur_;   // the iteration being rendered
     std::vector<Reservoir> prev_final_, final_;  // the pixels' final reservoirs (the history), by iteration
+    std::unique_ptr<SpectralPathIntegrator> spectral_;  // spectral paths (null: RGB)
+    // Spectral: per pixel of the iteration being rendered, its wavelengths and their RGB weights at
+    // the vertex (SpectralPathIntegrator::trace_restir_pixel), wavelength_count() each.
+    std::vector<float> lambda_;
+    std::vector<Color> weight_;
     // Measurements, summed over iterations: stage 1 (trace, and the temporal reuse when on) and stage
     // 2 (spatial reuse and shading), wall seconds.
     double trace_seconds_ = 0, reuse_seconds_ = 0;

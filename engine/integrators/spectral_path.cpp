@@ -2,6 +2,7 @@
 
 #include "core/pixel_sequence.h"
 #include "integrators/path_loop.h"
+#include "integrators/restir.h"
 
 namespace smis {
 
@@ -194,10 +195,25 @@ float spectral_optical_depth(const SpectralScene& spectral, const RayMedia& medi
     return tau;
 }
 
+}  // namespace
+
+// ReSTIR's stage 1 on a spectral path (SpectralPathIntegrator::trace_restir_pixel): where the first
+// vertex goes, and the camera distance summed on the way.
+struct SpectralRestirRecord {
+    RestirPixel& vertex;
+    float* lambda;
+    Color* weight;
+};
+
+namespace {
+
 // The spectral path tracer's spectrum (path_loop.h describes the policy): the n wavelengths of a
 // SpectralPath. Directions are sampled as in RGB rendering; every BSDF, light and emission is
 // evaluated at all n wavelengths. Subsurface lobes render as their diffuse fallback (the caller
-// starts the path with the diffuse ancestor set) and the first vertex takes plain NEE.
+// starts the path with the diffuse ancestor set). With RIS (settings.direct_light) the first
+// vertex resamples its light sample with the RGB target and evaluates the chosen one at every
+// wavelength (direct_lighting.h, resampled_weight); for ReSTIR (a SpectralRestirRecord) it records
+// that vertex and its initial reservoir instead, and the reuse shades it later (restir.cpp).
 // Media (spectral/spectral_scene.h, SpectralMedium): each wavelength has its own transmittance along
 // rays and shadow rays. No direction of the path depends on a medium (volume bounces = 0: a path
 // never continues from a scattering vertex), so media leave the relative densities r_j as they are;
@@ -206,9 +222,10 @@ float spectral_optical_depth(const SpectralScene& spectral, const RayMedia& medi
 // positive wherever any wavelength's integrand is, so the estimate is unbiased at every wavelength.
 class SpectralThroughput {
 public:
-    static constexpr bool kResampledLights = false;
+    static constexpr bool kResampledLights = true;
     static constexpr bool kSubsurfaceWalks = false;
-    SpectralThroughput(const SpectralScene& spectral, SpectralPath& p) : spectral_(spectral), p_(p) {}
+    SpectralThroughput(const SpectralScene& spectral, SpectralPath& p, SpectralRestirRecord* restir = nullptr)
+        : spectral_(spectral), p_(p), restir_(restir) {}
 
     template <class Clamp>
     void emission(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const Ray& ray,
@@ -245,7 +262,8 @@ public:
         return true;
     }
     void prepare(ShadingPoint& sp) {
-        sm_ = &spectral_.material(sp.hit.material);
+        at_material(sp);
+        if (restir_ && !restir_->vertex.has_vertex) restir_->vertex.distance += sp.hit.t;
         if (sm_->dispersive) sp.bsdf = dispersed_bsdf(sp, *sm_, p_.lambda_c());
     }
     // In media the shadow ray's RGB transmittance is left out of ds.weighted (a stand-in 1 or 0)
@@ -267,6 +285,42 @@ public:
             if (lum > 0.0f) L += clamped(p_.emission(spectral_.emitter(ds.light), lum, f_), state.depth == 0);
         }
     }
+    template <class Clamp>
+    void resampled_direct(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings,
+                          const ShadingPoint& sp, Rng& rng, const PathState& state) {
+        if (restir_) return record_restir_vertex(scene, settings, sp, rng, state);
+        const ResampledLight s = ris_light(scene, settings, sp, rng);
+        if (s.weight > 0.0f)
+            L += clamped(light_sample(scene, sp, s.e, s.weight, state.medium), state.depth == 0);
+    }
+    // The light sample e (evaluated at sp) at the path's wavelengths: f(l) Le(l) T(l) / pdf times
+    // `weight`, through its shadow ray from `medium`, as RGB. `visible`: known to be visible from sp
+    // (ReSTIR's MIS traced it), so a scene without media needs no shadow ray.
+    Color light_sample(const Scene& scene, const ShadingPoint& sp, const CandidateEval& e, float weight,
+                       int32_t medium, bool visible = false) {
+        const Light& light = scene.light(e.light);
+        DirectSample lit;
+        lit.hidden = ~light.visibility & kRayBounceTypes;
+        if (!(lit.hidden ? eval_spectral(lit_lobes(sp, lit), *sm_, p_, e.ls.wi, f_) : eval_spectral(sp, *sm_, p_, e.ls.wi, f_)))
+            return Color(0.0f);
+        // Cycles' Cast Shadow off: no shadow ray, nor the media on the way.
+        if (light.cast_shadow && !(visible && !scene.has_media())) {
+            const ShadowRay shadow = shadow_ray(sp, e.ls.wi, e.ls.dist);
+            if (!scene.has_media()) {
+                if (scene.occluded(shadow.o, shadow.d, shadow.tmax, shadow.time)) return Color(0.0f);
+            } else {
+                if (!shadow_transmittances(scene, shadow.o, shadow.d, shadow.tmax,
+                                           medium_towards(scene, sp, e.ls.wi, medium)))
+                    return Color(0.0f);
+                for (int i = 0; i < p_.n; ++i) f_[i] *= tr_[i];
+            }
+            if (!reaches_mesh_light(scene, shadow, e.ls)) return Color(0.0f);
+        }
+        const float scale = luminance(e.ls.L) * weight / e.ls.pdf;
+        return scale > 0.0f ? p_.emission(spectral_.emitter(e.light), scale, f_) : Color(0.0f);
+    }
+    // The spectral material of the shading point (which prepare() made the BSDF of).
+    void at_material(const ShadingPoint& sp) { sm_ = &spectral_.material(sp.hit.material); }
     bool scatter(const ShadingPoint& sp, const BsdfSample& bs) {
         if (bs.delta) return delta_event(sp, *sm_, bs, p_);
         if (!eval_spectral(sp, *sm_, p_, bs.wi, f_)) return false;
@@ -335,6 +389,22 @@ private:
         }
     };
 
+    // ReSTIR's first vertex (restir.cpp, trace_pixel for RGB): the shading point, its initial RIS
+    // reservoir (visibility reuse as settings say) and the path's RGB weight of each wavelength.
+    void record_restir_vertex(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
+                              const PathState& state) {
+        RestirPixel& px = restir_->vertex;
+        px.has_vertex = true;
+        px.camera_hit = state.depth == 0;
+        px.sp = sp;
+        px.medium = state.medium;
+        px.r = ris_reservoir(scene, sp, settings.ris_candidates, settings.restir_visibility_reuse, rng, &px.eval,
+                             state.medium);
+        for (int i = 0; i < p_.n; ++i) {
+            restir_->lambda[i] = p_.ws.lambda[i];
+            restir_->weight[i] = p_.beta[i] == 0.0f ? Color(0.0f) : p_.response[i] * (p_.beta[i] * p_.inv_mix);
+        }
+    }
     // Transmittance of `media` over [0, t) at each wavelength of the path, into out.
     void transmittances(const RayMedia& media, float t, float* out) const {
         for (int i = 0; i < p_.n; ++i) out[i] = std::exp(-spectral_optical_depth(spectral_, media, t, p_.ws.lambda[i]));
@@ -352,6 +422,7 @@ private:
     const SpectralScene& spectral_;
     SpectralPath& p_;
     Color transparent_beta_{1.0f};
+    SpectralRestirRecord* restir_;
     const SpectralMaterial* sm_ = nullptr;  // the current vertex's spectral material (prepare)
     float f_[kMaxWavelengths];              // scratch: f(wo, wi) |cos| (or transmittance) per wavelength
     float tr_[kMaxWavelengths];             // the last shadow ray's transmittance per wavelength
@@ -383,6 +454,12 @@ Color SpectralPathIntegrator::Li(const Scene& scene, const RenderSettings& setti
 // Each sample's c is uniform and independent of its u (k and the rotation of u are independent).
 Color SpectralPathIntegrator::pixel_sample(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s,
                                            const Ray& ray, Rng& rng, LocalCounters& counters) const {
+    return sample_path(ctx, px, py, s, ray, rng, counters, nullptr);
+}
+
+Color SpectralPathIntegrator::sample_path(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s,
+                                          const Ray& ray, Rng& rng, LocalCounters& counters,
+                                          SpectralRestirRecord* restir) const {
     // The wavelengths draw from a stream of their own, so that in every mode the path is driven by
     // the pixel sample's stream and its stratified prefix (core/stratified.h) alike: modes differ
     // only in how they choose wavelengths.
@@ -390,30 +467,62 @@ Color SpectralPathIntegrator::pixel_sample(const RenderContext& ctx, uint32_t px
     if (!ctx.settings.spectral_pixel_sequence || !sampler_.follows_offsets()) {
         float u = wavelength_rng.next_float();
         float v = wavelength_rng.next_float();
-        return trace(ctx.scene, ctx.settings, ray, u, v, wavelength_rng, rng, counters);
+        return trace(ctx.scene, ctx.settings, ray, u, v, wavelength_rng, rng, counters, restir);
     }
     constexpr uint64_t kOffsetDimension = 0x5be7a1, kConditioningDimension = 0xc0d1;
     uint32_t seed = ctx.settings.seed, n = uint32_t(sampler_.count());
     float u = pixel_sequence(px, py, s, seed, kOffsetDimension);
     uint32_t k = std::min(uint32_t(pixel_sequence(px, py, 0, seed, kConditioningDimension) * float(n)), n - 1);
     float v = (float((s + s / n + k) % n) + 0.5f) / float(n);
-    return trace(ctx.scene, ctx.settings, ray, u, v, wavelength_rng, rng, counters);
+    return trace(ctx.scene, ctx.settings, ray, u, v, wavelength_rng, rng, counters, restir);
 }
 
 Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& settings, Ray ray, float u, float v,
-                                    Rng& wavelength_rng, Rng& rng, LocalCounters& counters) const {
+                                    Rng& wavelength_rng, Rng& rng, LocalCounters& counters,
+                                    SpectralRestirRecord* restir) const {
     SpectralPath p;
     if (fixed_wavelength_ > 0.0f) p.start_at(fixed_wavelength_);
     else p.start(sampler_, u, v, wavelength_rng);
     // Always with the Light Path rules (their checks cost little next to n wavelengths), and with
     // the diffuse ancestor set: no subsurface walks.
     PathState state = camera_path_state(ray.o, false);
+    state.first_vertex_ahead = true;  // RIS, when settings.direct_light asks for it
     state.medium = scene.camera_medium();
     return scene.has_media()
                ? trace_path_loop<SpectralThroughput, true, true>(scene, settings, ray, state, rng, counters,
-                                                                 SpectralThroughput(spectral_, p))
+                                                                 SpectralThroughput(spectral_, p, restir))
                : trace_path_loop<SpectralThroughput, false, true>(scene, settings, ray, state, rng, counters,
-                                                                  SpectralThroughput(spectral_, p));
+                                                                  SpectralThroughput(spectral_, p, restir));
+}
+
+int SpectralPathIntegrator::wavelength_count() const { return fixed_wavelength_ > 0.0f ? 1 : sampler_.count(); }
+
+Color SpectralPathIntegrator::trace_restir_pixel(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s,
+                                                 const Ray& ray, Rng& rng, LocalCounters& counters,
+                                                 RestirPixel& vertex, float* lambda, Color* weight) const {
+    vertex.has_vertex = false;
+    vertex.distance = 0.0f;
+    vertex.r = Reservoir{};
+    vertex.eval = CandidateEval{};
+    SpectralRestirRecord record{vertex, lambda, weight};
+    return sample_path(ctx, px, py, s, ray, rng, counters, &record);
+}
+
+Color SpectralPathIntegrator::shade_restir_vertex(const Scene& scene, const RestirPixel& vertex, const float* lambda,
+                                                  const Color* weight, const CandidateEval& e, float w,
+                                                  bool visible) const {
+    // The path at the vertex with its weights folded into the responses (beta 1, mixture 1).
+    SpectralPath p;
+    p.n = p.ws.n = wavelength_count();
+    for (int i = 0; i < p.n; ++i) {
+        p.ws.lambda[i] = lambda[i];
+        p.beta[i] = 1.0f;
+        p.response[i] = weight[i];
+    }
+    p.inv_mix = 1.0f;
+    SpectralThroughput at_vertex(spectral_, p);
+    at_vertex.at_material(vertex.sp);
+    return at_vertex.light_sample(scene, vertex.sp, e, w, vertex.medium, visible);
 }
 
 }  // namespace smis

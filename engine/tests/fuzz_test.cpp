@@ -270,12 +270,10 @@ void fuzz_one(Fuzz& f, Totals& totals, uint64_t seed, uint64_t iteration) {
     smis::testing::select_integrator(rs, integrator);
     rs.mis = f.chance(0.5f) ? MisHeuristic::Power : MisHeuristic::Balance;
     rs.seed = f.u32();
-    // RIS/ReSTIR refuse spectral modes: mostly RGB for them, so their scenes still get rendered.
-    rs.spectral = rs.direct_light != DirectLightStrategy::Nee && f.chance(0.8f) ? SpectralSetting::Rgb
-                                                                     : setting_value<SpectralSetting>(kSpectralModes[f.range(0, 7)]);
+    rs.spectral = setting_value<SpectralSetting>(kSpectralModes[f.range(0, 7)]);
     rs.wavelengths = f.range(1, 8);
     rs.threads = 1;
-    // Settings the engine does not support together (e.g. ReSTIR with spectral rendering) must be
+    // Settings the engine does not support together (e.g. photon planes with a spectral mode) must be
     // refused with a clear error, which counts as a rejected input.
     std::unique_ptr<RenderSession> made;
     try {

@@ -100,6 +100,11 @@ public:
         m2_ += d * (x - mean_);
     }
     uint64_t count() const { return n_; }
+    // The estimator of k times every value added (a k-times-wrong estimator's, for tests' power).
+    void scale(double k) {
+        mean_ *= k;
+        m2_ *= k * k;
+    }
     double mean() const { return mean_; }
     double variance() const { return n_ > 1 ? m2_ / static_cast<double>(n_ - 1) : 0.0; }
     // Standard error of the mean.
