@@ -127,11 +127,9 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         if spectral != "RGB" and settings["integrator"] != "PATH":
             self._reporter.warning("Spectral rendering (%s) is only implemented for Path Tracing; "
                                    "%s renders in RGB" % (spectral, settings["integrator"]))
-        if export.scene.stats()["has_subsurface"] and (settings["integrator"] != "PATH"
-                                                       or settings["direct_light"] == "RESTIR"):
+        if export.scene.stats()["has_subsurface"] and settings["integrator"] != "PATH":
             self._reporter.warning("Subsurface scattering is only traced by Path Tracing (RGB or spectral, "
-                                   "without ReSTIR); %s renders it as diffuse"
-                                   % ("ReSTIR" if settings["integrator"] == "PATH" else settings["integrator"]))
+                                   "with NEE, RIS or ReSTIR); %s renders it as diffuse" % settings["integrator"])
 
         # begin_result's rectangle is relative to the border window: Blender's result
         # is already border-sized, so (0, 0, w, h) is the whole of it.

@@ -89,20 +89,24 @@ float russian_roulette_survival(int depth, float max_beta, float eta_scale, Rng&
     return 1.0f - q;
 }
 
+bool subsurface_step(const Scene& scene, ShadingPoint& sp, const BsdfSample& bs, Color& beta, Rng& rng) {
+    beta *= bs.value / bs.pdf;
+    const Lobe entry = sp.bsdf.lobe(bs.lobe);
+    return (entry.variant & SubsurfaceLobe::kDisk) ? subsurface_disk(scene, sp, entry, rng, &beta, &sp)
+                                                   : subsurface_walk(scene, sp, entry, rng, &beta, &sp);
+}
+
 namespace {
 
 // Cycles' subsurface bounce at sp, whose BSDF sample bs picked a Subsurface lobe: the walk (or
-// Christensen-Burley's disk sampling) to the exit, which becomes sp, then the exit's light sample (*direct, with the throughput) and its BSDF
-// sample (bs), at the entry's depth (the walk is no bounce of the path in Cycles). False: the path
-// ends. Out of line, so the loops stay as they were for scenes without subsurface.
+// Christensen-Burley's disk sampling) to the exit, which becomes sp, then the exit's light sample
+// (*direct, with the throughput) and its BSDF sample (bs), at the entry's depth (the walk is no
+// bounce of the path in Cycles). False: the path ends. Out of line, so the loops stay as they were
+// for scenes without subsurface.
 [[gnu::noinline]] bool subsurface_bounce(const Scene& scene, const RenderSettings& settings, ShadingPoint& sp,
                                          BsdfSample& bs, Color& beta, Rng& rng, LocalCounters& counters,
                                          int32_t medium, Color* direct) {
-    beta *= bs.value / bs.pdf;
-    const Lobe entry = sp.bsdf.lobe(bs.lobe);
-    const bool exited = (entry.variant & SubsurfaceLobe::kDisk) ? subsurface_disk(scene, sp, entry, rng, &beta, &sp)
-                                                                : subsurface_walk(scene, sp, entry, rng, &beta, &sp);
-    if (!exited) return false;
+    if (!subsurface_step(scene, sp, bs, beta, rng)) return false;
     DirectSample ds = sample_direct(scene, settings, sp, rng, counters, medium);
     *direct = ds.valid ? beta * direct_eval(sp, ds) * ds.weighted : Color(0.0f);
     bs = sample_bsdf(sp, rng);
