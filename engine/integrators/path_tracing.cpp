@@ -113,6 +113,34 @@ namespace {
     return true;
 }
 
+}  // namespace
+
+Color trace_subsurface(const Scene& scene, const RenderSettings& settings, ShadingPoint sp, BsdfSample bs,
+                       PathState state, Color beta, Rng& rng, LocalCounters& counters) {
+    Color direct;
+    if (!subsurface_bounce(scene, settings, sp, bs, beta, rng, counters, state.medium, &direct)) return Color(0.0f);
+    Color L = clamp_contribution(settings, direct, state.depth == 0);
+    if (!bs.valid()) {
+        ++counters.samples_rejected;
+        return L;
+    }
+    beta *= bs.value / bs.pdf;
+    advance_ray_type(state, sp.bsdf, bs);
+    if (scene.has_media()) state.medium = medium_towards(scene, sp, bs.wi, state.medium);
+    state.prev_delta = bs.delta;
+    state.prev_pdf = bs.pdf;
+    state.prev_p = sp.hit.p;
+    state.light_pdf_scale = 1.0f;
+    state.transparent_background = false;
+    const Ray ray = bounce_ray(sp, bs, state);
+    ++state.depth;
+    state.clamp_beta = beta;
+    state.rr_scale = max_component(beta);
+    return L + beta * trace_path(scene, settings, ray, state, rng, counters);
+}
+
+namespace {
+
 // The RGB path tracer's spectrum: one Color throughput (path_loop.h describes the policy).
 struct RgbThroughput {
     static constexpr bool kResampledLights = true;

@@ -54,3 +54,12 @@ TEST(SubsurfaceIntegrators, UnbiasedRestirConvergesToThePathTracer) {
     expect_converges("PATH+RESTIR_SEED", 16, 64, 3000);
     expect_converges("PATH+RESTIR_TALBOT", 16, 64, 4000);
 }
+
+// Path-space filtering: x1's BSDF samples that pick its Subsurface lobe, and prefixes ending on a
+// Subsurface lobe alone, keep PATH's walk per pixel; z1's subsurface is its diffuse fallback (Cycles'
+// rule after x1's diffuse bounces; this scene's x1 have no glossy lobe), so PSF_PATH and the
+// unbiased SMIS weighting converge to PATH.
+TEST(SubsurfaceIntegrators, PathSpaceFilteringConvergesToThePathTracer) {
+    expect_converges("PSF_PATH", 16, 64, 5000);
+    expect_converges("PSF_SMIS_UNBIASED", 16, 64, 6000);
+}
