@@ -15,8 +15,8 @@ The error measure of a sphere's 32 x 32 px tile, as in test_node_parity.py:
     MRE = mean over its 8x8-pixel blocks b and channels c in {R, G, B} of
           |mean_ours(b, c) - mean_ref(b, c)| / max(mean_ref(b, c), EPS),     EPS = 0.02
 
-and every tile must have MRE <= 1% (the GGX Glass control: see KNOWN). Path-space filtering, spectral rendering and the Albedo pass
-render the same scene (quick checks of each sphere's mean, looser bounds, plus a KNOWN control's
+and every tile must have MRE <= 1% (the GGX Glass control: see KNOWN). Path-space filtering and spectral
+rendering render all five sets, the Albedo pass the first one (quick checks of each sphere's mean, looser bounds, plus a KNOWN control's
 own: filtering is biased, spectral upsampling changes coloured products slightly).
 
 Run alone:
@@ -193,29 +193,47 @@ def test_anisotropic_multiscatter_ggx_matches_cycles(tmp_path_factory):
     _set_matches_cycles(tmp_path_factory, "closures_msaniso", MSANISO_SPP, MSANISO_KNOWN)
 
 
-def _sphere_means_match(tmp_path_factory, spp, principled_spp, extra, bound):
-    """Both sets rendered with `extra` settings: every sphere finite and its mean within `bound` (plus
-    its known difference) of Cycles'. The Principled set's glass shows the sun through itself, noisy at
-    few samples (its smooth glass: +4.5% at 128 spp, +0.7% at 1024, path tracing or spectral alike), so
-    it renders more (it is small)."""
-    for set_name, known, samples in (("closures", KNOWN, spp), ("closures_principled", PRINCIPLED_KNOWN, principled_spp)):
+def _sphere_means_match(tmp_path_factory, spp, principled_spp, extra, bound, mode_known=None):
+    """All five sets rendered with `extra` settings: every sphere finite and its mean within `bound`
+    (plus its known difference, and `mode_known`'s for this mode) of Cycles'. The small sets render at
+    `principled_spp` (their glass shows the sun through itself, noisy at few samples: the Principled
+    smooth glass +4.5% at 128 spp, +0.7% at 1024, path tracing or spectral alike)."""
+    mode_known = mode_known or {}
+    worst = []
+    for set_name, known, samples in (("closures", KNOWN, spp), ("closures_principled", PRINCIPLED_KNOWN, principled_spp),
+                                     ("closures_beckmann", {}, principled_spp),
+                                     ("closures_multiglass", MULTIGLASS_KNOWN, principled_spp),
+                                     ("closures_aniso", ANISO_KNOWN, principled_spp)):
         blend, tiles = _scene(tmp_path_factory, set_name)
         ours = _render(blend, samples, extra).image
         assert np.isfinite(ours).all()
         ref = _reference(ours.shape, set_name)
         for t in tiles:
             o, r = _tile(ours, t)[..., :3].mean(), _tile(ref, t)[..., :3].mean()
-            assert abs(o - r) <= (bound + known.get(t["name"], 0.0)) * r, (t["name"], o, r)
+            allowed = bound + known.get(t["name"], 0.0) + mode_known.get(t["name"], 0.0)
+            print("%-20s %-28s mean %.4f  Cycles %.4f  relative %+.4f  allowed %.4f"
+                  % (set_name, t["name"], o, r, o / r - 1.0, allowed))
+            if abs(o - r) > allowed * r:
+                worst.append((set_name, t["name"], round(o / r - 1.0, 4)))
+    assert not worst, worst
 
 
 def test_path_space_filtering_renders_the_closures(tmp_path_factory):
-    """PSF_SMIS (biased, few samples): every sphere finite and within 5% of Cycles on average."""
+    """PSF_SMIS (biased, few samples): every sphere of the five sets finite and within 5% of Cycles on
+    average (plus its known difference). Measured (64 spp for closures, 512 for the small sets): beyond
+    the known spheres all within 2.0% (glass_ggx_0p3 -2.0%); Beckmann <= 0.3%, aniso <= 0.9%; the
+    multiscatter glass set is within 1.4% of our own PATH at 512 spp (0.2738/0.2775 ... 0.2138/0.2152)
+    while Cycles' inconsistent estimator puts its reference up to 34% away (MULTIGLASS_KNOWN)."""
     _sphere_means_match(tmp_path_factory, 64, 512, "scene.smis.integrator = 'PSF_SMIS'\n", 0.05)
 
 
 def test_spectral_rendering_renders_the_closures(tmp_path_factory):
-    """Hero-wavelength spectral rendering: every sphere within 3% of Cycles' RGB on average (RGB
-    upsampling makes coloured multi-bounce products differ slightly)."""
+    """Hero-wavelength spectral rendering: every sphere of the five sets within 3% of Cycles' RGB on
+    average, plus its known difference (RGB upsampling makes coloured multi-bounce products differ
+    slightly). Measured (128 spp for closures, 1024 for the small sets): beyond the known spheres all
+    within 2.0% (principled_multi_metal +2.0%, anisotropic_beckmann +1.5%); Beckmann <= 0.3%, aniso
+    <= 0.6%; the multiscatter glass set within 2.2% of our own RGB PATH (the tinted spheres, -2.2% and
+    -1.8%: upsampling), Cycles' reference up to 34% away (MULTIGLASS_KNOWN)."""
     _sphere_means_match(tmp_path_factory, 128, 1024, "scene.smis.spectral = 'HERO'\n", 0.03)
 
 

@@ -127,10 +127,10 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         if spectral != "RGB" and settings["integrator"] != "PATH":
             self._reporter.warning("Spectral rendering (%s) is only implemented for Path Tracing; "
                                    "%s renders in RGB" % (spectral, settings["integrator"]))
-        if export.scene.stats()["has_subsurface"] and (settings["integrator"] != "PATH" or spectral != "RGB"):
-            self._reporter.warning("Subsurface scattering is only traced by RGB Path Tracing; %s renders it "
-                                   "as diffuse" % (settings["integrator"] if spectral == "RGB" else
-                                                   "spectral rendering (%s)" % spectral))
+        if export.scene.stats()["has_subsurface"] and settings["integrator"].startswith("PSF"):
+            self._reporter.warning("%s: subsurface scattering is path traced per pixel, not filtered, where "
+                                   "it is a surface's only closure; seen after a glossy bounce it renders as "
+                                   "diffuse (Path Tracing walks there)" % settings["integrator"])
 
         # begin_result's rectangle is relative to the border window: Blender's result
         # is already border-sized, so (0, 0, w, h) is the whole of it.

@@ -154,7 +154,7 @@ template <class Spectrum, bool kMedia, bool kRules>
 
         BsdfSample bs = sample_bsdf(sp, rng);
         if constexpr (kRules && Spectrum::kSubsurfaceWalks) {
-            if (bs.delta && bs.lobe >= 0 && sp.bsdf.lobe(bs.lobe).kind == LobeKind::Subsurface) {
+            if (picks_subsurface(sp, bs)) {
                 if (!path.subsurface(L, clamped, scene, settings, sp, bs, rng, counters, state)) break;
             }
         }

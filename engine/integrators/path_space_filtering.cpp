@@ -184,7 +184,9 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
     st1.min_ray_pdf = prefix.min_ray_pdf;
     st1.diffuse_bounces = prefix.diffuse_bounces, st1.glossy_bounces = prefix.glossy_bounces;
     st1.transmission_bounces = prefix.transmission_bounces, st1.transparent_bounces = prefix.transparent_bounces;
-    st1.diffuse_ancestor = true;  // no subsurface walks in path-space filtering
+    // The shared suffixes walk nowhere: z1's subsurface is its diffuse fallback (Cycles' rule after a
+    // diffuse bounce at x1; after a glossy one PATH would walk at z1, a bias of the PSF integrators).
+    st1.diffuse_ancestor = true;
     advance_ray_type(st1, sp.bsdf, bs);
     if constexpr (kMedia) st1.medium = medium_towards(scene, sp, bs.wi, prefix.medium);
     const Ray r1 = bounce_ray(sp, bs, st1);
@@ -192,8 +194,15 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
     const Color bsdf_weight = path_weight / float(own_samples);
     st1.clamp_beta = path_weight;
     if (bs.delta) {
-        // A Dirac lobe of a mixed BSDF: its suffix has no density to share, so the pixel keeps it.
-        out.fixed = bsdf_weight * trace_path(scene, settings, r1, st1, rng, counters);
+        // A Dirac lobe of a mixed BSDF: its suffix has no density to share, so the pixel keeps it,
+        // traced as PATH would (a Subsurface lobe walks on from x1; after a Dirac bounce the next
+        // hit's subsurface walks too).
+        if (picks_subsurface(sp, bs))
+            out.fixed = trace_subsurface(scene, settings, sp, bs, prefix, beta / float(own_samples), rng, counters);
+        else {
+            st1.diffuse_ancestor = prefix.diffuse_ancestor;
+            out.fixed = bsdf_weight * trace_path(scene, settings, r1, st1, rng, counters);
+        }
         return out;
     }
     SurfaceHit h1;
@@ -283,7 +292,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
     PathRecord rec;
     *model = TechniqueDensity{};
     for (int m = 0; m < extra_paths; ++m) extra[m] = PrivateSuffix{};
-    PathState st = camera_path_state(ray.o, false);
+    PathState st = camera_path_state(ray.o);
     if constexpr (kMedia) st.medium = scene.camera_medium();
     Color beta(1.0f);
     float eta_scale = 1.0f, prefix_length = 0.0f;
@@ -294,12 +303,18 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
         if (!found || beyond_bounce_limits(settings, st) || (kMedia && is_black(beta))) return rec;
         prefix_length += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
-        subsurface_fallback(scene, sp);
         if (holdout_ends_path(st, sp, beta, counters)) return rec;
         if (sp.bsdf.empty()) return rec;
         if (sp.bsdf.is_delta()) {  // still in the prefix: follow the Dirac bounce
             BsdfSample bs = sample_bsdf(sp, rng);
             if (!bs.valid()) return rec;
+            if (picks_subsurface(sp, bs)) {
+                // A Subsurface lobe alone: its exit would be x1, but the gather re-evaluates x1's BSDF
+                // from its material, which is not the exit's; the pixel keeps PATH's estimate from
+                // here (unbiased, not filtered).
+                rec.fixed += trace_subsurface(scene, settings, sp, bs, st, beta, rng, counters);
+                return rec;
+            }
             beta *= bs.value / bs.pdf;
             if (bs.transmission) eta_scale *= sqr(bs.eta);
             update_transparent_background(settings, st, sp.bsdf, bs);
@@ -795,6 +810,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     Vec3 zns = back ? -smp.z_ns : smp.z_ns;
                     Bsdf bz = bsdf_at(scene, smp.z_material, zns, zng, back,
                                       attribs.empty() ? SurfaceAttribs{} : attribs[nb[ii]].z1, z_wo);
+                    if (scene.has_subsurface()) bz.subsurface_as_diffuse();  // as its own path shaded z1
                     L_z = bz.eval(z_wo, smp.nee_dir) * smp.nee_weighted + bz.eval(z_wo, smp.next_dir) * smp.next_weighted;
                     // With media, what arrives at x1: the own segment's transmittance, or the connection's.
                     if (media) L_z *= ii == size_t(jj) ? record_media[k].suffix_tr : connection_tr(k, smp.z, c.dir);

@@ -89,25 +89,57 @@ float russian_roulette_survival(int depth, float max_beta, float eta_scale, Rng&
     return 1.0f - q;
 }
 
+bool subsurface_step(const Scene& scene, ShadingPoint& sp, const BsdfSample& bs, Color& beta, Rng& rng) {
+    beta *= bs.value / bs.pdf;
+    const Lobe entry = sp.bsdf.lobe(bs.lobe);
+    return (entry.variant & SubsurfaceLobe::kDisk) ? subsurface_disk(scene, sp, entry, rng, &beta, &sp)
+                                                   : subsurface_walk(scene, sp, entry, rng, &beta, &sp);
+}
+
 namespace {
 
 // Cycles' subsurface bounce at sp, whose BSDF sample bs picked a Subsurface lobe: the walk (or
-// Christensen-Burley's disk sampling) to the exit, which becomes sp, then the exit's light sample (*direct, with the throughput) and its BSDF
-// sample (bs), at the entry's depth (the walk is no bounce of the path in Cycles). False: the path
-// ends. Out of line, so the loops stay as they were for scenes without subsurface.
+// Christensen-Burley's disk sampling) to the exit, which becomes sp, then the exit's light sample
+// (*direct, with the throughput) and its BSDF sample (bs), at the entry's depth (the walk is no
+// bounce of the path in Cycles). False: the path ends. Out of line, so the loops stay as they were
+// for scenes without subsurface.
 [[gnu::noinline]] bool subsurface_bounce(const Scene& scene, const RenderSettings& settings, ShadingPoint& sp,
                                          BsdfSample& bs, Color& beta, Rng& rng, LocalCounters& counters,
                                          int32_t medium, Color* direct) {
-    beta *= bs.value / bs.pdf;
-    const Lobe entry = sp.bsdf.lobe(bs.lobe);
-    const bool exited = (entry.variant & SubsurfaceLobe::kDisk) ? subsurface_disk(scene, sp, entry, rng, &beta, &sp)
-                                                                : subsurface_walk(scene, sp, entry, rng, &beta, &sp);
-    if (!exited) return false;
+    if (!subsurface_step(scene, sp, bs, beta, rng)) return false;
     DirectSample ds = sample_direct(scene, settings, sp, rng, counters, medium);
     *direct = ds.valid ? beta * direct_eval(sp, ds) * ds.weighted : Color(0.0f);
     bs = sample_bsdf(sp, rng);
     return true;
 }
+
+}  // namespace
+
+Color trace_subsurface(const Scene& scene, const RenderSettings& settings, ShadingPoint sp, BsdfSample bs,
+                       PathState state, Color beta, Rng& rng, LocalCounters& counters) {
+    Color direct;
+    if (!subsurface_bounce(scene, settings, sp, bs, beta, rng, counters, state.medium, &direct)) return Color(0.0f);
+    Color L = clamp_contribution(settings, direct, state.depth == 0);
+    if (!bs.valid()) {
+        ++counters.samples_rejected;
+        return L;
+    }
+    beta *= bs.value / bs.pdf;
+    advance_ray_type(state, sp.bsdf, bs);
+    if (scene.has_media()) state.medium = medium_towards(scene, sp, bs.wi, state.medium);
+    state.prev_delta = bs.delta;
+    state.prev_pdf = bs.pdf;
+    state.prev_p = sp.hit.p;
+    state.light_pdf_scale = 1.0f;
+    state.transparent_background = false;
+    const Ray ray = bounce_ray(sp, bs, state);
+    ++state.depth;
+    state.clamp_beta = beta;
+    state.rr_scale = max_component(beta);
+    return L + beta * trace_path(scene, settings, ray, state, rng, counters);
+}
+
+namespace {
 
 // The RGB path tracer's spectrum: one Color throughput (path_loop.h describes the policy).
 struct RgbThroughput {

@@ -198,8 +198,8 @@ inline PathState camera_path_state(const Vec3& origin, bool subsurface_walks = t
     st.diffuse_ancestor = !subsurface_walks;
     return st;
 }
-// Integrators without subsurface walks (path-space filtering, ReSTIR, the spectral tracer) render
-// every Subsurface lobe they shade as its diffuse fallback (the add-on warns).
+// Path-space filtering's shared suffixes render the Subsurface lobes at z1 as their diffuse
+// fallback (their BSDF is re-evaluated for other pixels' connections).
 inline void subsurface_fallback(const Scene& scene, ShadingPoint& sp) {
     if (scene.has_subsurface()) sp.bsdf.subsurface_as_diffuse();
 }
@@ -358,6 +358,20 @@ inline Color emission_along(const Scene& scene, const RenderSettings& settings, 
         scene, settings, ray, found, hit, state, [&](uint32_t, const Color& c) { L += c; }, media, kind);
     return L;
 }
+
+// Whether BSDF sample bs at sp picked a Subsurface lobe (the path walks inside the object next).
+inline bool picks_subsurface(const ShadingPoint& sp, const BsdfSample& bs) {
+    return bs.delta && bs.lobe >= 0 && sp.bsdf.lobe(bs.lobe).kind == LobeKind::Subsurface;
+}
+// The subsurface step for such a sample (subsurface_walk.h, subsurface_disk.h): beta takes the
+// lobe's weight over its pick probability and the walk's (disk's) weight, and sp becomes the exit,
+// whose own light and BSDF samples follow at the entry's depth. False: no exit, the path ends.
+bool subsurface_step(const Scene& scene, ShadingPoint& sp, const BsdfSample& bs, Color& beta, Rng& rng);
+// The path tracer's estimate from such a sample on, for integrators that keep it per pixel (path-space
+// filtering): the step, the exit's light sample, its BSDF sample and the path tracer from there, all
+// under the throughput beta at the entry; `state` is the path's at the entry.
+Color trace_subsurface(const Scene& scene, const RenderSettings& settings, ShadingPoint sp, BsdfSample bs,
+                       PathState state, Color beta, Rng& rng, LocalCounters& counters);
 
 // Radiance arriving at ray.o along -ray.d: the path tracer from `state` on (NEE + BSDF sampling with
 // MIS, Russian roulette, Cycles' bounce limit).

@@ -15,6 +15,8 @@
 // Only the direct light at x1 is resampled (MIS-combined with x1's BSDF sample, see
 // reservoir_contribution); emission along the prefix and everything after x1 is the path
 // tracer's, so the image converges to the path tracer's.
+// A subsurface exit is a surface vertex like any other: x1 when the Subsurface lobe is the entry's
+// only one (the entry is then a Dirac vertex of the prefix), else the path tracer's part after x1.
 // With media the prefix's segments carry transmittance and single scattering as the path tracer's
 // do (trace_media_segment), and the resampled light at x1 its shadow ray's transmittance (unshadowed
 // targets, visibility [T > 0] in the reservoirs and the MIS: direct_lighting.h).
@@ -42,7 +44,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
     px.distance = 0.0f;
     px.r = Reservoir{};
     px.eval = CandidateEval{};
-    PathState st = camera_path_state(ray.o, false);
+    PathState st = camera_path_state(ray.o);
     if constexpr (kMedia) st.medium = scene.camera_medium();
     Color beta(1.0f);
     float eta_scale = 1.0f;
@@ -53,11 +55,11 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
         if (!found || beyond_bounce_limits(settings, st) || (kMedia && is_black(beta))) return;
         px.distance += hit.t;
         ShadingPoint sp = make_shading_point(scene, hit, ray.d);
-        subsurface_fallback(scene, sp);
         if (holdout_ends_path(st, sp, beta, counters)) return;
         if (sp.bsdf.empty()) return;
-        const bool first = !sp.bsdf.is_delta();
-        if (first) {
+        bool first = !sp.bsdf.is_delta();
+        // x1 gets the reservoir; resampled: the vertex the next ray leaves from took it.
+        auto take_reservoir = [&] {
             px.has_vertex = true;
             px.camera_hit = st.depth == 0;
             px.sp = sp;
@@ -65,8 +67,25 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
             px.medium = st.medium;
             px.r = ris_reservoir(scene, sp, settings.ris_candidates, settings.restir_visibility_reuse, rng, &px.eval,
                                  st.medium);
-        }
+        };
+        if (first) take_reservoir();
+        bool resampled = first;
         BsdfSample bs = sample_bsdf(sp, rng);
+        if (picks_subsurface(sp, bs)) {
+            // The subsurface exit is a surface vertex like any other at the entry's depth: x1 when
+            // the entry was a Dirac one (a Subsurface lobe alone), else it takes plain NEE (part of
+            // the path tracer's estimate after x1, as in PATH).
+            if (!subsurface_step(scene, sp, bs, beta, rng)) return;
+            if (!first) {
+                first = true;
+                take_reservoir();
+            } else {
+                resampled = false;
+                DirectSample ds = sample_direct(scene, settings, sp, rng, counters, st.medium);
+                if (ds.valid) px.fixed += clamp_contribution(settings, beta * direct_eval(sp, ds) * ds.weighted, st.depth == 0);
+            }
+            bs = sample_bsdf(sp, rng);
+        }
         if (!bs.valid()) {
             ++counters.samples_rejected;
             return;
@@ -77,9 +96,9 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rn
         advance_ray_type(st, sp.bsdf, bs);
         if constexpr (kMedia) st.medium = medium_towards(scene, sp, bs.wi, st.medium);
         st.prev_delta = bs.delta;
-        st.light_pdf_scale = first ? resampled_light_pdf_scale(settings) : 1.0f;
+        st.light_pdf_scale = resampled ? resampled_light_pdf_scale(settings) : 1.0f;
         st.prev_pdf = bs.pdf;
-        st.prev_p = hit.p;
+        st.prev_p = sp.hit.p;  // the exit after a subsurface step
         ray = bounce_ray(sp, bs, st);
         if (!russian_roulette(st.depth, beta, eta_scale, rng) || is_black(beta)) return;
         if (first) {

@@ -3,6 +3,7 @@
 #include "core/pixel_sequence.h"
 #include "integrators/path_loop.h"
 #include "integrators/restir.h"
+#include "integrators/subsurface_disk.h"
 
 namespace smis {
 
@@ -184,6 +185,20 @@ bool delta_event(const ShadingPoint& sp, const SpectralMaterial& sm, const BsdfS
     return p.inv_mix > 0.0f;
 }
 
+static_assert(SpectralSubsurface::kCapacity >= kMaxWavelengths, "a subsurface step carries every wavelength");
+
+// The exit lobe of a subsurface step (subsurface_exit: weight 1, its index 0) as the spectral
+// material every exit vertex is evaluated with.
+const SpectralMaterial& subsurface_exit_material() {
+    static const SpectralMaterial exit = [] {
+        SpectralMaterial m;
+        m.lobes.emplace_back();
+        m.lobes[0].weight = rgb_spectrum(Color(1.0f));
+        return m;
+    }();
+    return exit;
+}
+
 // Optical depth of `media` over [0, t) at wavelength lambda (t = kInf: the whole ray), from its
 // stored segments (RayMedia keeps the first kMaxSegments; RGB's tau_end counts the rest too).
 float spectral_optical_depth(const SpectralScene& spectral, const RayMedia& media, float t, float lambda) {
@@ -209,11 +224,14 @@ namespace {
 
 // The spectral path tracer's spectrum (path_loop.h describes the policy): the n wavelengths of a
 // SpectralPath. Directions are sampled as in RGB rendering; every BSDF, light and emission is
-// evaluated at all n wavelengths. Subsurface lobes render as their diffuse fallback (the caller
-// starts the path with the diffuse ancestor set). With RIS (settings.direct_light) the first
-// vertex resamples its light sample with the RGB target and evaluates the chosen one at every
-// wavelength (direct_lighting.h, resampled_weight); for ReSTIR (a SpectralRestirRecord) it records
-// that vertex and its initial reservoir instead, and the reuse shades it later (restir.cpp).
+// evaluated at all n wavelengths. With RIS (settings.direct_light) the first vertex resamples its
+// light sample with the RGB target and evaluates the chosen one at every wavelength
+// (direct_lighting.h, resampled_weight); for ReSTIR (a SpectralRestirRecord) it records that vertex
+// and its initial reservoir instead, and the reuse shades it later (restir.cpp). Subsurface
+// scattering walks (or samples Christensen-Burley's disk) with the path's wavelengths as its
+// channels: each flight (or radius) is drawn from one wavelength and weighed by the mixture density
+// over all of them, a density that depends on the wavelength set only, so the relative densities r_j
+// stay as they are.
 // Media (spectral/spectral_scene.h, SpectralMedium): each wavelength has its own transmittance along
 // rays and shadow rays. No direction of the path depends on a medium (volume bounces = 0: a path
 // never continues from a scattering vertex), so media leave the relative densities r_j as they are;
@@ -223,7 +241,7 @@ namespace {
 class SpectralThroughput {
 public:
     static constexpr bool kResampledLights = true;
-    static constexpr bool kSubsurfaceWalks = false;
+    static constexpr bool kSubsurfaceWalks = true;
     SpectralThroughput(const SpectralScene& spectral, SpectralPath& p, SpectralRestirRecord* restir = nullptr)
         : spectral_(spectral), p_(p), restir_(restir) {}
 
@@ -321,6 +339,37 @@ public:
     }
     // The spectral material of the shading point (which prepare() made the BSDF of).
     void at_material(const ShadingPoint& sp) { sm_ = &spectral_.material(sp.hit.material); }
+    // The subsurface bounce at sp, whose sample bs picked a Subsurface lobe (path_tracing.cpp's
+    // subsurface_bounce, per wavelength): the lobe's weight over its pick probability, the walk or
+    // disk step to the exit, which becomes sp with the exit material, the exit's light sample and
+    // its BSDF sample (bs), at the entry's depth. False: the path ends.
+    template <class Clamp>
+    bool subsurface(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, ShadingPoint& sp,
+                    BsdfSample& bs, Rng& rng, LocalCounters& counters, const PathState& state) {
+        const Lobe entry = sp.bsdf.lobe(bs.lobe);
+        SpectralLobe scratch;
+        const SpectralLobe& s = hit_lobe(entry, *sm_, &scratch);
+        // A textured albedo or radius is upsampled per hit from the table, as hit_lobe's weight.
+        const RgbSpectrum albedo = s.varies ? rgb_spectrum_table(entry.f0) : s.albedo;
+        const RgbSpectrum radius = s.varies ? rgb_spectrum_table(entry.kind_colour) : s.radius;
+        SpectralSubsurface ch;
+        ch.n = p_.n;
+        const float inv_pdf = 1.0f / bs.pdf;
+        for (int i = 0; i < p_.n; ++i) {
+            const float lambda = p_.ws.lambda[i];
+            ch.beta[i] = p_.beta[i] * s.weight(lambda) * inv_pdf;
+            ch.albedo[i] = albedo(lambda);
+            ch.radius[i] = radius(lambda);
+        }
+        const bool exited = (entry.variant & SubsurfaceLobe::kDisk) ? subsurface_disk(scene, sp, entry, rng, ch, &sp)
+                                                                    : subsurface_walk(scene, sp, entry, rng, ch, &sp);
+        if (!exited) return false;
+        std::copy(ch.beta, ch.beta + p_.n, p_.beta);
+        sm_ = &subsurface_exit_material();
+        direct(L, clamped, scene, settings, sp, rng, counters, state);
+        bs = sample_bsdf(sp, rng);
+        return true;
+    }
     bool scatter(const ShadingPoint& sp, const BsdfSample& bs) {
         if (bs.delta) return delta_event(sp, *sm_, bs, p_);
         if (!eval_spectral(sp, *sm_, p_, bs.wi, f_)) return false;
@@ -483,9 +532,9 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
     SpectralPath p;
     if (fixed_wavelength_ > 0.0f) p.start_at(fixed_wavelength_);
     else p.start(sampler_, u, v, wavelength_rng);
-    // Always with the Light Path rules (their checks cost little next to n wavelengths), and with
-    // the diffuse ancestor set: no subsurface walks.
-    PathState state = camera_path_state(ray.o, false);
+    // Always with the Light Path rules (their checks cost little next to n wavelengths; they carry
+    // the subsurface walks).
+    PathState state = camera_path_state(ray.o);
     state.first_vertex_ahead = true;  // RIS, when settings.direct_light asks for it
     state.medium = scene.camera_medium();
     return scene.has_media()

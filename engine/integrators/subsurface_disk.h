@@ -20,7 +20,7 @@
 // cut (Cycles' BURLEY_TRUNCATE). It integrates to 1: the closure weight (the albedo) is what a
 // flat surface reflects.
 #pragma once
-#include "integrators/path_tracing.h"
+#include "integrators/subsurface_walk.h"
 
 namespace smis {
 
@@ -29,6 +29,10 @@ namespace smis {
 // *exit is the exit's shading point. False: the probe found no surface, and the path ends.
 bool subsurface_disk(const Scene& scene, const ShadingPoint& entry, const Lobe& lobe, Rng& rng, Color* beta,
                      ShadingPoint* exit);
+// The same for a spectral path's wavelengths (subsurface_walk.h, SpectralSubsurface): the profile's
+// channels are the wavelengths.
+bool subsurface_disk(const Scene& scene, const ShadingPoint& entry, const Lobe& lobe, Rng& rng,
+                     SpectralSubsurface& ch, ShadingPoint* exit);
 
 namespace burley {
 constexpr float kTruncate = 16.0f;  // the profile is cut at kTruncate d

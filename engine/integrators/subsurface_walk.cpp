@@ -41,17 +41,6 @@ constexpr int kSimilarityLevel = 9;      // beyond, isotropic scattering with th
 constexpr float kMinAlpha = 0.2f;        // lower single-scattering albedos are raised, their loss kept in beta
 constexpr float kThroughputEpsilon = 1e-6f;  // Cycles' VOLUME_THROUGHPUT_EPSILON
 
-Color exp_neg(const Color& sigma, float t) {
-    return Color(std::exp(-sigma.x * t), std::exp(-sigma.y * t), std::exp(-sigma.z * t));
-}
-
-// The density of a flight of length t in a medium of extinction sigma: the transmittance when it
-// ended on the surface (every longer flight is cut there), sigma times it when it scattered.
-Color flight_pdf(const Color& sigma, float t, bool hit) {
-    Color tr = exp_neg(sigma, t);
-    return hit ? tr : sigma * tr;
-}
-
 // Henyey-Greenstein phase function of cos between the old and new directions.
 float hg_phase(float cos_theta, float g) {
     const float denom = 1.0f + g * g - 2.0f * g * cos_theta;
@@ -88,17 +77,169 @@ float diffusion_length(float alpha) {
     return 1.0f / std::sqrt(1.0f - std::pow(alpha, 2.44294f - 0.0215813f * alpha + 0.578637f / alpha));
 }
 
-// Chiang et al.'s channel choice: proportional to |beta alpha| (uniform when zero); its pmf per channel.
-int sample_channel(const Color& alpha, const Color& beta, float u, Color* pmf) {
-    Color w(std::fabs(beta.x * alpha.x), std::fabs(beta.y * alpha.y), std::fabs(beta.z * alpha.z));
-    const float sum = w.x + w.y + w.z;
-    *pmf = sum > 0.0f ? w / sum : Color(1.0f / 3.0f);
-    float acc = 0.0f;
-    for (int k = 0; k < 2; ++k) {
-        acc += (*pmf)[k];
-        if (u < acc) return k;
+// The density of a flight of length t in a medium of extinction sigma: the transmittance when it
+// ended on the surface (every longer flight is cut there), sigma times it when it scattered.
+float flight_pdf(float sigma, float t, bool hit) {
+    const float tr = std::exp(-sigma * t);
+    return hit ? tr : sigma * tr;
+}
+
+// The walk over the n channels of `ch` (N: their capacity, 3 for RGB so that its loops unroll).
+// Chiang et al.'s walk samples each flight from one channel, picked in proportion to
+// |throughput x alpha|, and weighs it by the one-sample MIS density over all channels (the balance
+// heuristic); a spectral path's wavelengths are its channels, so every wavelength's estimate is
+// unbiased given the path's wavelength set and the relative densities r_j do not change.
+template <int N>
+bool walk(const Scene& scene, const ShadingPoint& entry, const Lobe& lobe, Rng& rng, SubsurfaceChannels<N>& ch,
+          ShadingPoint* exit) {
+    const int n = N == 3 ? 3 : ch.n;
+    const Vec3 p0 = entry.hit.p;
+    const Vec3 n_entry = entry.bsdf.frame().n;  // the closure normal, on the viewer's side
+    const Point2 u_dir{rng.next_float(), rng.next_float()};
+    Vec3 d = Frame(-n_entry).to_world(sample_cosine_hemisphere(u_dir));
+    if (!(dot(-entry.ng, d) > 0.0f)) return false;
+
+    // The medium (per channel), and the throughput without the surface albedo, which the walk's
+    // scattering brings back (Cycles divides it out).
+    const float g = lobe.alpha;
+    float sigma_t[N], alpha[N], throughput[N], sigma_s[N], sigma_s_similar[N], sigma_t_similar[N];
+    float max_alpha = 0.0f, min_sigma_t = kInf;
+    for (int k = 0; k < n; ++k) {
+        subsurface_detail::walk_coefficients(ch.albedo[k], ch.radius[k], g, &sigma_t[k], &alpha[k]);
+        throughput[k] = ch.albedo[k] != 0.0f ? ch.beta[k] / ch.albedo[k] : 0.0f;
+        // Very low albedos would make the guiding phase function infinite: raise alpha, keep the loss.
+        if (alpha[k] < kMinAlpha) {
+            throughput[k] *= alpha[k] / kMinAlpha;
+            alpha[k] = kMinAlpha;
+        }
+        sigma_s[k] = sigma_t[k] * alpha[k];
+        // After kSimilarityLevel events: the isotropic medium similar to the anisotropic one.
+        sigma_s_similar[k] = sigma_s[k] * (1.0f - g);
+        sigma_t_similar[k] = sigma_t[k] - sigma_s[k] + sigma_s_similar[k];
+        max_alpha = std::max(max_alpha, alpha[k]);
+        min_sigma_t = std::min(min_sigma_t, sigma_t[k]);
     }
-    return 2;
+    // The guiding uses the highest albedo of the channels (lower ones guide too hard: fireflies).
+    const float v = diffusion_length(max_alpha);
+    if (!(v != 1.0f) || !std::isfinite(v)) return false;
+    const float log_v = std::log((v + 1.0f) / (v - 1.0f));
+    const float guided_fraction_0 = 1.0f - std::fmax(0.5f, std::pow(std::fabs(g), 0.125f));
+
+    Ray ray{offset_ray_origin(p0, -entry.ng), d, 0.0f, kInf, entry.hit.time, kRayAllVisibility};
+    Vec3 at = p0;  // the current scattering point (the ray's origin but for the first flight's offset)
+    SurfaceHit hit;
+    bool found_exit = false, have_opposite = false;
+    float opposite_distance = 0.0f;
+    for (int bounce = 0; bounce < kMaxScatterings; ++bounce) {
+        const bool similar = bounce > kSimilarityLevel;
+        const float g_b = similar ? 0.0f : g;
+        const float guided_fraction = similar ? 0.75f : guided_fraction_0;
+        const float* st = similar ? sigma_t_similar : sigma_t;
+        const float* ss = similar ? sigma_s_similar : sigma_s;
+
+        // Chiang et al.'s channel choice: proportional to |throughput alpha| (uniform when zero).
+        float channel_pmf[N], sum = 0.0f;
+        for (int k = 0; k < n; ++k) {
+            channel_pmf[k] = std::fabs(throughput[k] * alpha[k]);
+            sum += channel_pmf[k];
+        }
+        const float inv_sum = sum > 0.0f ? 1.0f / sum : 0.0f;
+        for (int k = 0; k < n; ++k) channel_pmf[k] = sum > 0.0f ? channel_pmf[k] * inv_sum : 1.0f / float(n);
+        const float u_channel = rng.next_float();
+        int channel = n - 1;
+        float acc = 0.0f;
+        for (int k = 0; k < n - 1; ++k) {
+            acc += channel_pmf[k];
+            if (u_channel < acc) {
+                channel = k;
+                break;
+            }
+        }
+        float sample_sigma = st[channel];
+        const float u_t = rng.next_float();
+
+        float backward_fraction = 0.0f, forward_factor = 0.0f, backward_factor = 0.0f;
+        float forward_stretch = 1.0f, backward_stretch = 1.0f;
+        if (bounce > 0) {  // the first flight's direction is already chosen: classic distance sampling
+            const bool guided = rng.next_float() < guided_fraction;
+            bool backward = false;
+            if (have_opposite) {
+                // Towards the opposite side, more likely the deeper the walk (d'Eon and Krivanek 2020).
+                const float depth = clampf(dot(at - p0, -n_entry), 0.0f, opposite_distance);
+                backward_fraction = 1.0f / (1.0f + std::exp((opposite_distance - 2.0f * depth) / v));
+                backward = rng.next_float() < backward_fraction;
+            }
+            const Point2 u_s{rng.next_float(), rng.next_float()};
+            float cos_theta, phase_pdf;
+            if (guided) {
+                cos_theta = sample_dwivedi(v, log_v, u_s.x);
+                if (backward) cos_theta = -cos_theta;  // the mirrored lobe
+                const Vec3 nd = around(n_entry, cos_theta, u_s.y);
+                phase_pdf = hg_phase(dot(ray.d, nd), g_b);
+                ray.d = nd;
+            } else {
+                ray.d = sample_hg(ray.d, g_b, u_s, &phase_pdf);
+                cos_theta = dot(ray.d, n_entry);
+            }
+            // The guided direction densities as ratios to the phase function, which cancels in the
+            // estimator (it does not depend on the channel).
+            forward_factor = 0.5f * kInvPi * dwivedi_phase(v, log_v, cos_theta) / phase_pdf;
+            backward_factor = 0.5f * kInvPi * dwivedi_phase(v, log_v, -cos_theta) / phase_pdf;
+            forward_stretch = 1.0f - cos_theta / v;
+            backward_stretch = 1.0f + cos_theta / v;
+            if (guided) sample_sigma *= backward ? backward_stretch : forward_stretch;
+        }
+        float t = -std::log(1.0f - u_t) / sample_sigma;
+
+        // The first flight also looks for the opposite side within 10 mean free paths.
+        ray.tmax = bounce == 0 ? std::fmax(t, 10.0f / min_sigma_t) : t;
+        bool hit_surface = scene.intersect_instance(entry.hit.attr.instance, ray, &hit);
+        if (bounce == 0) {
+            if (hit_surface) {
+                have_opposite = true;
+                opposite_distance = dot(ray.o + ray.d * hit.t - p0, -n_entry);
+            }
+            hit_surface = hit_surface && hit.t < t;
+        }
+        if (hit_surface) t = hit.t;
+        at = ray.o + ray.d * t;
+
+        // One-sample MIS (balance heuristic) over classic and guided sampling, forward and backward,
+        // and over the channels.
+        float tr[N], mis_pdf = 0.0f;
+        for (int k = 0; k < n; ++k) {
+            tr[k] = std::exp(-st[k] * t);
+            float pdf = hit_surface ? tr[k] : st[k] * tr[k];
+            if (bounce > 0) {
+                float guided_pdf = flight_pdf(st[k] * forward_stretch, t, hit_surface) * forward_factor;
+                if (have_opposite)
+                    guided_pdf = guided_pdf * (1.0f - backward_fraction) +
+                                 flight_pdf(st[k] * backward_stretch, t, hit_surface) * backward_factor *
+                                     backward_fraction;
+                pdf = pdf * (1.0f - guided_fraction) + guided_pdf * guided_fraction;
+            }
+            mis_pdf += channel_pmf[k] * pdf;
+        }
+        const float inv_mis_pdf = 1.0f / mis_pdf;
+        float max_throughput = 0.0f;
+        for (int k = 0; k < n; ++k) {
+            throughput[k] = throughput[k] * (hit_surface ? tr[k] : ss[k] * tr[k]) * inv_mis_pdf;
+            if (!std::isfinite(throughput[k])) return false;
+            max_throughput = std::max(max_throughput, throughput[k]);
+        }
+        if (hit_surface) {
+            found_exit = true;
+            break;
+        }
+        if (max_throughput < kThroughputEpsilon) return false;
+        ray.o = at;
+    }
+    if (!found_exit) return false;
+
+    // The exit, seen from outside (Cycles turns the ray around).
+    subsurface_exit(hit, dot(ray.d, hit.ng) < 0.0f, lobe, exit);
+    for (int k = 0; k < n; ++k) ch.beta[k] = throughput[k];
+    return true;
 }
 
 }  // namespace
@@ -124,125 +265,15 @@ void subsurface_exit(const SurfaceHit& hit, bool backfacing, const Lobe& lobe, S
 
 bool subsurface_walk(const Scene& scene, const ShadingPoint& entry, const Lobe& lobe, Rng& rng, Color* beta,
                      ShadingPoint* exit) {
-    const Vec3 p0 = entry.hit.p;
-    const Vec3 n = entry.bsdf.frame().n;  // the closure normal, on the viewer's side
-    const Point2 u_dir{rng.next_float(), rng.next_float()};
-    Vec3 d = Frame(-n).to_world(sample_cosine_hemisphere(u_dir));
-    if (!(dot(-entry.ng, d) > 0.0f)) return false;
-
-    // The medium (per channel), and the throughput without the surface albedo, which the walk's
-    // scattering brings back (Cycles divides it out).
-    const float g = lobe.alpha;
-    Color sigma_t, alpha, throughput = *beta;
-    for (int k = 0; k < 3; ++k) {
-        subsurface_detail::walk_coefficients(lobe.f0[k], lobe.kind_colour[k], g, &sigma_t[k], &alpha[k]);
-        throughput[k] = lobe.f0[k] != 0.0f ? throughput[k] / lobe.f0[k] : 0.0f;
-        // Very low albedos would make the guiding phase function infinite: raise alpha, keep the loss.
-        if (alpha[k] < kMinAlpha) {
-            throughput[k] *= alpha[k] / kMinAlpha;
-            alpha[k] = kMinAlpha;
-        }
-    }
-    const Color sigma_s = sigma_t * alpha;
-    // The guiding uses the highest albedo of the three (lower ones guide too hard: fireflies).
-    const float v = diffusion_length(max_component(alpha));
-    if (!(v != 1.0f) || !std::isfinite(v)) return false;
-    const float log_v = std::log((v + 1.0f) / (v - 1.0f));
-    const float guided_fraction_0 = 1.0f - std::fmax(0.5f, std::pow(std::fabs(g), 0.125f));
-    // After kSimilarityLevel events: the isotropic medium similar to the anisotropic one.
-    const Color sigma_s_similar = sigma_s * (1.0f - g);
-    const Color sigma_t_similar = sigma_t - sigma_s + sigma_s_similar;
-
-    Ray ray{offset_ray_origin(p0, -entry.ng), d, 0.0f, kInf, entry.hit.time, kRayAllVisibility};
-    Vec3 at = p0;  // the current scattering point (the ray's origin but for the first flight's offset)
-    SurfaceHit hit;
-    bool found_exit = false, have_opposite = false;
-    float opposite_distance = 0.0f;
-    for (int bounce = 0; bounce < kMaxScatterings; ++bounce) {
-        const bool similar = bounce > kSimilarityLevel;
-        const float g_b = similar ? 0.0f : g;
-        const float guided_fraction = similar ? 0.75f : guided_fraction_0;
-        const Color& st = similar ? sigma_t_similar : sigma_t;
-        const Color& ss = similar ? sigma_s_similar : sigma_s;
-
-        Color channel_pmf;
-        const int channel = sample_channel(alpha, throughput, rng.next_float(), &channel_pmf);
-        float sample_sigma = st[channel];
-        const float u_t = rng.next_float();
-
-        float backward_fraction = 0.0f, forward_factor = 0.0f, backward_factor = 0.0f;
-        float forward_stretch = 1.0f, backward_stretch = 1.0f;
-        if (bounce > 0) {  // the first flight's direction is already chosen: classic distance sampling
-            const bool guided = rng.next_float() < guided_fraction;
-            bool backward = false;
-            if (have_opposite) {
-                // Towards the opposite side, more likely the deeper the walk (d'Eon and Krivanek 2020).
-                const float depth = clampf(dot(at - p0, -n), 0.0f, opposite_distance);
-                backward_fraction = 1.0f / (1.0f + std::exp((opposite_distance - 2.0f * depth) / v));
-                backward = rng.next_float() < backward_fraction;
-            }
-            const Point2 u_s{rng.next_float(), rng.next_float()};
-            float cos_theta, phase_pdf;
-            if (guided) {
-                cos_theta = sample_dwivedi(v, log_v, u_s.x);
-                if (backward) cos_theta = -cos_theta;  // the mirrored lobe
-                const Vec3 nd = around(n, cos_theta, u_s.y);
-                phase_pdf = hg_phase(dot(ray.d, nd), g_b);
-                ray.d = nd;
-            } else {
-                ray.d = sample_hg(ray.d, g_b, u_s, &phase_pdf);
-                cos_theta = dot(ray.d, n);
-            }
-            // The guided direction densities as ratios to the phase function, which cancels in the
-            // estimator (it does not depend on the channel).
-            forward_factor = 0.5f * kInvPi * dwivedi_phase(v, log_v, cos_theta) / phase_pdf;
-            backward_factor = 0.5f * kInvPi * dwivedi_phase(v, log_v, -cos_theta) / phase_pdf;
-            forward_stretch = 1.0f - cos_theta / v;
-            backward_stretch = 1.0f + cos_theta / v;
-            if (guided) sample_sigma *= backward ? backward_stretch : forward_stretch;
-        }
-        float t = -std::log(1.0f - u_t) / sample_sigma;
-
-        // The first flight also looks for the opposite side within 10 mean free paths.
-        ray.tmax = bounce == 0 ? std::fmax(t, 10.0f / min_component(sigma_t)) : t;
-        bool hit_surface = scene.intersect_instance(entry.hit.attr.instance, ray, &hit);
-        if (bounce == 0) {
-            if (hit_surface) {
-                have_opposite = true;
-                opposite_distance = dot(ray.o + ray.d * hit.t - p0, -n);
-            }
-            hit_surface = hit_surface && hit.t < t;
-        }
-        if (hit_surface) t = hit.t;
-        at = ray.o + ray.d * t;
-
-        const Color tr = exp_neg(st, t);
-        Color pdf = hit_surface ? tr : st * tr;
-        if (bounce > 0) {
-            // One-sample MIS (balance heuristic) over classic and guided sampling, forward and backward.
-            Color guided_pdf = flight_pdf(st * forward_stretch, t, hit_surface) * forward_factor;
-            if (have_opposite)
-                guided_pdf = lerp(backward_fraction, guided_pdf,
-                                  flight_pdf(st * backward_stretch, t, hit_surface) * backward_factor);
-            pdf = lerp(guided_fraction, pdf, guided_pdf);
-        }
-        // ... and over the three channels.
-        const float mis_pdf = dot(channel_pmf, pdf);
-        throughput = throughput * (hit_surface ? tr : ss * tr) / mis_pdf;
-        if (!is_finite(throughput)) return false;
-        if (hit_surface) {
-            found_exit = true;
-            break;
-        }
-        if (max_component(throughput) < kThroughputEpsilon) return false;
-        ray.o = at;
-    }
-    if (!found_exit) return false;
-
-    // The exit, seen from outside (Cycles turns the ray around).
-    subsurface_exit(hit, dot(ray.d, hit.ng) < 0.0f, lobe, exit);
-    *beta = throughput;
+    SubsurfaceChannels<3> ch = rgb_channels(lobe, *beta);
+    if (!walk<3>(scene, entry, lobe, rng, ch, exit)) return false;
+    *beta = Color(ch.beta[0], ch.beta[1], ch.beta[2]);
     return true;
+}
+
+bool subsurface_walk(const Scene& scene, const ShadingPoint& entry, const Lobe& lobe, Rng& rng,
+                     SpectralSubsurface& ch, ShadingPoint* exit) {
+    return walk<SpectralSubsurface::kCapacity>(scene, entry, lobe, rng, ch, exit);
 }
 
 }  // namespace smis

@@ -15,12 +15,39 @@
 
 namespace smis {
 
+// The channels a subsurface step carries: RGB's three, or a spectral path's n wavelengths (up to
+// kCapacity): per channel the lobe's surface albedo and mean free path there (the Lobe's f0 and
+// kind_colour, upsampled for a spectral path), and the path throughput.
+template <int N>
+struct SubsurfaceChannels {
+    static constexpr int kCapacity = N;
+    int n = N;
+    float albedo[N], radius[N], beta[N];
+};
+using SpectralSubsurface = SubsurfaceChannels<512>;  // spectral::kMaxWavelengths
+
+// RGB's channels of Subsurface lobe `lobe` with the path throughput beta.
+inline SubsurfaceChannels<3> rgb_channels(const Lobe& lobe, const Color& beta) {
+    SubsurfaceChannels<3> ch;
+    for (int k = 0; k < 3; ++k) {
+        ch.albedo[k] = lobe.f0[k];
+        ch.radius[k] = lobe.kind_colour[k];
+        ch.beta[k] = beta[k];
+    }
+    return ch;
+}
+
 // The walk from `entry` for its Subsurface lobe `lobe`: *beta holds the path throughput including
 // the lobe's weight / P(pick) on entry, and the throughput at the exit on success, where *exit is
 // the exit's shading point. False: the walk left no exit (absorbed, escaped an open mesh, 256
 // scattering events), and the path ends.
 bool subsurface_walk(const Scene& scene, const ShadingPoint& entry, const Lobe& lobe, Rng& rng, Color* beta,
                      ShadingPoint* exit);
+// The same for a spectral path's wavelengths (ch.n of them, ch.beta their throughputs): each flight
+// is drawn from one wavelength and weighed by the mixture density over all (one-sample MIS), as RGB
+// mixes its three channels, so each wavelength's estimate is unbiased given the path's wavelengths.
+bool subsurface_walk(const Scene& scene, const ShadingPoint& entry, const Lobe& lobe, Rng& rng,
+                     SpectralSubsurface& ch, ShadingPoint* exit);
 
 // The exit shading point both subsurface methods go on from: `hit` seen from its front
 // (backfacing: from its back), with the diffuse lobe of the entry's Subsurface lobe `lobe` (plain

@@ -16,6 +16,10 @@ SpectralMaterial make_material(const Material& m) {
         s.weight = rgb_spectrum(lobe.weight);
         s.varies = m.program || (i < m.inputs.size() && m.inputs[i].varies());
         if (lobe_colour_f0(lobe)) s.f0 = rgb_spectrum(lobe.f0);
+        if (lobe.kind == LobeKind::Subsurface) {
+            s.albedo = rgb_spectrum(lobe.f0);
+            s.radius = rgb_spectrum(lobe.kind_colour);
+        }
         // A measured metal replaces the Fresnel of the tinted lobes that are not a dielectric layer.
         if (lobe_spectral_fresnel(lobe) == SpectralFresnel::Tinted && lobe_measured_metal(lobe)) s.metal = metal;
         // Only Dirac refraction disperses (lobes/dielectric.h).

@@ -16,6 +16,9 @@ struct SpectralLobe {
     const tables::MetalTable* metal = nullptr;  // replaces the Fresnel of metal-like Microfacet lobes
     Dispersion dispersion;                    // smooth Dielectric lobes of a dispersive material only
     bool varies = false;                      // textured / object colour: weight and f0 come per hit
+    // Subsurface lobes: the surface albedo (Lobe::f0) as a reflectance and the mean free path
+    // (kind_colour) as an unbounded spectrum, as a medium's albedo and sigma_t (a grey one stays grey).
+    RgbSpectrum albedo, radius;
 };
 
 struct SpectralMaterial {

@@ -5,28 +5,12 @@
 
 #include "integrators/subsurface_disk.h"
 #include "integrators/subsurface_walk.h"
-#include "scene/subsurface_closure.h"
-#include "test_scenes.h"
+#include "subsurface_scenes.h"
 
 using namespace smis;
 using namespace smis::testing;
 
 namespace {
-
-Material subsurface_material(const Color& albedo, const Color& radius, float g, bool principled = false,
-                             SubsurfaceMethod method = SubsurfaceMethod::RandomWalk) {
-    SubsurfaceClosure c;
-    c.weight = albedo;
-    c.albedo = albedo;
-    c.radius = radius;
-    c.anisotropy = g;
-    c.method = method;
-    c.principled = principled;
-    Lobe lobes[3];
-    Material m;
-    m.lobes.assign(lobes, lobes + subsurface_lobes(c, lobes));
-    return m;
-}
 
 // Scene s, committed, under a uniform sky of radiance 1, seen down the z axis from (0, 0, 3)
 // through a long lens (the middle of what lies about the origin).

@@ -1,0 +1,36 @@
+// Spectral modes against a reference over independent renders (spectral_media_test,
+// spectral_subsurface_test): per-pixel z-tests (Sidak-corrected) and the image mean per channel.
+#pragma once
+#include <cstdio>
+
+#include "test_scenes.h"
+
+namespace smis::testing {
+
+inline RenderSettings spectral_settings(const char* mode) {
+    RenderSettings st;
+    st.max_bounces = 6;
+    st.spectral = setting_value<SpectralSetting>(mode);
+    return st;
+}
+
+// Per-pixel and image-mean agreement of each of `modes` with `reference` over independent renders.
+inline void expect_agreement(const std::shared_ptr<Scene>& scene, std::initializer_list<const char*> modes,
+                             const char* reference, int renders, uint32_t spp) {
+    PixelStats ref = across_renders(scene, spectral_settings(reference), renders, spp, 7000, true);
+    EXPECT_GT(ref.image.mean(), 0.02);  // lit: the test can fail
+    for (const char* mode : modes) {
+        PixelStats got = across_renders(scene, spectral_settings(mode), renders, spp, 8000, true);
+        double worst_z = 0.0;
+        const double acc = accepted_fraction(got, ref), p_mean = smallest_channel_p_value(got, ref, &worst_z);
+        std::printf("%-6s against %-7s: pixels agreeing %.4f, image means R %.5f G %.5f B %.5f (reference %.5f %.5f "
+                    "%.5f), worst image-mean z %+.2f\n",
+                    mode, reference, acc, got.channel_image[0].mean(), got.channel_image[1].mean(),
+                    got.channel_image[2].mean(), ref.channel_image[0].mean(), ref.channel_image[1].mean(),
+                    ref.channel_image[2].mean(), worst_z);
+        EXPECT_GE(acc, 0.99) << mode;
+        EXPECT_GT(p_mean, 1e-3) << mode;
+    }
+}
+
+}  // namespace smis::testing
