@@ -71,10 +71,16 @@ struct AnisoGgxLobe : LobeDefaults<AnisoGgxLobe> {
     }
 
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float) {
+        return sample_visible_normal<AnisoGgxLobe>(lobe, wo, u);
+    }
+    // A visible normal of the anisotropic GGX about the lobe's own tangent, reflected and valued by
+    // Kind's terms (Kind: this lobe, or the multiscatter lobe's single scattering, whose terms differ).
+    template <class Kind>
+    static BsdfSample sample_visible_normal(const Lobe& lobe, const Vec3& wo, Point2 u) {
         if (!(wo.z > 0.0f)) return {};
         if (is_delta(lobe)) return lobe_detail::mirror_sample(wo, lobe.weight * fresnel(lobe, wo.z));
         Vec3 wm = ggx_sample_visible_normal(lobe_detail::to_lobe_tangent(lobe, wo), lobe.alpha, lobe.alpha_y, u);
-        return MicrofacetLobe::reflect_about<AnisoGgxLobe>(lobe, wo, lobe_detail::from_lobe_tangent(lobe, wm));
+        return MicrofacetLobe::reflect_about<Kind>(lobe, wo, lobe_detail::from_lobe_tangent(lobe, wm));
     }
 
     static Color albedo(const Lobe& lobe) { return MicrofacetLobe::albedo(lobe); }

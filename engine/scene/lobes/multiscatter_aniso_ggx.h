@@ -62,10 +62,7 @@ struct MultiAnisoGgxLobe : LobeDefaults<MultiAnisoGgxLobe> {
     }
 
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float) {
-        if (!(wo.z > 0.0f)) return {};
-        if (is_delta(lobe)) return lobe_detail::mirror_sample(wo, lobe.weight * fresnel(lobe, wo.z));
-        Vec3 wm = ggx_sample_visible_normal(lobe_detail::to_lobe_tangent(lobe, wo), lobe.alpha, lobe.alpha_y, u);
-        return MicrofacetLobe::reflect_about<MultiAnisoGgxLobe>(lobe, wo, lobe_detail::from_lobe_tangent(lobe, wm));
+        return AnisoGgxLobe::sample_visible_normal<MultiAnisoGgxLobe>(lobe, wo, u);
     }
 
     static Color albedo(const Lobe& lobe) { return MicrofacetLobe::albedo(lobe); }
