@@ -3,7 +3,8 @@
     /usr/bin/python3 bench/real_scenes.py [--scenes-dir DIR] [--samples 128] [--max-size 160] [--quick]
 
 For every .blend under the scenes folder (default: ../shared/real_scenes beside the checkout) that
-Blender 3.4 opens: both engines render it at the same resolution (scaled so the longer side is at
+Blender 3.4 opens, and every glTF 2.0 file there (.gltf/.glb, imported with Blender's importer into a
+scene with a camera and a bundled CC0 studio HDRI as its world, bench/tools/gltf_to_blend.py): both engines render it at the same resolution (scaled so the longer side is at
 most --max-size pixels), samples, bounces (the scene's Cycles max bounces, at most 8) and box filter;
 Cycles with its unbiased settings (scenes/cycles_settings.py). Printed per scene: our warnings, the
 mean relative error over 8x8 blocks (mean over blocks of |ours - Cycles| / max(Cycles, 0.01), on the
@@ -17,12 +18,13 @@ import glob
 import json
 import os
 import re
+import subprocess
 import sys
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from render import RenderError, remove, render_cycles, render_smis  # noqa: E402
+from render import BLENDER, RenderError, remove, render_cycles, render_smis  # noqa: E402
 from metrics import load_exr  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -41,6 +43,21 @@ def block_relative_error(ref, est, block=8, eps=0.01):
     rb = r[:h, :wd].reshape(h // block, block, wd // block, block).mean(axis=(1, 3))
     eb = e[:h, :wd].reshape(h // block, block, wd // block, block).mean(axis=(1, 3))
     return float(np.mean(np.abs(eb - rb) / np.maximum(rb, eps)))
+
+
+GLTF_HDRI = "/usr/share/blender/datafiles/studiolights/world/courtyard.exr"
+
+
+def gltf_to_blend(src, out_dir):
+    """The .blend a user gets by importing a glTF file (see bench/tools/gltf_to_blend.py)."""
+    os.makedirs(out_dir, exist_ok=True)
+    dst = os.path.join(out_dir, os.path.splitext(os.path.basename(src))[0] + ".blend")
+    tool = os.path.join(ROOT, "bench", "tools", "gltf_to_blend.py")
+    proc = subprocess.run([BLENDER, "-b", "--factory-startup", "--python", tool, "--", src, dst, GLTF_HDRI],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=600)
+    if proc.returncode != 0 or not os.path.exists(dst):
+        raise RenderError("glTF import failed: %s" % proc.stdout[-300:], proc.stdout)
+    return dst
 
 
 def run_scene(blend, samples, max_size, bounces_cap=8):
@@ -102,6 +119,8 @@ def main():
     if a.quick:
         a.samples, a.max_size = 32, 96
     blends = sorted(glob.glob(os.path.join(a.scenes_dir, "**", "*.blend"), recursive=True))
+    blends += sorted(f for ext in ("gltf", "glb")
+                     for f in glob.glob(os.path.join(a.scenes_dir, "**", "*." + ext), recursive=True))
     if a.only:
         blends = [b for b in blends if any(s in b for s in a.only)]
     if not blends:
@@ -111,6 +130,8 @@ def main():
     for blend in blends:
         name = os.path.relpath(blend, a.scenes_dir)
         try:
+            if not blend.endswith(".blend"):
+                blend = gltf_to_blend(blend, os.path.join(RESULTS, "gltf_scenes"))
             row = run_scene(blend, a.samples, a.max_size)
             row["scene"] = name
         except (RenderError, OSError, ValueError) as exc:
