@@ -1,6 +1,6 @@
 """Public scenes made by others, rendered by SMIS and by Cycles at equal settings (issue 17).
 
-    /usr/bin/python3 bench/real_scenes.py [--scenes-dir DIR] [--samples 128] [--max-size 160] [--quick]
+    /usr/bin/python3 bench/real_scenes.py [--scenes-dir DIR] [--samples 128] [--max-size 160] [--quick] [--settings JSON]
 
 For every .blend under the scenes folder (default: ../shared/real_scenes beside the checkout) that
 Blender 3.4 opens, and every glTF 2.0 file there (.gltf/.glb, imported with Blender's importer into a
@@ -60,7 +60,7 @@ def gltf_to_blend(src, out_dir):
     return dst
 
 
-def run_scene(blend, samples, max_size, bounces_cap=8):
+def run_scene(blend, samples, max_size, bounces_cap=8, settings=None):
     # The longer side at most max_size pixels, for both engines (run inside Blender first).
     shrink = [
         # A scene saved without a camera (glTF test files) gets one looking at its meshes from a
@@ -89,7 +89,8 @@ def run_scene(blend, samples, max_size, bounces_cap=8):
     unbiased = {"diffuse_bounces": bounces_cap, "glossy_bounces": bounces_cap, "transmission_bounces": bounces_cap,
                 "transparent_bounces": bounces_cap, "clamp_direct": 0.0, "clamp_indirect": 0.0,
                 "caustics_reflective": True, "caustics_refractive": True}
-    smis = render_smis(blend, {"samples": samples, "max_bounces": bounces_cap, "seed": 1, **unbiased},
+    smis = render_smis(blend, {"samples": samples, "max_bounces": bounces_cap, "seed": 1, **unbiased,
+                               **(settings or {})},
                        prelude=shrink)
     cycles = render_cycles(blend, samples, seed=1, max_bounces=bounces_cap, prelude=shrink)
     ours, ref = load_exr(smis.path), load_exr(cycles.path)
@@ -115,6 +116,9 @@ def main():
     ap.add_argument("--max-size", type=int, default=160)
     ap.add_argument("--quick", action="store_true", help="32 samples at 96 px")
     ap.add_argument("--only", nargs="*", default=None, help="substrings of the scenes to run")
+    ap.add_argument("--settings", default="{}",
+                    help='our settings on top of the defaults, as JSON, e.g. \'{"integrator": "PSF_SMIS_UNBIASED", '
+                         '"spectral": "HERO"}\': every estimator against Cycles on real scenes')
     a = ap.parse_args()
     if a.quick:
         a.samples, a.max_size = 32, 96
@@ -132,7 +136,7 @@ def main():
         try:
             if not blend.endswith(".blend"):
                 blend = gltf_to_blend(blend, os.path.join(RESULTS, "gltf_scenes"))
-            row = run_scene(blend, a.samples, a.max_size)
+            row = run_scene(blend, a.samples, a.max_size, settings=json.loads(a.settings))
             row["scene"] = name
         except (RenderError, OSError, ValueError) as exc:
             row = {"scene": name, "error": str(exc).splitlines()[0][:300]}
