@@ -1,8 +1,8 @@
 """Path samples per second: our path tracer against Cycles on the same scene, measured in one run.
 
-    blender -b --factory-startup --addons smis_render --python bench/path_speed.py -- [SCENE.blend] [SPP]
+    blender -b --factory-startup --addons smis_render --python bench/path_speed.py -- [SCENE.blend] [SPP] [WxH]
 
-Both engines render the same resolution, bounce limit, sample count and pixel filter, without
+WxH (e.g. 480x270) overrides the scene's resolution (at 100%). Both engines render the same resolution, bounce limit, sample count and pixel filter, without
 denoising or adaptive sampling; wall time of the whole render call (export + BVH + rendering) is
 measured for each, interleaved, best of REPEATS. Writes bench/results/path_speed.{json,csv}."""
 import csv
@@ -19,6 +19,7 @@ from cycles_settings import make_cycles_unbiased  # noqa: E402
 args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 blend = args[0] if args else os.path.join(ROOT, "scenes", "cornell.blend")
 spp = int(args[1]) if len(args) > 1 else 256
+size = [int(v) for v in args[2].lower().split("x")] if len(args) > 2 else None
 REPEATS = 3
 
 
@@ -32,6 +33,9 @@ def timed_render(engine):
 
 bpy.ops.wm.open_mainfile(filepath=blend)
 scene = bpy.context.scene
+if size:
+    scene.render.resolution_x, scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
 w = scene.render.resolution_x * scene.render.resolution_percentage // 100
 h = scene.render.resolution_y * scene.render.resolution_percentage // 100
 c = scene.cycles

@@ -313,9 +313,9 @@ private:
     static void set_object_inputs(const Instance& inst, ShaderContext* c);
     // The Embree geometry of `inst` (its mesh, flattened or instanced) into `target` under geom_id.
     void attach_instance_geometry(RTCScene target, Instance& inst, unsigned geom_id, bool own);
-    // Runs a material's program at a hit (the context it built into *ctx_out when given).
+    // Runs a material's program at a hit for `outputs` (the context it built into *ctx_out when given).
     ShaderResult run_program(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
-                             ShaderContext* ctx_out = nullptr) const;
+                             ShaderContext* ctx_out = nullptr, ShaderOutputs outputs = ShaderOutputs::All) const;
     Color program_emission(const SurfaceAttribs& at, uint32_t material, const Vec3& wo) const;
     // Cut-out filter for program materials: 1 - the grey part of the transparency at the hit.
     float program_keep(uint32_t instance, uint32_t prim, float bu, float bv, const Vec3& dir) const;

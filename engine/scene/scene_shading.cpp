@@ -124,10 +124,10 @@ bool Scene::attribute(const ShaderContext& ctx, int32_t id, float* out) const {
 }
 
 ShaderResult Scene::run_program(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
-                                ShaderContext* ctx_out) const {
+                                ShaderContext* ctx_out, ShaderOutputs outputs) const {
     ShaderContext ctx = shader_context(at, wo, ray);
     ShaderResult res;
-    materials_[material].program->eval(ctx, &res);
+    materials_[material].program->eval(ctx, &res, outputs);
     if (ctx_out) *ctx_out = ctx;
     return res;
 }
@@ -185,7 +185,7 @@ Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3
 
 Color Scene::program_emission(const SurfaceAttribs& at, uint32_t material, const Vec3& wo) const {
     if (!materials_[material].program->may_emit()) return Color(0.0f);
-    ShaderResult res = run_program(material, at, wo, ShaderRay{});
+    ShaderResult res = run_program(material, at, wo, ShaderRay{}, nullptr, ShaderOutputs::Emission);
     float keep = transparency_keep(res);
     return keep > 1e-6f ? res.emission / keep : Color(0.0f);
 }
@@ -195,7 +195,7 @@ Color Scene::emission(uint32_t instance, uint32_t prim, uint32_t material, float
     at.instance = instance, at.prim = prim, at.bu = bu, at.bv = bv;
     // A light sample is seen with the probability a ray would keep the hit (the cut-out), so its
     // emission is the kept hit's emission times that probability: the unscaled program emission.
-    ShaderResult res = run_program(material, at, wo, ShaderRay{});
+    ShaderResult res = run_program(material, at, wo, ShaderRay{}, nullptr, ShaderOutputs::Emission);
     return is_finite(res.emission) ? res.emission : Color(0.0f);
 }
 
@@ -205,7 +205,7 @@ float Scene::program_keep(uint32_t instance, uint32_t prim, float bu, float bv, 
     // Embree's filter does not know the ray's kind: the cut-out is the one a camera ray sees, as in
     // program_bsdf for camera rays (a transparency keyed on Light Path's ray kinds is not honoured).
     uint32_t material = meshes_[instances_[instance].mesh].materials[prim];
-    return transparency_keep(run_program(material, at, -dir, ShaderRay{}));
+    return transparency_keep(run_program(material, at, -dir, ShaderRay{}, nullptr, ShaderOutputs::Transparency));
 }
 
 }  // namespace smis

@@ -88,6 +88,20 @@ inline void store1(float* r, uint16_t i, float v) {
     if (i != kNoReg) r[i] = v;
 }
 inline float clamp01(float v) { return clampf(v, 0.0f, 1.0f); }
+
+// The commonest value ops of real node trees (the glTF importer's groups are mostly Math nodes and
+// shader mixes), which ShaderProgram::eval runs inline: the call into run()'s big switch cost more
+// than these ops themselves.
+inline void math_node(const ShaderOp& op, float* r) {
+    float v = math_op(MathOp(op.i[0]), load1(r, op.in[0], 0.5f), load1(r, op.in[1], 0.5f), load1(r, op.in[2], 0.5f));
+    if (op.i[1]) v = clamp01(v);
+    store1(r, op.out[0], v);
+}
+inline void mix_weights_node(const ShaderOp& op, float* r) {
+    float w = load1(r, op.in[0], 1.0f), f = clamp01(load1(r, op.in[1], 0.5f));
+    store1(r, op.out[0], w * (1.0f - f));
+    store1(r, op.out[1], w * f);
+}
 inline Vec3 safe_normalize(const Vec3& v, const Vec3& fallback) {
     float l = length(v);
     return l > 0.0f && std::isfinite(l) ? v / l : fallback;
@@ -453,6 +467,79 @@ void ShaderProgram::analyse() {
     // Values that vary but feed no closure (a texture into nothing, or into an input that folded) make
     // no difference per hit: the program is constant, and those ops are never run.
     needs_hit_ = varying_closure;
+    for (size_t o = 0; o < size_t(ShaderOutputs::Count); ++o) slice(ShaderOutputs(o), varying);
+}
+
+namespace {
+// Calls f(register) for every input of closure `op` that `outputs` depends on; false where the
+// closure adds nothing to those outputs.
+template <class F>
+bool closure_inputs(const ShaderOp& op, ShaderOutputs outputs, F&& f) {
+    using namespace principled_in;
+    auto each = [&](std::initializer_list<int> slots) {
+        for (int k : slots) f(op.in[k]);
+        return true;
+    };
+    if (outputs == ShaderOutputs::All) {
+        for (uint16_t reg : op.in) f(reg);
+        return true;
+    }
+    const bool emission = outputs == ShaderOutputs::Emission;
+    switch (op.code) {
+        case Op::Transparent: return each({0, 1});
+        case Op::Principled:
+            return emission ? each({Weight, Alpha, Emission, EmissionStrength}) : each({Weight, Alpha});
+        case Op::Emission: case Op::Background: return emission && each({0, 1, 2});
+        default: return false;
+    }
+}
+}  // namespace
+
+// The ops an evaluation for `outputs` needs: the closures that write those outputs, and backwards from
+// their inputs every per-hit op whose result they read, directly or not (dead-code elimination: an op
+// nothing needed reads never runs). An input names the first register of the value it reads, which is
+// where its op wrote it, or one of the two after a vector output (the compiler's Separate XYZ/Color
+// read components in place); the program does not say which outputs are vectors, so an op counts as
+// writing the two registers after an output unless another op's output starts there: in doubt an op
+// is kept. The bump ops, which move the point for the ops between them, are always kept.
+void ShaderProgram::slice(ShaderOutputs outputs, const std::vector<bool>& varying) {
+    Slice& s = slices_[size_t(outputs)];
+    s = Slice();
+    std::vector<bool> needed(registers_.size() + 3, false), starts(registers_.size() + 3, false),
+        live(ops_.size(), false);
+    for (const ShaderOp& op : ops_)
+        for (uint16_t reg : op.out)
+            if (reg != kNoReg) starts[reg] = true;
+    auto need = [&](uint16_t reg) {
+        if (reg != kNoReg) needed[reg] = true;
+    };
+    auto writes_needed = [&](uint16_t reg) {
+        if (reg == kNoReg) return false;
+        if (needed[reg]) return true;
+        if (starts[reg + 1]) return false;
+        return needed[reg + 1] || (!starts[reg + 2] && needed[reg + 2]);
+    };
+    for (uint32_t k : closures_) {
+        bool reads_varying = false;
+        auto input = [&](uint16_t reg) {
+            need(reg);
+            reads_varying = reads_varying || (reg != kNoReg && (varying[reg] || varying[reg + 1] || varying[reg + 2]));
+        };
+        if (!closure_inputs(ops_[k], outputs, input)) continue;
+        s.closures.push_back(k);
+        s.needs_hit = s.needs_hit || reads_varying;
+    }
+    for (size_t k = ops_.size(); k-- > 0;) {
+        const ShaderOp& op = ops_[k];
+        if (is_closure(op.code)) continue;
+        bool keep = op.code == Op::BumpEnter || op.code == Op::BumpLeave;
+        for (uint16_t reg : op.out) keep = keep || writes_needed(reg);
+        if (!keep) continue;
+        live[k] = true;
+        for (uint16_t reg : op.in) need(reg);
+    }
+    for (uint32_t k : varying_)
+        if (live[k]) s.varying.push_back(k);
 }
 
 void ShaderProgram::fold_constants() {
@@ -477,13 +564,23 @@ ShaderResult ShaderProgram::eval_constant() const {
     return out;
 }
 
-void ShaderProgram::eval(const ShaderContext& ctx_in, ShaderResult* out) const {
+void ShaderProgram::eval(const ShaderContext& ctx_in, ShaderResult* out, ShaderOutputs outputs) const {
+    const Slice& s = slices_[size_t(outputs)];
     float r[kMaxRegisters + 3];
     std::memcpy(r, registers_.data(), registers_.size() * sizeof(float));
     ShaderContext ctx = ctx_in;  // bump evaluation moves the point
-    if (needs_hit_)
-        for (uint32_t k : varying_) run(ops_[k], &ctx, r, out);
-    for (uint32_t k : closures_) run(ops_[k], nullptr, r, out);  // closures read registers only
+    if (s.needs_hit)
+        for (uint32_t k : s.varying) {
+            const ShaderOp& op = ops_[k];
+            if (op.code == Op::Math) math_node(op, r);
+            else if (op.code == Op::MixWeights) mix_weights_node(op, r);
+            else run(op, &ctx, r, out);
+        }
+    // Closures read registers only.
+    if (outputs == ShaderOutputs::All)
+        for (uint32_t k : s.closures) run(ops_[k], nullptr, r, out);
+    else
+        for (uint32_t k : s.closures) run_part(ops_[k], r, outputs, out);
 }
 
 namespace {
@@ -748,13 +845,29 @@ void principled_subsurface(const ShaderOp& op, const float* r, const Color& mixe
 // dielectric specular layer (IOR from Specular: f0 = 0.08 specular, tinted by Specular Tint),
 // the metal (Schlick, f0 = base), the glass base t, sheen and clearcoat; emission; alpha mixes in a
 // transparent closure as Cycles does.
+// Principled's weight: false where it is not above 0 (the closure adds nothing); else *w is the
+// weight times Alpha, and the weight times 1 - Alpha goes to the transparency.
+bool principled_weight(const ShaderOp& op, const float* r, ShaderResult* out, float* w) {
+    using namespace principled_in;
+    *w = std::max(load1(r, op.in[Weight], 1.0f), 0.0f);
+    if (!(*w > 0.0f)) return false;
+    float alpha = clamp01(load1(r, op.in[Alpha], 1.0f));
+    if (alpha < 1.0f) out->transparent += Color(*w * (1.0f - alpha));
+    *w *= alpha;
+    return true;
+}
+
+// Principled's emission of (alpha-scaled) weight w.
+void principled_emission(const ShaderOp& op, const float* r, float w, ShaderResult* out) {
+    using namespace principled_in;
+    Color e = load3(r, op.in[Emission], Color(0.0f)) * load1(r, op.in[EmissionStrength], 1.0f);
+    if (is_finite(e)) out->emission += vmax(e, Color(0.0f)) * w;  // alpha-scaled, as Cycles' expansion
+}
+
 void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
     using namespace principled_in;
-    float w = std::max(load1(r, op.in[Weight], 1.0f), 0.0f);
-    if (!(w > 0.0f)) return;
-    float alpha = clamp01(load1(r, op.in[Alpha], 1.0f));
-    if (alpha < 1.0f) out->transparent += Color(w * (1.0f - alpha));
-    w *= alpha;
+    float w;
+    if (!principled_weight(op, r, out, &w)) return;
     Color base = vmax(load3(r, op.in[BaseColor], Color(0.8f)), Color(0.0f));
     float subsurface = clamp01(load1(r, op.in[Subsurface], 0.0f));
     // Cycles' diffuse (or subsurface) colour: Base Color mixed towards Subsurface Color by Subsurface.
@@ -825,11 +938,21 @@ void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
     if (coat > 0.0f)
         push_lobe(out, make_lobe(LobeKind::Clearcoat, FresnelMode::None, Color(0.25f * coat * w),
                                  load1(r, op.in[ClearcoatRoughness], 0.03f), 1.5f, uint8_t(idx + 5)));
-    Color e = load3(r, op.in[Emission], Color(0.0f)) * load1(r, op.in[EmissionStrength], 1.0f);
-    if (is_finite(e)) out->emission += vmax(e, Color(0.0f)) * w;  // alpha-scaled, as Cycles' expansion
+    principled_emission(op, r, w, out);
 }
 
 }  // namespace
+
+// The part of a closure an evaluation for `outputs` (not All) reads: the Principled's transparency
+// (and emission), the other closures of the slice whole (they write nothing else).
+void ShaderProgram::run_part(const ShaderOp& op, float* r, ShaderOutputs outputs, ShaderResult* out) const {
+    if (op.code != Op::Principled) {
+        run(op, nullptr, r, out);
+        return;
+    }
+    float w;
+    if (principled_weight(op, r, out, &w) && outputs == ShaderOutputs::Emission) principled_emission(op, r, w, out);
+}
 
 void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, ShaderResult* out) const {
     const Vec3 zero(0.0f);
@@ -1297,12 +1420,7 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             store3(r, op.out[0], d);
             break;
         }
-        case Op::Math: {
-            float v = math_op(MathOp(op.i[0]), load1(r, op.in[0], 0.5f), load1(r, op.in[1], 0.5f), load1(r, op.in[2], 0.5f));
-            if (op.i[1]) v = clamp01(v);
-            store1(r, op.out[0], v);
-            break;
-        }
+        case Op::Math: math_node(op, r); break;
         case Op::VectorMath: {
             Vec3 vec(0.0f);
             float val = 0.0f;
@@ -1358,12 +1476,7 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
                 default: store3(r, op.out[0], load3(r, op.in[0], zero)); break;
             }
             break;
-        case Op::MixWeights: {
-            float w = load1(r, op.in[0], 1.0f), f = clamp01(load1(r, op.in[1], 0.5f));
-            store1(r, op.out[0], w * (1.0f - f));
-            store1(r, op.out[1], w * f);
-            break;
-        }
+        case Op::MixWeights: mix_weights_node(op, r); break;
         // Closures (out is never null for them).
         case Op::Diffuse: {
             float w = load1(r, op.in[0], 1.0f);

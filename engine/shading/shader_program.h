@@ -87,6 +87,12 @@ struct ShaderResult {
     bool truncated = false;   // more lobes than a Bsdf holds: the smallest were dropped
 };
 
+// What a caller reads of a result: everything; only `transparent` (a hit's cut-out); or `emission` and
+// `transparent` (a hit's emitted radiance, divided by its keep probability). The narrower ones run only
+// the ops those outputs depend on (ShaderProgram::analyse), with the same arithmetic in the same order:
+// their values are bit for bit those of a full evaluation.
+enum class ShaderOutputs : uint8_t { All, Transparency, Emission, Count };
+
 class ShaderProgram {
 public:
     // ops as the compiler wrote them, initial register values (constants), tables, textures by id.
@@ -95,8 +101,9 @@ public:
     // Folds every op that reads nothing of the hit into the initial registers (see the header).
     void fold_constants();
     bool is_constant() const { return !needs_hit_; }
-    // Runs the per-hit ops, then the closure ops, into `out`.
-    void eval(const ShaderContext& ctx, ShaderResult* out) const;
+    // Runs the per-hit ops, then the closure ops, into `out`; with `outputs` narrower than All, only
+    // those outputs of `out` are set (the others keep their defaults).
+    void eval(const ShaderContext& ctx, ShaderResult* out, ShaderOutputs outputs = ShaderOutputs::All) const;
     // Evaluates a constant program (no context needed).
     ShaderResult eval_constant() const;
     // Lobe templates: for every lobe the closure ops can produce, in Lobe::index order, its kind and
@@ -110,7 +117,12 @@ public:
     // closures fold (the holdout weight is per hit, not a lobe).
     bool may_hold_out() const { return may_hold_out_; }
     size_t op_count() const { return ops_.size(); }
-    size_t varying_op_count() const { return needs_hit_ ? varying_.size() : 0; }
+    // Ops that run per hit for `outputs` (the value ops that read the hit, or what it feeds, and that
+    // feed the closures `outputs` read; the others are dead code and never run).
+    size_t varying_op_count(ShaderOutputs outputs = ShaderOutputs::All) const {
+        const Slice& s = slices_[size_t(outputs)];
+        return s.needs_hit ? s.varying.size() : 0;
+    }
     size_t register_count() const { return registers_.size(); }
     // The Nishita sky whose sun Cycles would sample on its own (one Nishita Sky Texture with its disc
     // above the horizon, reading the unmodified direction), else null (environment_light.h).
@@ -122,10 +134,20 @@ public:
 private:
     // Context ops read (and the bump ops move) *ctx; it is null for folding and for closures.
     void run(const ShaderOp& op, ShaderContext* ctx, float* r, ShaderResult* out) const;
+    // A closure's part that `outputs` (narrower than All) reads.
+    void run_part(const ShaderOp& op, float* r, ShaderOutputs outputs, ShaderResult* out) const;
     void analyse();
+    void slice(ShaderOutputs outputs, const std::vector<bool>& varying);
+    // The ops one kind of evaluation runs: per hit, then the closures; needs_hit: some of those
+    // closures read a value that varies over the surface (else the per-hit ops are skipped).
+    struct Slice {
+        std::vector<uint32_t> varying, closures;
+        bool needs_hit = false;
+    };
     std::vector<ShaderOp> ops_;
-    std::vector<uint32_t> varying_;  // indices of the ops that run per hit (inputs and what they feed)
+    std::vector<uint32_t> varying_;  // indices of the ops that vary per hit (inputs and what they feed)
     std::vector<uint32_t> closures_; // closure ops (run last, after every value op)
+    Slice slices_[size_t(ShaderOutputs::Count)];
     std::vector<float> registers_;
     std::vector<float> data_;
     std::vector<std::shared_ptr<const Texture>> textures_;

@@ -2,6 +2,7 @@
 // the Principled expansion, transparency and emission, and bad programs refused or made harmless.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -113,6 +114,76 @@ TEST(ShaderProgram, SingleTexelImageFoldsAndSkipsItsDeadInputs) {
     EXPECT_FLOAT_EQ(r.emission.x, 1.0f);
     EXPECT_FLOAT_EQ(r.emission.y, 0.0f);
     EXPECT_FLOAT_EQ(r.emission.z, 1.0f);
+}
+
+// Dead-code elimination and the narrow evaluations (ShaderOutputs): a checker nothing reads never
+// runs; a cut-out test runs only what the transparency reads, an emission query only that and what
+// the emission reads; and their transparency and emission are bit for bit the full evaluation's.
+TEST(ShaderProgram, DeadOpsAndOpsOutsideTheAskedOutputsDoNotRun) {
+    Builder b;
+    uint16_t pos = b.alloc(3), back = b.alloc(1);
+    ShaderOp& g = b.op(ShaderOpCode::Geometry);
+    g.out[0] = pos, g.out[6] = back;
+    auto checker = [&](float scale, uint16_t* fac) {
+        uint16_t col = b.alloc(3);
+        *fac = b.alloc(1);
+        ShaderOp& ch = b.op(ShaderOpCode::TexChecker);
+        ch.in[0] = pos, ch.in[3] = b.constant(scale), ch.out[0] = col, ch.out[1] = *fac;
+        return col;
+    };
+    auto math = [&](shading::MathOp m, uint16_t a, float c) {
+        uint16_t out = b.alloc(1);
+        ShaderOp& op = b.op(ShaderOpCode::Math);
+        op.in[0] = a, op.in[1] = b.constant(c), op.out[0] = out, op.i[0] = int(m), op.i[1] = 1;
+        return out;
+    };
+    uint16_t fac_a, fac_b, fac_c, fac_dead;
+    checker(2.0f, &fac_a);                        // A: the Principled's alpha
+    uint16_t col_b = checker(3.0f, &fac_b);       // B: colours only
+    uint16_t col_c = checker(5.0f, &fac_c);       // C: the emission
+    checker(7.0f, &fac_dead);                     // read by nothing
+    uint16_t transparent_w = math(shading::MathOp::Multiply, back, 0.5f);
+    uint16_t alpha = math(shading::MathOp::Add, fac_a, 0.25f);
+    ShaderOp& d = b.op(ShaderOpCode::Diffuse);
+    d.in[0] = b.constant(0.5f), d.in[1] = col_b;
+    ShaderOp& t = b.op(ShaderOpCode::Transparent);
+    t.in[0] = transparent_w;
+    ShaderOp& e = b.op(ShaderOpCode::Emission);
+    e.in[1] = col_c, e.in[2] = b.constant(2.0f);
+    ShaderOp& pr = b.op(ShaderOpCode::Principled);
+    pr.in[0] = b.constant(0.5f), pr.in[1] = col_b, pr.in[20] = col_c, pr.in[21] = b.constant(1.0f), pr.in[22] = alpha;
+    auto p = b.build();
+    // geometry, A, B, C, the two maths (the dead checker left out; it ran before, 7)
+    EXPECT_EQ(p->varying_op_count(ShaderOutputs::All), 6u);
+    EXPECT_EQ(p->varying_op_count(ShaderOutputs::Transparency), 4u);  // geometry, A, the two maths
+    EXPECT_EQ(p->varying_op_count(ShaderOutputs::Emission), 5u);      // and C
+    std::vector<float> transparencies, emissions;
+    for (int k = 0; k < 16; ++k) {
+        ShaderContext c;
+        c.P = Vec3(0.37f * float(k % 4) - 0.6f, 0.29f * float(k / 4) - 0.5f, 0.1f);
+        c.N = c.Ng = c.I = Vec3(0.0f, 0.0f, 1.0f);
+        c.backfacing = k % 3 == 0;
+        ShaderResult all, transparency, emission;
+        p->eval(c, &all);
+        p->eval(c, &transparency, ShaderOutputs::Transparency);
+        p->eval(c, &emission, ShaderOutputs::Emission);
+        EXPECT_GT(all.count, 0);
+        EXPECT_EQ(transparency.count, 0);  // no lobe built for a cut-out test
+        EXPECT_EQ(emission.count, 0);
+        for (int i = 0; i < 3; ++i) {
+            EXPECT_EQ(transparency.transparent[i], all.transparent[i]) << k;
+            EXPECT_EQ(emission.transparent[i], all.transparent[i]) << k;
+            EXPECT_EQ(emission.emission[i], all.emission[i]) << k;
+        }
+        EXPECT_TRUE(is_black(transparency.emission));  // not asked for
+        transparencies.push_back(all.transparent.x);
+        emissions.push_back(all.emission.x);
+    }
+    // The points see different transparencies and emissions (the comparison is not between zeros).
+    EXPECT_GT(*std::max_element(transparencies.begin(), transparencies.end()),
+              *std::min_element(transparencies.begin(), transparencies.end()));
+    EXPECT_GT(*std::max_element(emissions.begin(), emissions.end()),
+              *std::min_element(emissions.begin(), emissions.end()));
 }
 
 // Through a scene: a quad whose material is checker(Object coordinates) into emission; the camera
