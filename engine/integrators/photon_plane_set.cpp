@@ -58,16 +58,37 @@ PhotonPlane sample_point_photon_plane(const PlaneLight& l, uint32_t light_index,
     // Every photon path y -> x from a point light y lies in the planes through y that contain x - y;
     // a uniform normal gives the crossing of a camera ray a closed-form density (photon_planes.cpp).
     Point2 u{rng.next_float(), rng.next_float()};
-    Frame f(sample_uniform_sphere(u));
     PhotonPlane p{};
-    p.s_hat = f.s;
-    p.w_l = f.t;
-    p.reach = std::min(sample_free_flight(l.flight_rate, rng.next_float()), l.max_length);
-    p.chord_length = p.sweep_length = 2.0f * p.reach;
-    p.origin = l.emitter.position - (p.s_hat + p.w_l) * p.reach;
+    p.light = light_index;
+    if (l.normal_band < 1.0f) {
+        // A spot: the normal uniform on the band |n . axis| <= sin(half angle) = normal_band
+        // (Archimedes: uniform in the axial coordinate), the planes that cut the cone. A plane
+        // through the apex with n . axis = c cuts the cone in a wedge around the axis' projection
+        // w, of half angle phi with cos phi = cos(half angle) / sqrt(1 - c^2); the quad is the
+        // rectangle around that wedge's part of the disk, [0, reach] along w and
+        // +-reach sin(phi) across. Crossings outside the wedge have zero falloff anyway.
+        const float c = l.normal_band * (2.0f * u.x - 1.0f), ring = std::sqrt(std::max(0.0f, 1.0f - c * c));
+        const float phi = 2.0f * kPi * u.y;
+        const Frame axis(l.emitter.axis);
+        const Vec3 n = axis.to_world(Vec3(ring * std::cos(phi), ring * std::sin(phi), c));
+        p.w_l = normalize(l.emitter.axis - n * c);
+        p.s_hat = cross(n, p.w_l);
+        const float cos_wedge = std::min(1.0f, l.emitter.cos_half / std::max(ring, 1e-12f));
+        const float sin_wedge = std::sqrt(std::max(0.0f, 1.0f - cos_wedge * cos_wedge));
+        p.reach = std::min(sample_free_flight(l.flight_rate, rng.next_float()), l.max_length);
+        p.chord_length = 2.0f * p.reach * std::max(sin_wedge, 1e-6f);
+        p.sweep_length = p.reach;
+        p.origin = l.emitter.position - p.s_hat * (0.5f * p.chord_length);
+    } else {
+        Frame f(sample_uniform_sphere(u));
+        p.s_hat = f.s;
+        p.w_l = f.t;
+        p.reach = std::min(sample_free_flight(l.flight_rate, rng.next_float()), l.max_length);
+        p.chord_length = p.sweep_length = 2.0f * p.reach;
+        p.origin = l.emitter.position - (p.s_hat + p.w_l) * p.reach;
+    }
     p.edge0 = p.s_hat * p.chord_length;
     p.edge1 = p.w_l * p.sweep_length;
-    p.light = light_index;
     return p;
 }
 

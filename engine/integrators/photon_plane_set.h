@@ -26,6 +26,9 @@ struct PlaneLight {
     float width, height;   // |u|, |v|
     Color radiance;
     float area;
+    // Point lights: the fraction of the sphere of plane normals drawn. A spot light's planes have
+    // normals in the band |n . axis| <= sin(half angle) only, the planes that cut its cone.
+    float normal_band = 1.0f;
     float flight_rate;     // free-flight rate: min channel of sigma_t in the light's medium
     float max_length;      // planes never need to reach further than the scene's bounds
 };
@@ -50,7 +53,8 @@ struct PhotonPlane {
     float chord_length, sweep_length;
     uint32_t light;        // index into the PlaneLight table
     // A point light's plane is the disk of radius `reach` around the light in the plane spanned by
-    // s_hat and w_l (its quad: the square around that disk); unused for rectangles.
+    // s_hat and w_l (its quad: the square around that disk, or for a spot the rectangle around the
+    // disk's wedge inside the cone); unused for rectangles.
     float reach = 0.0f;
 };
 

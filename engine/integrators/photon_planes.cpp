@@ -89,6 +89,9 @@ PlaneLights collect_plane_lights(const Scene& scene) {
         pl.light = i;
         if (scene.light(i).point(&pl.emitter)) {
             pl.point = true;
+            // A spot's planes only where they cut its cone (sample_point_photon_plane).
+            if (pl.emitter.spot && pl.emitter.cos_half > 0.0f)
+                pl.normal_band = std::sqrt(1.0f - pl.emitter.cos_half * pl.emitter.cos_half);
             pl.flight_rate = flight_rate(pl.emitter.position);
             pl.max_length = sweep_reach(scene, &pl.emitter.position, 1, pl.flight_rate);
         } else if (scene.light(i).rectangle(&r)) {
@@ -115,9 +118,11 @@ PlaneLights collect_plane_lights(const Scene& scene) {
 
 // W of a point light's plane crossed at distance r from the light in direction u (the header's
 // point-light estimator without T_cam sigma_s rho, the shadow ray's T and the flight survival):
-// I falloff(u) pi / (r |d x u|); the plane scale holds I / (pmf N).
+// I falloff(u) pi band / (r |d x u|); the plane scale holds I / (pmf N). A spot's normals cover the
+// fraction `band` of the sphere, and for u inside its cone the whole great circle of normals
+// orthogonal to u lies in that band, so the crossing density is the header's p(t) / band.
 float point_plane_weight(const PlaneLight& l, const Vec3& u, float r, const Vec3& d) {
-    return l.emitter.falloff(u) * kPi / (r * length(cross(d, u)));
+    return l.emitter.falloff(u) * kPi * l.normal_band / (r * length(cross(d, u)));
 }
 
 // The estimator's weighting with what it needs precomputed: the rotation by pi / n between the SMIS

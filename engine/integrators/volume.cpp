@@ -171,9 +171,9 @@ struct RgbScattering {
 
 Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
                         LocalCounters& counters, bool skip_plane_lights, RectangleSampling rectangles) {
-    // Per scattering segment: a light chosen by power, then a distance from a one-sample MIS mixture
-    // of spectral-MIS distance sampling and equiangular sampling towards a point of that light (the
-    // mixture's density is the average of both), then next-event estimation from there. As in
+    // Per scattering segment: a light chosen for the segment (MediaLightChoice), then a distance
+    // from a one-sample MIS mixture of spectral-MIS distance sampling and equiangular sampling
+    // towards a point of that light (the mixture's density is the average of both), then next-event estimation from there. As in
     // Cycles, the equiangular half removes the inverse-square noise of lights inside the medium.
     // Rectangular area lights are sampled by solid angle from the scattering point (their weight
     // L * solid angle is bounded), and equiangular sampling aims at an independent uniform point of

@@ -57,7 +57,8 @@ bool shadow_media(const Scene& scene, const Vec3& origin, const Vec3& dir, float
 // the tests that compare the two).
 enum class RectangleSampling { kSolidAngle, kArea };
 
-// Single scattering along the media of a ray: per scattering segment one light chosen by power, one
+// Single scattering along the media of a ray: per scattering segment one light chosen for that
+// segment (Scene::media_lights, media_light_choice.h: power, uniform and closeness to the segment), one
 // distance (one-sample MIS of spectral-MIS distance sampling and equiangular sampling towards a
 // point of that light; for rectangles see RectangleSampling), one light sample from there, the
 // phase function and the shadow ray's transmittance. With skip_plane_lights, rectangular area lights
@@ -84,7 +85,7 @@ LightSample sample_light_from_medium(const Light& light, const Vec3& x, Point2 u
 template <class Channels>
 void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng, LocalCounters& counters,
                         bool skip_plane_lights, RectangleSampling rectangles, Channels& channels) {
-    const DiscreteDistribution& selection = scene.light_selection();
+    const MediaLightChoice& choice = scene.media_lights();
     for (int i = 0; i < media.count; ++i) {
         const RayMedia::Segment& s = media.seg[i];
         const Medium& med = scene.medium(s.medium);
@@ -92,14 +93,19 @@ void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& medi
         float u_select = rng.next_float(), u_technique = rng.next_float(), u_channel = rng.next_float(),
               u_dist = rng.next_float();
         Point2 u_focus{rng.next_float(), rng.next_float()}, u{rng.next_float(), rng.next_float()};
-        if (!med.scatters() || selection.empty()) continue;
-        uint32_t li = static_cast<uint32_t>(selection.sample(u_select));
-        const Light& light = scene.light(li);
-        const bool rectangle = light.rectangle(nullptr);
-        if (skip_plane_lights && (rectangle || light.point(nullptr))) continue;
-        if (!(light.visibility & kRayVolumeScatter)) continue;  // Ray Visibility > Volume Scatter off
+        if (!med.scatters() || choice.empty(skip_plane_lights)) continue;
         const float len = s.t1 - s.t0;
         const Vec3 o = ray.o + ray.d * s.t0;
+        // Lights hidden from Volume Scatter, and with skip_plane_lights the planes' lights, are
+        // never chosen: their contribution here is zero.
+        uint32_t li;
+        float light_pmf;
+        const Color sigma_t = med.sigma_t();
+        if (!choice.sample({o, ray.d, len, (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f, skip_plane_lights}, u_select,
+                           &li, &light_pmf))
+            continue;
+        const Light& light = scene.light(li);
+        const bool rectangle = light.rectangle(nullptr);
         EquiangularFrame eq;
         if (!light.at_infinity()) {
             Vec3 mid = o + ray.d * (std::isinf(len) ? 1.0f : 0.5f * len);
@@ -132,7 +138,7 @@ void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& medi
             (light.cast_shadow && !reaches_mesh_light(scene, ShadowRay{x, ls.wi, tmax, ray.time}, ls)))
             continue;
         float phase = med.phase.eval(-ray.d, ls.wi);
-        channels.add(s, ds.t, li, ls, phase / (selection.pmf(li) * ls.pdf * pdf));
+        channels.add(s, ds.t, li, ls, phase / (light_pmf * ls.pdf * pdf));
     }
 }
 

@@ -121,6 +121,10 @@ public:
         if (out) *out = {center_ - u_ - v_, u_ * 2.0f, v_ * 2.0f, n_, radiance_};
         return true;
     }
+    bool bounds(LightBounds* out) const override {
+        *out = {center_, std::max(length(u_ + v_), length(u_ - v_)), n_, true};
+        return true;
+    }
 
 private:
     // A part of the rectangle in its half-axis coordinates, [a0, a1] x [b0, b1] within [-1, 1]^2.
@@ -228,6 +232,10 @@ public:
     bool point(LightPoint* out) const override {
         if (radius_ > 0.0f) return false;  // a disk facing each shading point: no fixed emitter
         if (out) *out = emitter_;
+        return true;
+    }
+    bool bounds(LightBounds* out) const override {
+        *out = {pos_, radius_, Vec3(0.0f, 0.0f, 0.0f), false};
         return true;
     }
 
@@ -353,6 +361,13 @@ void TriangleLight::set_corners(const Vec3& a, const Vec3& b, const Vec3& c) {
     n_ = len > 0.0f ? n / len : Vec3(0, 0, 1);
     const float edge[3] = {length(e2_ - e1_), length(e2_), length(e1_)};
     for (int k = 0; k < 3; ++k) height_[k] = edge[k] > 0.0f ? len / edge[k] : 0.0f;
+}
+
+bool TriangleLight::bounds(LightBounds* out) const {
+    const Vec3 centre = a_ + (e1_ + e2_) * (1.0f / 3.0f);
+    const float r = std::sqrt(std::max({length_sq(a_ - centre), length_sq(a_ + e1_ - centre), length_sq(a_ + e2_ - centre)}));
+    *out = {centre, r, n_, false};  // two-sided, as Cycles' mesh emission
+    return true;
 }
 
 LightSample TriangleLight::sample(const Vec3& ref, Point2 u) const {

@@ -48,6 +48,16 @@ struct LightPoint {
     float falloff(const Vec3& dir_from_light) const;
 };
 
+// Where a light at a finite distance is, for choosing among lights by their closeness to a ray
+// segment in a medium (media_light_choice.h): a sphere around it and, for one-sided emitters, the
+// normal of the emitting side (points behind the plane through `centre` receive nothing).
+struct LightBounds {
+    Vec3 centre;
+    float radius = 0.0f;
+    Vec3 normal{0.0f, 0.0f, 0.0f};
+    bool one_sided = false;
+};
+
 // A light struck by a ray (BSDF-sampled or camera).
 struct LightHit {
     float t = kInf;
@@ -85,6 +95,9 @@ public:
     // Point and spot lights without radius (delta lights) describe themselves for photon planes
     // too; every other light returns false.
     virtual bool point(LightPoint* out) const { return false; }
+    // Lights at a finite distance describe their bounds (where they are at the frame for moving
+    // ones); lights at infinity return false.
+    virtual bool bounds(LightBounds* out) const { return false; }
     // Emitted power (luminance-weighted), used for light selection proportional to power. Lights at
     // infinity deliver power in proportion to the scene's cross-section, hence the radius.
     virtual float power(float scene_radius) const = 0;
@@ -167,6 +180,7 @@ public:
     }
     bool point_independent_of_reference() const override { return true; }
     float power(float scene_radius) const override;
+    bool bounds(LightBounds* out) const override;
     const Color& radiance() const { return radiance_; }
     float area() const { return area_; }
 

@@ -536,6 +536,7 @@ void Scene::finish_lights() {
         else if (!l.is_delta() && !dynamic_cast<const TriangleLight*>(&l)) hittable_lights_.push_back(i);
     }
     light_selection_ = DiscreteDistribution(power);
+    media_lights_ = MediaLightChoice(lights_, light_selection_);
     hidden_lights_ = false;
     for (const auto& l : lights_)
         hidden_lights_ = hidden_lights_ || l->visibility != kRayAllVisibility || !l->visible_to_camera || !l->use_mis;

@@ -12,6 +12,7 @@
 #include "scene/camera.h"
 #include "scene/lights.h"
 #include "scene/material.h"
+#include "scene/media_light_choice.h"
 #include "scene/medium.h"
 #include "shading/shader_context.h"
 
@@ -218,6 +219,8 @@ public:
     const Light& light(uint32_t i) const { return *lights_[i]; }
     const DiscreteDistribution& light_selection() const { return light_selection_; }
     float light_pmf(uint32_t i) const { return light_selection_.pmf(i); }
+    // Single scattering's light choice per ray segment in a medium (media_light_choice.h).
+    const MediaLightChoice& media_lights() const { return media_lights_; }
     const std::vector<uint32_t>& infinite_lights() const { return infinite_lights_; }
     const SceneStats& stats() const { return stats_; }
     // What the scene analysis found unused after commit(), for the stats line ("skipped: ...").
@@ -369,6 +372,7 @@ private:
     bool spectral_content_ = false;
     std::vector<uint32_t> hittable_lights_, infinite_lights_;
     DiscreteDistribution light_selection_;
+    MediaLightChoice media_lights_;
     Camera camera_;
     bool has_camera_ = false, committed_ = false, fast_build_ = false, varying_materials_ = false, programs_ = false;
     bool has_subsurface_ = false;

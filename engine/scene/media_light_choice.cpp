@@ -1,0 +1,120 @@
+#include "scene/media_light_choice.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace smis {
+
+MediaLightChoice::MediaLightChoice(const std::vector<std::unique_ptr<Light>>& lights,
+                                   const DiscreteDistribution& power) {
+    entries_.resize(lights.size());
+    for (int skip = 0; skip < 2; ++skip) {
+        Mode& m = mode_[skip];
+        m.power_pmf.assign(lights.size(), 0.0f);
+        double total = 0.0;
+        for (uint32_t i = 0; i < lights.size(); ++i) {
+            const Light& l = *lights[i];
+            if (!(l.visibility & kRayVolumeScatter)) continue;  // Ray Visibility > Volume Scatter off
+            if (skip && (l.rectangle(nullptr) || l.point(nullptr))) continue;
+            m.eligible.push_back(i);
+            m.power_pmf[i] = power.pmf(i);
+            total += power.pmf(i);
+        }
+        // Without power among them (all dark), the power part is uniform too.
+        for (uint32_t i : m.eligible)
+            m.power_pmf[i] = total > 0.0 ? float(m.power_pmf[i] / total) : 1.0f / float(m.eligible.size());
+        m.power = DiscreteDistribution(m.power_pmf);
+    }
+    for (uint32_t i = 0; i < lights.size(); ++i) {
+        entries_[i].bounded = lights[i]->bounds(&entries_[i].bounds);
+        entries_[i].power = power.pmf(i);
+    }
+}
+
+// w_i / power_i of the header's segment part, and the optical depth tau_i it leaves out (the
+// caller takes exp(tau_min - tau_i), so that far lights in dense media do not all underflow).
+float MediaLightChoice::segment_weight(const Segment& s, const Entry& e, float* tau) const {
+    *tau = 0.0f;
+    if (!e.bounded) return 0.0f;
+    const LightBounds& b = e.bounds;
+    const Vec3 rel = b.centre - s.o;
+    if (b.one_sided) {
+        // Behind the light at both ends of a (convex) segment: behind it everywhere.
+        const float start = -dot(rel, b.normal), slope = dot(s.d, b.normal);
+        const bool end_behind = std::isinf(s.len) ? slope <= 0.0f : start + slope * s.len <= 0.0f;
+        if (start <= 0.0f && end_behind) return 0.0f;
+    }
+    const float delta = dot(rel, s.d);
+    const float h_sq = std::max(0.0f, length_sq(rel) - delta * delta);
+    const float h = std::sqrt(std::max(h_sq + b.radius * b.radius, 1e-12f));
+    const float g = (std::atan((s.len - delta) / h) + std::atan(delta / h)) / h;
+    const float tc = std::clamp(delta, 0.0f, s.len);
+    if (s.sigma_t > 0.0f) *tau = s.sigma_t * (tc + length(rel - s.d * tc));
+    return std::isfinite(g) && g > 0.0f ? g : 0.0f;
+}
+
+void MediaLightChoice::segment_pmfs(const Segment& s, float* pmf) const {
+    const Mode& m = mode_[s.skip_plane_lights];
+    float g[kMaxSegmentLights], tau[kMaxSegmentLights];
+    float tau_min = kInf;
+    for (uint32_t i : m.eligible) {
+        g[i] = segment_weight(s, entries_[i], &tau[i]);
+        if (g[i] > 0.0f) tau_min = std::min(tau_min, tau[i]);
+    }
+    double total = 0.0;
+    for (uint32_t i : m.eligible) {
+        if (g[i] > 0.0f) g[i] *= m.power_pmf[i] * std::exp(tau_min - tau[i]);
+        total += g[i];
+    }
+    const bool segment = total > 0.0 && std::isfinite(total);
+    // Without a segment part (only lights at infinity, or every one behind), the defensive two.
+    const float norm = segment ? 1.0f : 1.0f / (kPowerWeight + kUniformWeight);
+    const float uniform = kUniformWeight / float(m.eligible.size());
+    for (size_t i = 0; i < entries_.size(); ++i) pmf[i] = 0.0f;
+    for (uint32_t i : m.eligible)
+        pmf[i] = norm * (kPowerWeight * m.power_pmf[i] + uniform + (segment ? float(kSegmentWeight * g[i] / total) : 0.0f));
+}
+
+bool MediaLightChoice::sample(const Segment& s, float u, uint32_t* light, float* pmf) const {
+    const Mode& m = mode_[s.skip_plane_lights];
+    if (m.eligible.empty()) return false;
+    if (entries_.size() > size_t(kMaxSegmentLights)) {
+        // The defensive mixture alone: the first half of u chooses by power, the second uniformly.
+        if (u < 0.5f) {
+            *light = uint32_t(m.power.sample(2.0f * u));
+        } else {
+            size_t k = std::min(m.eligible.size() - 1, size_t((2.0f * u - 1.0f) * float(m.eligible.size())));
+            *light = m.eligible[k];
+        }
+        *pmf = this->pmf(s, *light);
+        return *pmf > 0.0f;
+    }
+    float p[kMaxSegmentLights];
+    segment_pmfs(s, p);
+    // Inverse CDF over the eligible lights; rounding past the end falls on the last one.
+    float cdf = 0.0f;
+    *light = m.eligible.back();
+    for (uint32_t i : m.eligible) {
+        cdf += p[i];
+        if (u < cdf) {
+            *light = i;
+            break;
+        }
+    }
+    *pmf = p[*light];
+    return *pmf > 0.0f;
+}
+
+float MediaLightChoice::pmf(const Segment& s, uint32_t light) const {
+    const Mode& m = mode_[s.skip_plane_lights];
+    if (light >= entries_.size() || m.eligible.empty()) return 0.0f;
+    if (entries_.size() > size_t(kMaxSegmentLights)) {
+        const bool eligible = std::binary_search(m.eligible.begin(), m.eligible.end(), light);
+        return eligible ? 0.5f * (m.power.pmf(light) + 1.0f / float(m.eligible.size())) : 0.0f;
+    }
+    float p[kMaxSegmentLights];
+    segment_pmfs(s, p);
+    return p[light];
+}
+
+}  // namespace smis
