@@ -7,7 +7,8 @@ Run:
 MATERIAL: `hair_bsdf` (default: Cycles' Hair BSDF, a Reflection plus a Transmission closure), or the
 Principled Hair BSDF `principled_color`, `principled_melanin`, `principled_absorption` (its three
 colour parametrisations), `principled_random` (melanin and roughness varied per strand by Random Color
-and Random Roughness); with the suffix `_direct`, the same lit by the sun alone (black world, max
+and Random Roughness), `info_intercept` and `info_geometry` (a Diffuse BSDF coloured by Hair
+Info's Intercept through a colour ramp, and by Length, Thickness and Tangent Normal); with the suffix `_direct`, the same lit by the sun alone (black world, max
 bounces 0: direct light only, where Cycles' Hair BSDF evaluates what it defines, lobes/hair.h); with
 `_curves` (before `_direct`), the strands converted to a Curves object (hair curves) instead; with
 the suffix `_sun`, lit by the sun alone through max bounces 8 (light bounced between strands).
@@ -70,6 +71,45 @@ def _diffuse(nt):
     return n
 
 
+def _hair_info_diffuse(which):
+    """A Diffuse BSDF whose colour is Hair Info's `which`: 'intercept', a colour ramp of Intercept
+    (root blue, middle green at 0.5, tip red); 'geometry', (Length, Thickness x 50, 0) plus the
+    Tangent Normal mapped into 0..1 (x 0.25 + 0.25). (Diffuse, not Emission: emissive hair is not
+    rendered yet.)"""
+    def build(nt):
+        info = nt.nodes.new("ShaderNodeHairInfo")
+        em = nt.nodes.new("ShaderNodeBsdfDiffuse")
+        if which == 'intercept':
+            ramp = nt.nodes.new("ShaderNodeValToRGB")
+            els = ramp.color_ramp.elements
+            els[0].color = (0.05, 0.1, 0.9, 1.0)
+            els[1].color = (0.9, 0.1, 0.05, 1.0)
+            mid = els.new(0.5)
+            mid.color = (0.1, 0.8, 0.1, 1.0)
+            nt.links.new(info.outputs["Intercept"], ramp.inputs["Fac"])
+            nt.links.new(ramp.outputs["Color"], em.inputs["Color"])
+        else:
+            comb = nt.nodes.new("ShaderNodeCombineXYZ")
+            thick = nt.nodes.new("ShaderNodeMath")
+            thick.operation = 'MULTIPLY'
+            thick.inputs[1].default_value = 50.0
+            nt.links.new(info.outputs["Thickness"], thick.inputs[0])
+            nt.links.new(info.outputs["Length"], comb.inputs["X"])
+            nt.links.new(thick.outputs[0], comb.inputs["Y"])
+            tn = nt.nodes.new("ShaderNodeVectorMath")
+            tn.operation = 'MULTIPLY_ADD'
+            tn.inputs[1].default_value = (0.25, 0.25, 0.25)
+            tn.inputs[2].default_value = (0.25, 0.25, 0.25)
+            nt.links.new(info.outputs["Tangent Normal"], tn.inputs[0])
+            add = nt.nodes.new("ShaderNodeVectorMath")
+            add.operation = 'ADD'
+            nt.links.new(comb.outputs[0], add.inputs[0])
+            nt.links.new(tn.outputs[0], add.inputs[1])
+            nt.links.new(add.outputs[0], em.inputs["Color"])
+        return em
+    return build
+
+
 MATERIALS = {
     "hair_bsdf": _hair_bsdf,
     "hair_reflection": lambda nt: _hair_bsdf(nt, ("Reflection",)),
@@ -87,6 +127,10 @@ MATERIALS = {
     # 0.63 and roughnesses from 0.15x to 1.85x their values, strand by strand
     "principled_random": _principled_hair('MELANIN', Melanin=0.35, **{"Melanin Redness": 0.6, "Roughness": 0.4,
                                                                      "Random Color": 0.8, "Random Roughness": 0.85}),
+    # Hair Info's Intercept, Length, Thickness and Tangent Normal as the strands' diffuse colour
+    # (node parity; with `_direct`, sun-lit, nothing bounces)
+    "info_intercept": _hair_info_diffuse('intercept'),
+    "info_geometry": _hair_info_diffuse('geometry'),
 }
 # The sun's strength (W/m^2) where not 3: bright enough that the direct-light image's 8x8 blocks lie
 # above the error's floor (EPS 0.02 in blender_tests/test_hair.py), so its error is relative.

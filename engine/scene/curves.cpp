@@ -88,9 +88,17 @@ uint32_t Scene::add_curves(const float* points, size_t np, const int32_t* curve_
         // Control points: the first and last point doubled (Cycles' Catmull-Rom curves), so segment
         // j of the curve runs between its points j and j + 1 with control points base + j .. + 3.
         uint32_t base = uint32_t(mesh.curve_points.size() / 4);
+        // Hair Info's Intercept and Length as Cycles exports them (blender/curves.cpp): the length
+        // of the polyline through the points so far, over the whole.
+        std::vector<float> along(size_t(end - first), 0.0f);
+        for (int32_t i = first + 1; i < end; ++i)
+            along[size_t(i - first)] = along[size_t(i - first - 1)] +
+                                       length(load3(&points[4 * size_t(i)]) - load3(&points[4 * size_t(i - 1)]));
+        const float total = along.back();
         auto push = [&](int32_t i) {
             for (int k = 0; k < 4; ++k) mesh.curve_points.push_back(points[4 * size_t(i) + k]);
             mesh.curve_points.back() = std::max(mesh.curve_points.back(), 0.0f);
+            mesh.curve_intercepts.push_back(total > 0.0f ? along[size_t(i - first)] / total : 0.0f);
         };
         push(first);
         for (int32_t i = first; i < end; ++i) push(i);
@@ -99,6 +107,7 @@ uint32_t Scene::add_curves(const float* points, size_t np, const int32_t* curve_
             mesh.indices.push_back(base + uint32_t(j));
             mesh.materials.push_back(material);
             mesh.segment_curves.push_back(first_curve + uint32_t(c));
+            mesh.segment_lengths.push_back(total);
         }
     }
     meshes_.push_back(std::move(mesh));
@@ -224,6 +233,16 @@ ShaderContext Scene::curve_shader_context(const SurfaceAttribs& at, const Vec3& 
     // index in its object's hair (blender/curves.cpp, ExportCurveSegments and export_hair_curves).
     ctx.curve = true;
     ctx.curve_random = shading::hash_uint2_to_float(mesh.segment_curves[at.prim], 0u);
+    // Intercept and Thickness: the segment's end points' values at u, linearly (Cycles'
+    // curve_attribute_float on curve keys and curve_thickness: 2 x the radius, not the Catmull-Rom
+    // radius the tube has); the segment runs between control points k + 1 and k + 2.
+    const size_t k = mesh.indices[at.prim];
+    const float u = at.bu;
+    ctx.curve_intercept = (1.0f - u) * mesh.curve_intercepts[k + 1] + u * mesh.curve_intercepts[k + 2];
+    ctx.curve_length = mesh.segment_lengths[at.prim];
+    float radius = (1.0f - u) * mesh.curve_points[4 * (k + 1) + 3] + u * mesh.curve_points[4 * (k + 2) + 3];
+    if (!inst.identity) radius *= std::cbrt(std::fabs(inst.to_world.determinant3()));
+    ctx.curve_thickness = 2.0f * radius;
     ctx.N_object = inst.identity ? normalize(inst.to_world.normal_to_object(n)) : normalize(inst.to_object.vector(n));
     ctx.dPdu = c.tangent;
     set_object_inputs(inst, &ctx);

@@ -285,9 +285,14 @@ private:
         // does for Catmull-Rom; `indices` then holds each segment's first control point and
         // `materials` one id per segment, `segment_curves` the index of each segment's curve in its
         // object's hair (add_curves' first_curve + c, dropped curves counted).
+        // `curve_intercepts` Hair Info's Intercept at each control point and `segment_lengths` its
+        // Length per segment (Cycles' ATTR_STD_CURVE_INTERCEPT / _LENGTH: the polyline through the
+        // points, in object space).
         bool curves = false;
         std::vector<float> curve_points;
         std::vector<uint32_t> segment_curves;
+        std::vector<float> curve_intercepts;
+        std::vector<float> segment_lengths;
     };
     // Hair (curves.cpp): rays leaving a hair ignore the curve they start on (Cycles' self skip);
     // the Embree geometry; a sole user's curves moved into world space; a hit and what its program reads.

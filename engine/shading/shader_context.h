@@ -65,9 +65,10 @@ struct ShaderContext {
     Color object_color{1.0f};
     float object_alpha = 1.0f, object_random = 0.0f, object_index = 0.0f, material_index = 0.0f;
     Vec3 texspace_location{0.0f}, texspace_size{1.0f};
-    // Hair (Scene::curve_shader_context): Hair Info's Is Strand and Random (per curve, as Cycles').
+    // Hair (Scene::curve_shader_context): Hair Info's Is Strand, Random (per curve, as Cycles'),
+    // Intercept (0 at the root, 1 at the tip), Length and Thickness.
     bool curve = false;
-    float curve_random = 0.0f;
+    float curve_random = 0.0f, curve_intercept = 0.0f, curve_length = 0.0f, curve_thickness = 0.0f;
     ShaderRay ray;
     // The World (Cycles' background shader data, EnvironmentLight::context): P is the direction the
     // ray leaves the scene in, N = Ng = I = -P, no object; Texture Coordinate reads it differently.

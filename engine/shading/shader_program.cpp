@@ -1110,10 +1110,22 @@ void ShaderProgram::run(const ShaderOp& op, ShaderContext* ctxp, float* r, Shade
             store1(r, op.out[3], lcg.y);
             break;
         }
-        case Op::HairInfo: {  // in: the Random off hair; out: Is Strand, Random (Cycles' per-curve hash)
+        case Op::HairInfo: {  // in: the Random off hair; out: Is Strand, Random (Cycles' per-curve hash),
+                              // Intercept, Length, Thickness, Tangent Normal (0 off hair, as Cycles)
             const ShaderContext& c = *ctxp;
             store1(r, op.out[0], c.curve ? 1.0f : 0.0f);
             store1(r, op.out[1], c.curve ? c.curve_random : load1(r, op.in[0], 0.0f));
+            store1(r, op.out[2], c.curve_intercept);
+            store1(r, op.out[3], c.curve_length);
+            store1(r, op.out[4], c.curve_thickness);
+            if (op.out[5] != kNoReg) {
+                // Cycles' curve_tangent_normal: the view direction I without its part along the
+                // tangent, normalised.
+                Vec3 tn(0.0f);
+                float t2 = length_sq(c.dPdu);
+                if (c.curve && t2 > 0.0f) tn = safe_normalize(c.I - c.dPdu * (dot(c.dPdu, c.I) / t2), Vec3(0.0f));
+                store3(r, op.out[5], tn);
+            }
             break;
         }
         case Op::BumpEnter: {

@@ -861,6 +861,36 @@ TEST(ClosureClosedForm, PrincipledHairTakesCyclesBounceLcgNumbers) {
     EXPECT_NEAR(s1.wi.x, s2.wi.x, 1e-6f);  // theta from the LCG; phi (u.y) the same here
 }
 
+// Under hair_cycles_sampling (kBounceLcg) the lobes return Cycles' pdf, M_p N_p at the tilted
+// angle (bsdf_principled_hair_sample's F_energy), so every sample's value / pdf is the lobe's weight
+// as in Cycles' estimator; by default pdf() is the sampler's density, which the tilt makes differ by
+// cos(theta') / cos(theta_i).
+TEST(ClosureClosedForm, PrincipledHairCyclesSamplingTakesCyclesPdf) {
+    Rng rng(5, 0);
+    const float tilt = 0.035f;
+    int differs = 0;
+    for (int p = 0; p < 3; ++p) {
+        const float tilts[3] = {-2.0f * tilt, tilt, 4.0f * tilt};
+        Lobe l = lobe_of(LobeKind(int(LobeKind::PrincipledHairR) + p), 0.1f, Color(0.4f), 1.55f);
+        l.alpha_y = 0.3f;
+        l.f0.x = tilts[p];
+        Lobe cycles = l;
+        cycles.variant = PrincipledHairRLobe::kBounceLcg;
+        for (int i = 0; i < 300; ++i) {
+            Vec3 wo = sample_uniform_sphere(rand2(rng));
+            Point2 lcg = rand2(rng);
+            cycles.kind_colour = Color(lcg.x, lcg.y, 0.0f);
+            Point2 u = rand2(rng);
+            BsdfSample s = lobe_sample(cycles, wo, u, 0.5f);
+            if (!s.valid()) continue;
+            ASSERT_TRUE(close_rel(s.value.x / s.pdf, 0.4, 1e-3, 1e-6)) << p << " " << s.value.x / s.pdf;
+            float density = lobe_pdf(l, wo, s.wi);
+            differs += std::fabs(density / s.pdf - 1.0f) > 1e-3f;
+        }
+    }
+    EXPECT_GT(differs, 300);
+}
+
 // Chiang et al.'s model keeps all the energy of a fibre that absorbs nothing: its paths' A_p sum to 1
 // (Fresnel f, (1 - f)^2, (1 - f)^2 f, and the closed sum of the rest) and each path's M_p N_p is a
 // density, so the four lobes of a closure with sigma = 0 reflect or transmit all of a white furnace:

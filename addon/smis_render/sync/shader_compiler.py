@@ -414,13 +414,12 @@ def _object_info(c, node, ctx):
 
 
 def _hair_info(c, node, ctx):
-    """Hair Info: Is Strand and Random (per strand, Cycles' hash of the curve's index); the other
-    outputs are not exported with the curves (0, warned)."""
-    for name in ("Intercept", "Length", "Thickness", "Tangent Normal"):
-        sock = node.outputs.get(name)
-        if sock is not None and sock.is_linked:
-            c.warn_node(node, "output %s is not supported (0)" % name)
-    res, regs = _outs(c, node, [("Is Strand", FLOAT), ("Random", FLOAT)])
+    """Hair Info as Cycles 3.4: Is Strand, Random (per strand, Cycles' hash of the curve's index),
+    Intercept (along the strand, 0 at the root), Length (the strand's, object space), Thickness
+    (2 x the radius at the hit) and Tangent Normal (the view direction across the strand); all 0
+    off hair (Scene::curve_shader_context, the hair_info op)."""
+    res, regs = _outs(c, node, [("Is Strand", FLOAT), ("Random", FLOAT), ("Intercept", FLOAT), ("Length", FLOAT),
+                                ("Thickness", FLOAT), ("Tangent Normal", VEC)])
     c.op("hair_info", [], regs)
     return res
 

@@ -19,7 +19,8 @@
 // applied after), and pdf() is the density of that sampler: a tilted theta is folded back at the
 // poles, and the tilt changes the density by cos(theta') / cos(theta_i) (Cycles returns M_p N_p
 // for both, which is the density of its sampler only without the tilt), so value / pdf =
-// weight cos(theta_i) / cos(theta'). value is Cycles' eval exactly.
+// weight cos(theta_i) / cos(theta'). value is Cycles' eval exactly. Under hair_cycles_sampling
+// (kBounceLcg) pdf() is Cycles' M_p N_p too, so the estimator is Cycles' (biased with the tilt).
 //
 // Lobe::alpha is v_p (after Cycles' remapping), alpha_y the logistic scale s, eta the IOR, f0.x the
 // tilt of theta (radians).
@@ -194,7 +195,11 @@ struct PrincipledHairLobe : LobeDefaults<PrincipledHairLobe<P>> {
                          : 0.5f * kInvPi;
         LobeTerms t;
         t.geom = value * np;
-        t.pdf = density * np;
+        // Cycles' sampler (kBounceLcg, hair_cycles_sampling) returns M_p N_p, its eval, as its pdf
+        // (bsdf_principled_hair_sample's F_energy), so its value / pdf is the lobe's weight whatever
+        // the tilt, and the same pdf weighs its MIS; with the tilt that is not its sampler's density
+        // (Cycles' bias, which the setting copies: principled_color 0.8% darker than with density).
+        t.pdf = (lobe.variant == kBounceLcg ? value : density) * np;
         return t;
     }
 
