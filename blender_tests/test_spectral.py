@@ -74,8 +74,15 @@ world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
     assert gold.mean() > 0.05, px.mean(axis=0)
 
 
-def test_spectral_content_with_path_space_filtering_warns():
-    run = render(setup=SMALL + "light.smis.spectrum = 'F10'\nscene.smis.integrator = 'PSF_SMIS'\n"
-                 "scene.smis.samples = 4\n")
-    assert run.returncode == 0, run.output[-2000:]
-    assert "only implemented for Path Tracing" in run.output, run.output[-2000:]
+def test_spectral_content_with_path_space_filtering_renders_spectrally():
+    # Path-space filtering renders spectral content at one wavelength set per iteration (no warning,
+    # no RGB fallback): the F10 light keeps the luminance of the RGB light and changes its colour.
+    setup = SMALL + "light.smis.spectrum = '%s'\nscene.smis.integrator = 'PSF_SMIS'\nscene.smis.samples = 16\n"
+    spectral, rgb = render(setup=setup % 'F10'), render(setup=setup % 'RGB')
+    for run in (spectral, rgb):
+        assert run.returncode == 0, run.output[-2000:]
+        assert np.isfinite(run.image).all()
+    assert "Path Tracing" not in spectral.output, spectral.output[-2000:]
+    a, b = spectral.image[..., :3].mean(axis=(0, 1)), rgb.image[..., :3].mean(axis=(0, 1))
+    assert abs(a.mean() / b.mean() - 1.0) < 0.15, (a, b)
+    assert np.abs(a / a.mean() - b / b.mean()).max() > 0.03, (a, b)

@@ -124,9 +124,6 @@ class SMISRenderEngine(bpy.types.RenderEngine):
         except ValueError as exc:
             self.report({'ERROR'}, "SMIS: invalid render settings: %s" % exc)
             return
-        if spectral != "RGB" and settings["integrator"] != "PATH":
-            self._reporter.warning("Spectral rendering (%s) is only implemented for Path Tracing; "
-                                   "%s renders in RGB" % (spectral, settings["integrator"]))
         if export.scene.stats()["has_subsurface"] and settings["integrator"].startswith("PSF"):
             self._reporter.warning("%s: subsurface scattering is path traced per pixel, not filtered, where "
                                    "it is a surface's only closure; seen after a glossy bounce it renders as "

@@ -36,6 +36,8 @@
 #include "integrators/media_segments.h"
 #include "integrators/path_tracing.h"
 #include "integrators/psf_density.h"
+#include "integrators/psf_records.h"
+#include "integrators/psf_spectral.h"
 #include "integrators/tiles.h"
 
 namespace smis {
@@ -59,115 +61,13 @@ namespace psf_detail {
 
 namespace {
 
-// A suffix's first vertex z1 and what it carried back, as stage 2 reads it.
-struct SuffixVertex {
-    Vec3 z, z_ng, z_ns;       // z1, its geometric and shading normals (both on the geometric side)
-    uint32_t z_material = 0;
-    Color L_out{0.0f};        // radiance leaving z1 towards x1, emission at z1 excluded (with media: as
-                              // it arrives at x1, times the segment's transmittance)
-    // z1's own estimators, kept so the unbiased variant can re-evaluate z1's BSDF for another x1:
-    // L_out(wo) = f(wo, nee_dir) nee_weighted + f(wo, next_dir) next_weighted.
-    Vec3 nee_dir, next_dir;
-    Color nee_weighted{0.0f}, next_weighted{0.0f};
-};
-
-// Everything stage 2 needs about one pixel's path: its prefix endpoint x1, and its suffix (the
-// SuffixVertex base, valid with has_suffix). Shading state is stored, not the Bsdf, and rebuilt on
-// demand from the material (cheap, and keeps the record small).
-struct PathRecord : SuffixVertex {
-    Color fixed{0.0f};   // per-pixel part: prefix emission, NEE at x1, emission found by x1's sample
-    float transparency = 0.0f;  // Film Transparent: the prefix's throughput that reached the World unseen
-    bool has_vertex = false;
-    bool has_suffix = false;
-    uint8_t dirac_depth = 0;  // the prefix's Dirac bounces before x1 (they set the suffix's bounce budget)
-    // Prefix endpoint x1.
-    Color beta{0.0f};    // prefix throughput f_e / p up to x1
-    Vec3 p, wo, ng, ns;  // ns: the interpolated shading normal on wo's side (bsdf_at turns it)
-    uint32_t material = 0;
-    bool backfacing = false;
-    float radius = 0.0f;
-};
-
-// Texture coordinates and object colours of a record's x1 and z1, kept beside the records and only
-// for scenes whose materials vary over surfaces (Scene::has_varying_materials), so the records of
-// other scenes stay small (the gather stage is bound by reading them).
-struct RecordAttribs {
-    SurfaceAttribs x1, z1;
-};
-
-// The media at a record's x1, beside the records and only for scenes with media: the medium on each
-// side of x1's surface (a ray leaving x1 towards its ng side starts in `front`, the one the prefix
-// arrived in, else in `back`), and the transmittance along the own suffix's segment x1 -> z1.
-struct RecordMedia {
-    int32_t front = kNoMedium, back = kNoMedium;
-    Color suffix_tr{1.0f};
-    int32_t towards(const Vec3& ng, const Vec3& d) const { return dot(d, ng) > 0.0f ? front : back; }
-};
-
-Bsdf bsdf_at(const Scene& scene, uint32_t material, const Vec3& ns, const Vec3& ng, bool backfacing,
-             const SurfaceAttribs& attr, const Vec3& wo) {
-    const Material& m = scene.material(material);
-    if (m.program) {
-        Vec3 program_ns;
-        return scene.program_bsdf(material, attr, wo, backfacing, ShaderRay{}, &program_ns);
-    }
-    Bsdf bsdf;
-    Vec3 closure_ns;
-    constant_bsdf_on_closure_normal(m, ns, ng, wo, backfacing, attr, &bsdf, &closure_ns);
-    return bsdf;
-}
-
-// The pixel sample's place in the stratified sampler (for the extra light and BSDF samples at x1).
-struct PixelStrata {
-    uint64_t key;
-    uint32_t sample;
-    uint32_t extra_bsdf;  // the pixel's extra BSDF samples taken in earlier iterations
-};
-
-// One of x1's own BSDF samples and the suffix it starts: the path's own sample (stored for sharing)
-// or one of the pixel's private extra samples.
-struct SuffixSample : SuffixVertex {
-    Color fixed{0.0f};  // its per-pixel part: the emission it finds at z1, or a Dirac lobe's whole path
-    bool has_suffix = false;
-    SurfaceAttribs z_attr;
-    Color segment_tr{1.0f};  // with media: the transmittance along x1 -> z1 (folded into L_out)
-};
-
-// The geometry of connecting x1 at p to a suffix vertex z (normal z_ng): the direction, the squared
-// distance and the area-measure factor |cos theta_z| / d^2. Invalid when z coincides with p.
-struct Connection {
-    Vec3 dir;
-    float dist2 = 0.0f;
-    float g = 0.0f;
-    bool valid() const { return dist2 > 0.0f; }
-};
-Connection connect(const Vec3& p, const Vec3& z, const Vec3& z_ng) {
-    Connection c;
-    Vec3 d = z - p;
-    float dist2 = length_sq(d);
-    if (!(dist2 > 0.0f)) return c;
-    c.dist2 = dist2;
-    c.dir = d / std::sqrt(dist2);
-    c.g = absdot(c.dir, z_ng) / dist2;
-    return c;
-}
-
-// A private extra suffix: kept by its pixel, in the area measure at z1 like the shared ones.
-struct PrivateSuffix {
-    Vec3 z, z_ng;
-    Color contribution{0.0f};  // f_1(x1 -> z1) L_out |cos theta_z1| / d^2 (0: the sample found no z1)
-};
+using namespace psf_detail;
 
 // The suffix started by BSDF sample `bs` at x1 (shading point sp, prefix throughput beta). x1 takes
 // `light_samples` light samples and `own_samples` BSDF samples per iteration, combined by
 // multi-sample MIS, so this sample carries 1/own_samples of the BSDF technique's per-pixel part.
 // With `dirac_z1_per_pixel` (the unbiased variant), a Dirac lobe sampled at z1 goes to the per-pixel
 // part instead of L_out (see the comment where it is taken).
-// A connection from a technique's x1 to a gathered z stands for a bounce ray of x1: the objects any
-// bounce ray sees block it (an approximation where objects are hidden from some ray types only:
-// the gathering pixel's lobe would decide the type).
-constexpr uint32_t kConnectionVisibility = kRayBounceTypes;
-
 // kMedia: the scene has media; prefix.medium is the one the prefix arrived in at x1.
 template <bool kMedia>
 SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
@@ -178,16 +78,7 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
         ++counters.samples_rejected;
         return out;
     }
-    PathState st1{prefix.depth + 1, bs.delta, bs.pdf, sp.hit.p};
-    st1.light_pdf_scale = float(light_samples) / float(own_samples);
-    st1.ray_flags = prefix.ray_flags;
-    st1.min_ray_pdf = prefix.min_ray_pdf;
-    st1.diffuse_bounces = prefix.diffuse_bounces, st1.glossy_bounces = prefix.glossy_bounces;
-    st1.transmission_bounces = prefix.transmission_bounces, st1.transparent_bounces = prefix.transparent_bounces;
-    // The shared suffixes walk nowhere: z1's subsurface is its diffuse fallback (Cycles' rule after a
-    // diffuse bounce at x1; after a glossy one PATH would walk at z1, a bias of the PSF integrators).
-    st1.diffuse_ancestor = true;
-    advance_ray_type(st1, sp.bsdf, bs);
+    PathState st1 = suffix_state(sp, prefix, bs, light_samples, own_samples);
     if constexpr (kMedia) st1.medium = medium_towards(scene, sp, bs.wi, prefix.medium);
     const Ray r1 = bounce_ray(sp, bs, st1);
     const Color path_weight = beta * bs.value / bs.pdf;
@@ -239,12 +130,7 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
     }
     BsdfSample bs1 = sample_bsdf(sp1, rng);
     if (bs1.valid()) {
-        PathState st2 = st1;
-        ++st2.depth;
-        st2.prev_delta = bs1.delta, st2.prev_pdf = bs1.pdf, st2.prev_p = h1.p;
-        st2.light_pdf_scale = 1.0f;
-        st2.transparent_background = false;
-        advance_ray_type(st2, sp1.bsdf, bs1);
+        PathState st2 = tail_state(st1, sp1, bs1);
         if constexpr (kMedia) st2.medium = medium_towards(scene, sp1, bs1.wi, st1.medium);
         // Russian roulette in the suffix sees the whole path's throughput, as in PATH: a suffix
         // traced as if it started with throughput 1 would survive longer, costing more per path.
@@ -271,12 +157,7 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
         ++counters.samples_rejected;
     }
     if constexpr (kMedia) out.L_out *= out.segment_tr;
-    out.has_suffix = true;
-    out.z = h1.p;
-    out.z_ng = h1.ng;
-    out.z_ns = h1.ns;
-    out.z_material = h1.material;
-    out.z_attr = h1.attr;
+    out.found_z1(h1);
     return out;
 }
 
@@ -330,7 +211,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
 
         // x1: the first non-specular vertex ends the prefix.
         rec.has_vertex = true;
-        rec.dirac_depth = uint8_t(std::min(st.depth, 255));
+        rec.technique_class = technique_class(st.depth, kSharedClass);
         rec.beta = beta;
         rec.p = hit.p;
         rec.wo = sp.wo;
@@ -458,7 +339,8 @@ struct PathSpaceFilteringIntegrator::IterationBuffers {
     std::vector<PrivateSuffix> extras;
 };
 
-PathSpaceFilteringIntegrator::PathSpaceFilteringIntegrator(PsfWeighting weighting) : weighting_(weighting) {}
+PathSpaceFilteringIntegrator::PathSpaceFilteringIntegrator(PsfWeighting weighting, std::unique_ptr<PsfSpectrum> spectrum)
+    : weighting_(weighting), spectrum_(std::move(spectrum)) {}
 PathSpaceFilteringIntegrator::~PathSpaceFilteringIntegrator() = default;
 
 void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
@@ -507,7 +389,9 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     }
     b.extras.resize(extra_total);
 
-    // Stage 1: one full path per pixel, and the pixel's extra paths.
+    // Stage 1: one full path per pixel, and the pixel's extra paths (spectral: at the iteration's
+    // wavelengths, psf_spectral.h).
+    if (spectrum_) spectrum_->begin_iteration(settings, s, pixels, weighting_ == PsfWeighting::SmisUnbiased, media);
     const bool extra_strata =
         kWithStratified && settings.sampling_pattern == SamplingPattern::Stratified && (settings.psf_light_samples > 1 || max_extra > 0);
     auto t0 = StageClock::now();
@@ -526,7 +410,10 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         const PixelStrata* record_strata = extra_strata ? &strata : nullptr;
         PrivateSuffix* record_extras = b.extras.data() + b.extra_offset[k];
         const bool dirac_z1_per_pixel = weighting_ == PsfWeighting::SmisUnbiased;
-        records[k] = media ? trace_record<true>(scene, settings, ray, rng, local, scene.camera(), record_attribs,
+        records[k] = spectrum_ ? spectrum_->trace_record(media, k, scene, settings, ray, rng, local, scene.camera(),
+                                                         record_attribs, &models[k], record_strata, extra,
+                                                         record_extras, dirac_z1_per_pixel, media ? &record_media[k] : nullptr)
+                   : media ? trace_record<true>(scene, settings, ray, rng, local, scene.camera(), record_attribs,
                                                 &models[k], record_strata, extra, record_extras, dirac_z1_per_pixel,
                                                 &record_media[k])
                            : trace_record<false>(scene, settings, ray, rng, local, scene.camera(), record_attribs,
@@ -551,6 +438,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     for (size_t i = 0; i < records.size(); ++i) {
         if (!records[i].has_vertex) continue;
         records[i].radius *= shrink;
+        if (private_class(records[i].technique_class)) continue;  // shares nothing (psf_spectral.cpp)
         positions[i] = records[i].p;
         stored.push_back(static_cast<uint32_t>(i));
         radii.push_back(records[i].radius);
@@ -617,7 +505,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     // PSF_PATH: the path tracer's own estimate, f cos / p_omega times the suffix radiance, averaged over
     // the pixel's own samples. Contributions are in the area measure at z1: divided by the density in
     // the same measure.
-    auto path_estimate = [&](size_t k) {
+    auto path_estimate = [&](auto spectral_tag, size_t k) {
+        constexpr bool kSpectral = decltype(spectral_tag)::value;
         const PathRecord& q = records[k];
         const int extra = b.extra_paths[k];
         const PrivateSuffix* private_suffixes = b.extras.data() + b.extra_offset[k];
@@ -629,7 +518,13 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         };
         if (q.has_suffix) {
             Connection c = connect(q.p, q.z, q.z_ng);
-            if (c.valid()) add(c, bx.eval(q.wo, c.dir) * q.L_out * c.g);
+            if constexpr (kSpectral) {
+                float f[spectral::kMaxWavelengths];
+                if (c.valid() && spectrum_->eval(q.material, bx, q.wo, c.dir, f))
+                    add(c, spectrum_->combine(k, f, spectrum_->L_out(k)) * c.g);
+            } else {
+                if (c.valid()) add(c, bx.eval(q.wo, c.dir) * q.L_out * c.g);
+            }
         }
         for (int m = 0; m < extra; ++m) {
             const PrivateSuffix& ps = private_suffixes[m];
@@ -643,8 +538,11 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     // The filtered estimates of a group: `members` (pixel indices, all with a vertex; pixel (mx[i],
     // my[i]) each) share the technique set drawn around the anchor members[0], whose pixel seeds the
     // random subset.
-    auto gather_group = [&](const uint32_t* members, const int* mx, const int* my, int n_members,
+    // kSpectral (spectral_tag): the records carry their throughput and radiance per wavelength
+    // (psf_spectral.h); the weights are the same.
+    auto gather_group = [&](auto spectral_tag, const uint32_t* members, const int* mx, const int* my, int n_members,
                             LocalCounters& local) {
+        constexpr bool kSpectral = decltype(spectral_tag)::value;
         GatherScratch& scratch = *gather_scratch();
         const PathRecord& anchor = records[members[0]];
         uint64_t visibility_rays = 0;  // the unbiased variant's shadow rays
@@ -656,7 +554,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         // Only prefixes of the anchor's Dirac depth (the members have it too): see "One Dirac depth per technique set".
         in_ball.erase(std::remove_if(in_ball.begin(), in_ball.end(),
                                      [&](uint32_t j) {
-                                         return records[j].dirac_depth != anchor.dirac_depth ||
+                                         return records[j].technique_class != anchor.technique_class ||
                                                 std::find(members, members + n_members, j) != members + n_members;
                                      }),
                       in_ball.end());
@@ -788,9 +686,20 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 // Connection f_1(ybar_j, zbar_i) in the area measure at z1.
                 const Connection c = connect(q.p, smp.z, smp.z_ng);
                 if (!c.valid()) continue;
-                Color f = own.eval(q.wo, c.dir);
-                if (is_black(f)) continue;
-                Color L_z = smp.L_out;
+                Color f, L_z;
+                // Spectral: f, L_z and the connection's transmittance per wavelength.
+                float f_s[kSpectral ? spectral::kMaxWavelengths : 1], L_s[kSpectral ? spectral::kMaxWavelengths : 1];
+                float tr_s[kSpectral ? spectral::kMaxWavelengths : 1];
+                const float* L_own = nullptr;
+                const float* tr = nullptr;
+                if constexpr (kSpectral) {
+                    if (!spectrum_->eval(q.material, own, q.wo, c.dir, f_s)) continue;
+                    L_own = spectrum_->L_out(nb[ii]);
+                } else {
+                    f = own.eval(q.wo, c.dir);
+                    if (is_black(f)) continue;
+                    L_z = smp.L_out;
+                }
                 if (exact) {
                     // Visibility and z1's scattering for the new direction (§4.2). The own sample was
                     // reached by a ray; the others' visibility was traced for the denominator, unless
@@ -811,11 +720,26 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     Bsdf bz = bsdf_at(scene, smp.z_material, zns, zng, back,
                                       attribs.empty() ? SurfaceAttribs{} : attribs[nb[ii]].z1, z_wo);
                     if (scene.has_subsurface()) bz.subsurface_as_diffuse();  // as its own path shaded z1
-                    L_z = bz.eval(z_wo, smp.nee_dir) * smp.nee_weighted + bz.eval(z_wo, smp.next_dir) * smp.next_weighted;
                     // With media, what arrives at x1: the own segment's transmittance, or the connection's.
-                    if (media) L_z *= ii == size_t(jj) ? record_media[k].suffix_tr : connection_tr(k, smp.z, c.dir);
+                    if constexpr (kSpectral) {
+                        spectrum_->reevaluate(nb[ii], bz, smp.z_material, z_wo, smp.nee_dir, smp.next_dir, L_s);
+                        L_own = L_s;
+                        if (media && ii == size_t(jj)) {
+                            tr = spectrum_->suffix_tr(k);
+                        } else if (media) {
+                            if (!spectrum_->connection_tr(scene, shadow_ray_between(q.p, q.ng, smp.z), kConnectionVisibility,
+                                                          record_media[k].towards(q.ng, c.dir), tr_s))
+                                std::fill(tr_s, tr_s + spectrum_->count(), 0.0f);
+                            tr = tr_s;
+                        }
+                    } else {
+                        L_z = bz.eval(z_wo, smp.nee_dir) * smp.nee_weighted + bz.eval(z_wo, smp.next_dir) * smp.next_weighted;
+                        if (media) L_z *= ii == size_t(jj) ? record_media[k].suffix_tr : connection_tr(k, smp.z, c.dir);
+                    }
                 }
-                const Color contribution = f * L_z * c.g;
+                Color contribution;
+                if constexpr (kSpectral) contribution = spectrum_->combine(k, f_s, L_own, tr) * c.g;
+                else contribution = f * L_z * c.g;
                 if (keller) {  // Keller's estimator divides by the sample's own density only
                     sum += contribution / per_sample[ii];
                     continue;
@@ -859,6 +783,10 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         visibility_rays_total += visibility_rays;
     };
 
+    auto gather = [&](const uint32_t* members, const int* mx, const int* my, int n_members, LocalCounters& local) {
+        if (spectrum_) gather_group(std::true_type{}, members, mx, my, n_members, local);
+        else gather_group(std::false_type{}, members, mx, my, n_members, local);
+    };
     const uint64_t grid_hash = mix64((uint64_t(s) << 32) ^ uint64_t(settings.seed) ^ 0x6a09e667f3bcc909ull);
     const int offset_x = int(grid_hash % uint64_t(block)), offset_y = int((grid_hash >> 32) % uint64_t(block));
     auto starts_block = [&](int v, int offset) { return v % kTileSize == 0 || (v + block - offset) % block == 0; };
@@ -882,19 +810,20 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 const PathRecord& q = records[k];
                 if (!q.has_vertex) {
                     finish(px, py, k, q.fixed, 0.0f, -1.0f, local);
-                } else if (weighting_ == PsfWeighting::Path) {
-                    finish(px, py, k, q.fixed + path_estimate(k), 0.0f, 1.0f, local);  // nothing is shared
-                } else if (!anchor || (n_members < max_n && q.dirac_depth == anchor->dirac_depth &&
+                } else if (weighting_ == PsfWeighting::Path || private_class(q.technique_class)) {
+                    const Color own = spectrum_ ? path_estimate(std::true_type{}, k) : path_estimate(std::false_type{}, k);
+                    finish(px, py, k, q.fixed + own, 0.0f, 1.0f, local);  // nothing is shared
+                } else if (!anchor || (n_members < max_n && q.technique_class == anchor->technique_class &&
                                        length_sq(q.p - anchor->p) <= sqr(kGroupReach * anchor->radius))) {
                     if (!anchor) anchor = &q;
                     members[n_members] = uint32_t(k), mx[n_members] = px, my[n_members] = py;
                     ++n_members;
                 } else {
                     const uint32_t single = uint32_t(k);
-                    gather_group(&single, &px, &py, 1, local);
+                    gather(&single, &px, &py, 1, local);
                 }
             }
-        if (n_members > 0) gather_group(members, mx, my, n_members, local);
+        if (n_members > 0) gather(members, mx, my, n_members, local);
     });
     gather_seconds_ += seconds_since(t0);
     iterations_++;
@@ -910,7 +839,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     // (own_weight_sum, own_weight_n, extra_bsdf_taken, extra_offset, extra_paths per pixel)
     const double extra_bytes = double(pixels) * (sizeof(float) + 3 * sizeof(uint32_t) + sizeof(uint8_t)) +
                                double(extra_total) * sizeof(PrivateSuffix);
-    bytes_per_vertex_ = sizeof(PathRecord) + sizeof(TechniqueDensity) +
+    bytes_per_vertex_ = sizeof(PathRecord) + sizeof(TechniqueDensity) + (spectrum_ ? spectrum_->bytes_per_record() : 0.0) +
                         (stored.empty() ? 0.0 : (double(grid.memory_bytes()) + extra_bytes) / stored.size());
 }
 
@@ -929,6 +858,7 @@ std::map<std::string, double> PathSpaceFilteringIntegrator::stats() const {
         {"keller_accepted_per_query", stored_vertices_ ? double(accepted_) / stored_vertices_ : 0.0},
         {"bytes_per_stored_vertex", bytes_per_vertex_},
         {"extra_paths_per_pixel", pixels_ ? double(extra_paths_) / double(pixels_) : 0.0},
+        {"wavelengths_per_path", spectrum_ ? double(spectrum_->count()) : 0.0},
     };
 }
 

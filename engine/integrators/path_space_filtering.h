@@ -8,6 +8,8 @@
 
 namespace smis {
 
+class PsfSpectrum;
+
 enum class PsfWeighting {
     Path,          // no reuse: the path tracer on the stage-1 paths
     Keller,        // binary acceptance by surface similarity, normalised over accepted samples
@@ -17,7 +19,8 @@ enum class PsfWeighting {
 
 class PathSpaceFilteringIntegrator : public IterativeIntegrator {
 public:
-    explicit PathSpaceFilteringIntegrator(PsfWeighting weighting);
+    // spectrum: render at one wavelength set per iteration (psf_spectral.h); null: RGB.
+    explicit PathSpaceFilteringIntegrator(PsfWeighting weighting, std::unique_ptr<PsfSpectrum> spectrum = nullptr);
     ~PathSpaceFilteringIntegrator() override;
     std::map<std::string, double> stats() const override;
     void add_skipped(const RenderSettings&, std::vector<std::string>* skipped) const override {
@@ -27,6 +30,7 @@ public:
 private:
     void iteration(RenderContext& ctx, uint32_t s) override;
     PsfWeighting weighting_;
+    std::unique_ptr<PsfSpectrum> spectrum_;
     // Records, technique models and the grid, kept across iterations (path_space_filtering.cpp).
     struct IterationBuffers;
     std::unique_ptr<IterationBuffers> buffers_;

@@ -144,6 +144,7 @@ namespace {
 // The RGB path tracer's spectrum: one Color throughput (path_loop.h describes the policy).
 struct RgbThroughput {
     static constexpr bool kResampledLights = true;
+    static constexpr bool kEndsAtFirstVertex = false;
     static constexpr bool kSubsurfaceWalks = true;
     Color beta{1.0f};
 

@@ -4,6 +4,7 @@
 #include "integrators/integrator.h"
 #include "integrators/path.h"
 #include "integrators/path_space_filtering.h"
+#include "integrators/psf_spectral.h"
 #include "integrators/photon_planes.h"
 #include "integrators/spectral_path.h"
 #include "integrators/restir.h"
@@ -53,17 +54,28 @@ std::unique_ptr<Integrator> make_volume_integrator(const RenderSettings& setting
     throw std::invalid_argument("the path tracer's single scattering is no photon-plane estimator");
 }
 
+// The weighting of a path-space filtering integrator.
+PsfWeighting psf_weighting(IntegratorKind kind) {
+    switch (kind) {
+        case IntegratorKind::PsfPath: return PsfWeighting::Path;
+        case IntegratorKind::PsfKeller: return PsfWeighting::Keller;
+        case IntegratorKind::PsfSmis: return PsfWeighting::Smis;
+        case IntegratorKind::PsfSmisUnbiased: return PsfWeighting::SmisUnbiased;
+        case IntegratorKind::Path: break;
+    }
+    throw std::invalid_argument("not a path-space filtering integrator");
+}
+
 // Adding an integrator: its folder or file, an item in the settings table's INTEGRATOR enum
 // (addon/smis_render/settings_schema.py) and its line here.
 std::unique_ptr<Integrator> make_surface_integrator(IntegratorKind kind) {
     switch (kind) {
         case IntegratorKind::Path: return std::make_unique<PathIntegrator>();
         // The path-space filtering family: PSF_PATH is the path tracer on the same two-stage paths.
-        case IntegratorKind::PsfPath: return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::Path);
-        case IntegratorKind::PsfKeller: return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::Keller);
-        case IntegratorKind::PsfSmis: return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::Smis);
-        case IntegratorKind::PsfSmisUnbiased:
-            return std::make_unique<PathSpaceFilteringIntegrator>(PsfWeighting::SmisUnbiased);
+        case IntegratorKind::PsfPath:
+        case IntegratorKind::PsfKeller:
+        case IntegratorKind::PsfSmis:
+        case IntegratorKind::PsfSmisUnbiased: return std::make_unique<PathSpaceFilteringIntegrator>(psf_weighting(kind));
     }
     throw std::invalid_argument("unknown integrator");
 }
@@ -104,6 +116,10 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings& settings, cons
         return std::make_unique<RestirIntegrator>(scene, spectral_mode(spectral), settings.wavelengths, 0.0f);
     if (path && spectral != SpectralSetting::Rgb)
         return std::make_unique<SpectralPathIntegrator>(scene, spectral_mode(spectral), settings.wavelengths);
+    if (spectral != SpectralSetting::Rgb)  // path-space filtering at one wavelength set per iteration
+        return std::make_unique<PathSpaceFilteringIntegrator>(
+            psf_weighting(settings.integrator),
+            std::make_unique<PsfSpectrum>(scene, spectral_mode(spectral), settings.wavelengths));
     if (restir) return std::make_unique<RestirIntegrator>();
     return make_surface_integrator(settings.integrator);
 }

@@ -23,14 +23,12 @@ RenderSession::RenderSession(std::shared_ptr<const Scene> scene, RenderSettings 
 
 std::vector<std::string> RenderSession::skipped() const {
     std::vector<std::string> out = scene_->skipped();
-    // Spectral rendering is a mode of the path tracer; AUTO resolves to RGB without spectral content
+    // Spectral rendering is a mode of every integrator; AUTO resolves to RGB without spectral content
     // (and with photon planes, RGB estimators).
     if (resolve_spectral_mode(settings_, *scene_) == SpectralSetting::Rgb)
         out.push_back(scene_->has_spectral_content() && settings_.volume_estimator != VolumeEstimator::Path
                           ? "spectral (not with photon planes: RGB)"
                           : "spectral");
-    else if (settings_.integrator != IntegratorKind::Path)
-        out.push_back("spectral (only PATH renders spectrally: RGB here)");
     if (!scene_->has_media()) out.push_back("volumes");
     if (!settings_.aux_passes) out.push_back("passes");
     if (settings_.sampling_pattern != SamplingPattern::Stratified) out.push_back("stratified sampling");

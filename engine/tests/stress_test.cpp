@@ -87,12 +87,16 @@ struct CaseResult {
     bool all_finite = true;
 };
 
-// Renders the committed scene with every integrator x heuristic; prints and checks the counters.
-CaseResult run_case(const char* name, const std::shared_ptr<Scene>& scene, bool expect_no_nan) {
+// Renders the committed scene with every integrator x heuristic (or, with `spectral`, every integrator
+// in that spectral mode with the balance heuristic); prints and checks the counters.
+CaseResult run_case(const char* name, const std::shared_ptr<Scene>& scene, bool expect_no_nan,
+                    const char* spectral = nullptr) {
     CaseResult total;
     for (const std::string& integ : all_integrators())
         for (MisHeuristic mis : kHeuristics) {
+            if (spectral && mis != MisHeuristic::Balance) continue;
             RenderSettings rs;
+            if (spectral) rs.spectral = setting_value<SpectralSetting>(spectral);
             rs.samples = 4;
             rs.max_bounces = 4;
             select_integrator(rs, integ);
@@ -111,8 +115,8 @@ CaseResult run_case(const char* name, const std::shared_ptr<Scene>& scene, bool 
             }
             double mean = px.empty() ? 0.0 : sum / (0.75 * double(px.size()));
             RenderProgress p = session.progress();
-            std::printf("[stress] %-28s %-18s %-7s nan_caught=%llu samples_rejected=%llu nonfinite_px=%zu mean=%.3g\n", name,
-                        integ.c_str(), mis == MisHeuristic::Power ? "power" : "balance",
+            std::printf("[stress] %-28s %-18s %-7s %-16s nan_caught=%llu samples_rejected=%llu nonfinite_px=%zu mean=%.3g\n", name,
+                        integ.c_str(), mis == MisHeuristic::Power ? "power" : "balance", spectral ? spectral : "",
                         static_cast<unsigned long long>(p.nan_caught),
                         static_cast<unsigned long long>(p.samples_rejected), bad, mean);
             EXPECT_EQ(bad, 0u) << name << " " << integ << ": non-finite pixels";
@@ -129,12 +133,13 @@ CaseResult run_case(const char* name, const std::shared_ptr<Scene>& scene, bool 
 
 using Builder = std::function<void(Scene&)>;
 
-CaseResult build_and_run(const char* name, const Builder& build, bool expect_no_nan = true) {
+CaseResult build_and_run(const char* name, const Builder& build, bool expect_no_nan = true,
+                         const char* spectral = nullptr) {
     auto s = std::make_shared<Scene>();
     build(*s);
     if (!s->has_camera()) s->set_camera(backdrop_camera());
     s->commit();
-    return run_case(name, s, expect_no_nan);
+    return run_case(name, s, expect_no_nan, spectral);
 }
 
 Material glass(float eta, float alpha) {
@@ -541,4 +546,24 @@ TEST(Stress, FogWithEveryIntegrator) {
         s.add_light(area_light(0.6f, 80.0f, 2.0f));
         s.set_world(Color(0.3f));
     });
+}
+
+// The same fog (everyday and extreme densities) in every spectral mode with every integrator (the
+// path-space filtering ones included, psf_spectral.h), a D65 lamp inside and dispersive glass.
+TEST(Stress, FogWithEverySpectralMode) {
+    for (const char* mode : {"UNIFORM", "SPECTRAL_IS", "HERO", "SMIS", "SMIS_INDEPENDENT", "BRUTE_FORCE"}) {
+        build_and_run("fog_spectral", [](Scene& s) {
+            add_backdrop(s);
+            Material g = glass(1.5f, 0.0f);
+            g.spectral.dispersion = "N-SF11";
+            add_box(s, {0.2f, -0.5f, 0.0f}, {0.6f, -0.1f, 0.4f}, s.add_material(g));
+            add_box(s, {1.0f, -1.0f, 0.0f}, {1.05f, 1.0f, 1.0f}, s.add_material(glossy(Color(0.9f), 0.0f)));
+            add_fog_box(s, {-1.5f, -1.5f, 0.01f}, {1.5f, 1.5f, 1.2f}, Color(0.05f, 0.1f, 0.0f), Color(0.5f, 0.4f, 0.0f), 0.5f);
+            add_fog_box(s, {-0.4f, 0.3f, 0.02f}, {0.0f, 0.7f, 0.5f}, Color(100.0f), Color(1000.0f), 0.95f);
+            s.add_light(area_light(0.6f, 80.0f, 2.0f));
+            LightDesc lamp = point_light({-0.5f, 0.5f, 0.7f}, 20.0f, 0.05f);
+            lamp.spectrum = "D65";
+            s.add_light(lamp);
+        }, true, mode);
+    }
 }

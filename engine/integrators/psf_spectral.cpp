@@ -1,0 +1,465 @@
+#include "integrators/psf_spectral.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "integrators/tiles.h"
+#include "integrators/spectral_throughput.h"
+
+namespace smis {
+
+using namespace psf_detail;
+using namespace spectral;
+using namespace spectral_paths;
+
+namespace {
+
+// What the prefix left at x1, its first non-specular vertex.
+struct PrefixEnd {
+    bool reached = false;
+    ShadingPoint sp;
+    PathState state;
+    float distance = 0.0f;  // along the camera path, for the radius
+};
+
+// The spectral path tracer's policy, ending the path at its first non-specular vertex (x1): the loop
+// (path_loop.h) traces the prefix with every feature of the spectral path tracer (media, dispersion,
+// holdouts, Film Transparent) and collects its emission; x1 is recorded for stage 1.
+class PrefixThroughput : public SpectralThroughput {
+public:
+    static constexpr bool kEndsAtFirstVertex = true;
+    PrefixThroughput(const SpectralScene& spectral, SpectralPath& p, PrefixEnd* end)
+        : SpectralThroughput(spectral, p), end_(end) {}
+    void prepare(ShadingPoint& sp) {
+        SpectralThroughput::prepare(sp);
+        end_->distance += sp.hit.t;
+    }
+    void first_vertex(const ShadingPoint& sp, const PathState& state) {
+        end_->reached = true;
+        end_->sp = sp;
+        end_->state = state;
+    }
+
+private:
+    PrefixEnd* end_;
+};
+
+// Which prefixes may share suffixes (their stored L_out carries the wavelength MIS weight of the
+// whole path, which depends on r_j(prefix)): r = 1 at every wavelength (no dispersive event), r = 1
+// at the conditioning wavelength alone (a dispersive refraction kept it only), or anything else
+// (a dispersive reflection: r_j = F_j / F_c), which no other prefix has: its pixel keeps its suffixes.
+uint8_t spectral_class(const SpectralPath& p) {
+    bool ones = true, conditioning_only = true;
+    for (int i = 0; i < p.n; ++i) {
+        ones &= p.r[i] == 1.0f;
+        conditioning_only &= p.r[i] == (i == p.c ? 1.0f : 0.0f);
+    }
+    return ones ? kSharedClass : conditioning_only ? kSharedClass + 1 : kPrivateClass;
+}
+
+}  // namespace
+
+struct PsfSpectrum::Impl {
+    SpectralScene spectral;
+    WavelengthSampler sampler;
+    WavelengthSet set;
+    Color response[kMaxWavelengths];
+    int n = 0;
+    bool exact = false, media = false;
+    // Per record, n floats each: the prefix throughput, the suffix radiance, and for the unbiased
+    // gather z1's two estimators and the own segment's transmittance.
+    // Written by stage 1 (each record its own slice of n, so threads never share one).
+    mutable std::vector<float> beta, L_out, nee, next, tr;
+
+    Impl(const Scene& scene, SpectralMode mode, int wavelengths)
+        : spectral(scene), sampler(mode, wavelengths, spectral.importance()) {}
+
+    // The iteration's wavelengths with unit throughput.
+    void start(SpectralPath& p) const {
+        p.n = n;
+        p.c = set.conditioning;
+        p.ws.n = n;
+        p.ws.conditioning = set.conditioning;
+        for (int i = 0; i < n; ++i) {
+            p.ws.lambda[i] = set.lambda[i];
+            p.ws.q[i] = set.q[i];
+            p.ws.a[i] = set.a[i];
+            p.beta[i] = 1.0f;
+            p.r[i] = 1.0f;
+            p.response[i] = response[i];
+        }
+        p.update_mix();
+    }
+    // p's state (wavelengths, relative densities, mixture) with throughput `beta` (null: 1).
+    void continue_from(const SpectralPath& from, SpectralPath& p, const float* beta) const {
+        start(p);
+        for (int i = 0; i < n; ++i) {
+            p.r[i] = from.r[i];
+            p.beta[i] = beta ? beta[i] : 1.0f;
+        }
+        p.inv_mix = from.inv_mix;
+    }
+    // The RGB of sum_i response_i w_i v_i.
+    Color rgb(const float* w, const float* v) const {
+        Color sum(0.0f);
+        for (int i = 0; i < n; ++i)
+            if (w[i] != 0.0f) sum += response[i] * (w[i] * v[i]);
+        return sum;
+    }
+    // The factor clamping scales a contribution by (path_tracing.h, clamp_contribution), given its RGB.
+    static float clamp_scale(const RenderSettings& settings, const Color& c, bool direct) {
+        const float limit = direct ? settings.clamp_direct : settings.clamp_indirect;
+        if (!(limit > 0.0f)) return 1.0f;
+        const float sum = std::fabs(c.x) + std::fabs(c.y) + std::fabs(c.z);
+        return sum > 3.0f * limit ? 3.0f * limit / sum : 1.0f;
+    }
+
+    template <bool kMedia>
+    SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                              const PathState& prefix, const SpectralPath& p, const BsdfSample& bs, int light_samples,
+                              int own_samples, bool dirac_z1_per_pixel, Rng& rng, LocalCounters& counters,
+                              float* L_out_k, float* nee_k, float* next_k, float* tr_k) const;
+    template <bool kMedia>
+    PathRecord trace_record(size_t k, const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+                            LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
+                            TechniqueDensity* model, const PixelStrata* strata, int extra_paths, PrivateSuffix* extra,
+                            bool dirac_z1_per_pixel, RecordMedia* record_media) const;
+};
+
+// A Dirac lobe or a Subsurface lobe sampled at x1: the pixel keeps the rest of the path, traced as
+// the spectral path tracer would from there (path p, scaled by 1 / own_samples).
+template <bool kMedia>
+Color continue_privately(const SpectralScene& spectral, const Scene& scene, const RenderSettings& settings,
+                         ShadingPoint sp, BsdfSample bs, PathState st, SpectralPath& p, Rng& rng,
+                         LocalCounters& counters) {
+    Color L(0.0f);
+    SpectralThroughput path(spectral, p);
+    path.at_material(sp);
+    auto unclamped = [](const Color& c, bool) { return c; };
+    if (picks_subsurface(sp, bs)) {
+        // The walk to the exit, the exit's light sample and its BSDF sample (bs) at x1's depth.
+        PathState at_x1 = st;
+        --at_x1.depth;
+        if (!path.subsurface(L, unclamped, scene, settings, sp, bs, rng, counters, at_x1) || !bs.valid()) return L;
+        st = PathState{at_x1.depth + 1, bs.delta, bs.pdf, sp.hit.p};
+        st.ray_flags = at_x1.ray_flags, st.min_ray_pdf = at_x1.min_ray_pdf;
+        st.diffuse_bounces = at_x1.diffuse_bounces, st.glossy_bounces = at_x1.glossy_bounces;
+        st.transmission_bounces = at_x1.transmission_bounces, st.transparent_bounces = at_x1.transparent_bounces;
+        st.medium = at_x1.medium;
+        advance_ray_type(st, sp.bsdf, bs);
+    }
+    if (!path.scatter(sp, bs)) return L;
+    if constexpr (kMedia) st.medium = medium_towards(scene, sp, bs.wi, st.medium);
+    return L + trace_path_loop<SpectralThroughput, kMedia, true>(scene, settings, bounce_ray(sp, bs, st), st, rng,
+                                                                 counters, SpectralThroughput(spectral, p));
+}
+
+// trace_suffix of path_space_filtering.cpp at the iteration's wavelengths: the suffix's per-pixel
+// part (RGB) into the result's `fixed`, its radiance per wavelength into L_out_k, z1's estimators into
+// nee_k and next_k and the segment's transmittance into tr_k (those three when given).
+template <bool kMedia>
+SuffixSample PsfSpectrum::Impl::trace_suffix(const Scene& scene, const RenderSettings& settings,
+                                              const ShadingPoint& sp, const PathState& prefix, const SpectralPath& p,
+                                              const BsdfSample& bs, int light_samples, int own_samples,
+                                              bool dirac_z1_per_pixel, Rng& rng, LocalCounters& counters,
+                                              float* L_out_k, float* nee_k, float* next_k, float* tr_k) const {
+    SuffixSample out;
+    float seg_tr[kMaxWavelengths];
+    std::fill(L_out_k, L_out_k + n, 0.0f);
+    std::fill(seg_tr, seg_tr + n, 1.0f);
+    if (nee_k) std::fill(nee_k, nee_k + n, 0.0f), std::fill(next_k, next_k + n, 0.0f);
+    if (tr_k) std::fill(tr_k, tr_k + n, 1.0f);
+    if (!bs.valid()) {
+        ++counters.samples_rejected;
+        return out;
+    }
+    PathState st1 = suffix_state(sp, prefix, bs, light_samples, own_samples);
+    const SpectralMaterial& sm = spectral.material(sp.hit.material);
+    SpectralPath p1;
+    continue_from(p, p1, p.beta);
+    for (int i = 0; i < n; ++i) p1.beta[i] /= float(own_samples);
+    if (bs.delta) {  // see trace_suffix in path_space_filtering.cpp: the pixel keeps it
+        st1.diffuse_ancestor = prefix.diffuse_ancestor;
+        if constexpr (kMedia) st1.medium = prefix.medium;
+        out.fixed = continue_privately<kMedia>(spectral, scene, settings, sp, bs, st1, p1, rng, counters);
+        return out;
+    }
+    if constexpr (kMedia) st1.medium = medium_towards(scene, sp, bs.wi, prefix.medium);
+    const Ray r1 = bounce_ray(sp, bs, st1);
+    // w: the whole path's throughput up to z1 (for clamping and Russian roulette).
+    float f[kMaxWavelengths], w[kMaxWavelengths];
+    if (!eval_spectral(sp, sm, p, bs.wi, f)) std::fill(f, f + n, 0.0f);
+    for (int i = 0; i < n; ++i) {
+        w[i] = p.beta[i] * f[i] / bs.pdf;
+        p1.beta[i] = w[i] / float(own_samples);
+    }
+    SpectralThroughput segment(spectral, p1);
+    auto share = [&](const Color& c, bool) { return clamp_sample_share(settings, c, own_samples, st1.depth <= 1); };
+    SurfaceHit h1;
+    bool found1;
+    if constexpr (kMedia) {
+        // The single scattering along x1 -> z1 is this pixel's alone (see path_space_filtering.cpp).
+        RayMedia media;
+        found1 = intersect_through(scene, r1, st1.medium, &h1, &media);
+        segment.emission(out.fixed, share, scene, settings, r1, found1, h1, st1, &media, nullptr);
+        if (st1.depth <= settings.max_bounces)
+            segment.scattering(out.fixed, scene, r1, media, rng, counters, false);
+        segment.transmittances(media, kInf, seg_tr);
+        st1.medium = media.end_medium;
+    } else {
+        found1 = scene.intersect(r1, &h1);
+        segment.emission(out.fixed, share, scene, settings, r1, found1, h1, st1, nullptr, nullptr);
+    }
+    if (!found1 || beyond_bounce_limits(settings, st1)) return out;
+
+    ShadingPoint sp1 = make_shading_point(scene, h1, r1.d);
+    subsurface_fallback(scene, sp1);
+    light_path_lobes(settings, st1, sp1);
+    if (sp1.bsdf.empty()) return out;
+    const SpectralMaterial& sm1 = spectral.material(h1.material);
+    if (sm1.dispersive) sp1.bsdf = dispersed_bsdf(sp1, sm1, p.lambda_c());
+    // z1's light sample, per wavelength: Le T w_light / pdf times the path's wavelength weight (the
+    // mixture of the prefix: x1 and z1 are non-Dirac here, r unchanged).
+    SpectralPath at_z1;
+    continue_from(p, at_z1, nullptr);
+    SpectralThroughput z1(spectral, at_z1);
+    bool shadowed = false;
+    DirectSample ds1 = sample_direct_through(
+        scene, settings, sp1, rng, counters, st1.medium, 1, 1, [&](const ShadowRay& shadow, int32_t medium) {
+            shadowed = true;
+            return z1.shadow_transmittances(scene, shadow.o, shadow.d, shadow.tmax, medium) ? Color(1.0f) : Color(0.0f);
+        });
+    float v[kMaxWavelengths];
+    if (ds1.valid) {
+        const float lum = luminance(ds1.weighted);
+        const EmitterSpectrum& e = spectral.emitter(ds1.light);
+        float nee[kMaxWavelengths];
+        for (int i = 0; i < n; ++i) nee[i] = lum * e(set.lambda[i]) * (shadowed ? z1.transmittance(i) : 1.0f) * p.inv_mix;
+        out.nee_dir = ds1.wi;
+        if (nee_k) std::copy(nee, nee + n, nee_k);
+        if (ds1.hidden ? eval_spectral(lit_lobes(sp1, ds1), sm1, at_z1, ds1.wi, f) : eval_spectral(sp1, sm1, at_z1, ds1.wi, f)) {
+            for (int i = 0; i < n; ++i) v[i] = f[i] * nee[i];
+            // Clamped as this pixel's path would be (neighbours reuse it under their own throughput).
+            const float scale = clamp_scale(settings, rgb(w, v), false);
+            for (int i = 0; i < n; ++i) L_out_k[i] += v[i] * scale;
+        }
+    }
+    BsdfSample bs1 = sample_bsdf(sp1, rng);
+    if (bs1.valid()) {
+        PathState st2 = tail_state(st1, sp1, bs1);
+        if constexpr (kMedia) st2.medium = medium_towards(scene, sp1, bs1.wi, st1.medium);
+        SpectralPath tail;
+        continue_from(p, tail, nullptr);
+        bool alive = true;
+        if (bs1.delta) alive = delta_event(sp1, sm1, bs1, tail);
+        else if (!eval_spectral(sp1, sm1, tail, bs1.wi, f)) std::fill(f, f + n, 0.0f);
+        float L_in[kMaxWavelengths];
+        std::fill(L_in, L_in + n, 0.0f);
+        if (alive) {
+            // Russian roulette in the suffix sees the whole path's throughput, as in PATH.
+            const float eta2 = (bs.transmission ? sqr(bs.eta) : 1.0f) * (bs1.transmission ? sqr(bs1.eta) : 1.0f);
+            float whole = 0.0f;
+            for (int i = 0; i < n; ++i) whole = std::max(whole, w[i] * (bs1.delta ? 1.0f : f[i] / bs1.pdf));
+            st2.rr_scale = whole * eta2;
+            tail.out = L_in;
+            trace_path_loop<SpectralThroughput, kMedia, true>(scene, settings, bounce_ray(sp1, bs1, st2), st2, rng,
+                                                              counters, SpectralThroughput(spectral, tail));
+        }
+        out.next_dir = bs1.wi;
+        for (int i = 0; i < n; ++i) {
+            if (next_k) next_k[i] = bs1.delta ? 0.0f : L_in[i] / bs1.pdf;
+            v[i] = bs1.delta ? L_in[i] : f[i] * L_in[i] / bs1.pdf;
+        }
+        if (bs1.delta && dirac_z1_per_pixel) {
+            // The Dirac lobe at z1 stays with its pixel (path_space_filtering.cpp), as it arrives at x1.
+            for (int i = 0; i < n; ++i) v[i] *= seg_tr[i];
+            out.fixed += rgb(p1.beta, v);
+        } else {
+            for (int i = 0; i < n; ++i) L_out_k[i] += v[i];
+        }
+    } else {
+        ++counters.samples_rejected;
+    }
+    if constexpr (kMedia) {
+        for (int i = 0; i < n; ++i) L_out_k[i] *= seg_tr[i];
+        if (tr_k) std::copy(seg_tr, seg_tr + n, tr_k);
+    }
+    out.found_z1(h1);
+    return out;
+}
+
+template <bool kMedia>
+PathRecord PsfSpectrum::Impl::trace_record(size_t k, const Scene& scene, const RenderSettings& settings, Ray ray,
+                                           Rng& rng, LocalCounters& counters, const Camera& camera,
+                                           RecordAttribs* attribs, TechniqueDensity* model, const PixelStrata* strata,
+                                           int extra_paths, PrivateSuffix* extra, bool dirac_z1_per_pixel,
+                                           RecordMedia* record_media) const {
+    PathRecord rec;
+    rec.beta = Color(1.0f);
+    *model = TechniqueDensity{};
+    for (int m = 0; m < extra_paths; ++m) extra[m] = PrivateSuffix{};
+    SpectralPath p;
+    start(p);
+    PathState st = camera_path_state(ray.o);
+    st.first_vertex_ahead = true;
+    if constexpr (kMedia) st.medium = scene.camera_medium();
+    PrefixEnd end;
+    rec.fixed = trace_path_loop<PrefixThroughput, kMedia, true>(scene, settings, ray, st, rng, counters,
+                                                                PrefixThroughput(spectral, p, &end));
+    if (!end.reached) return rec;
+    const ShadingPoint& sp = end.sp;
+    st = end.state;
+    st.first_vertex_ahead = false;
+
+    // x1: the first non-specular vertex ends the prefix.
+    rec.has_vertex = true;
+    rec.technique_class = technique_class(st.depth, spectral_class(p));
+    std::copy(p.beta, p.beta + n, &beta[k * size_t(n)]);
+    rec.p = sp.hit.p;
+    rec.wo = sp.wo;
+    rec.ng = sp.ng;
+    rec.ns = sp.backfacing ? -sp.hit.ns : sp.hit.ns;
+    rec.material = sp.hit.material;
+    rec.backfacing = sp.backfacing;
+    if (attribs) attribs->x1 = sp.hit.attr;
+    rec.radius = settings.psf_radius_px * camera.pixel_footprint(end.distance);
+    *model = TechniqueDensity::of(sp.bsdf, sp.hit.p, sp.wo);
+    if constexpr (kMedia) *record_media = RecordMedia{st.medium, medium_across(scene, sp, st.medium)};
+    // Direct light at x1, per pixel, as in RGB (trace_record): light samples and the pixel's BSDF
+    // samples by multi-sample MIS, in the same order of random numbers.
+    const int light_samples = std::max(1, settings.psf_light_samples);
+    const int own_samples = 1 + extra_paths;
+    SpectralThroughput at_x1(spectral, p);
+    auto share = [&](const Color& c, bool) { return clamp_sample_share(settings, c, light_samples, st.depth == 0); };
+    auto add_light_sample = [&] {
+        at_x1.at_material(sp);
+        at_x1.direct(rec.fixed, share, scene, settings, sp, rng, counters, st, light_samples, own_samples);
+    };
+    add_light_sample();
+    BsdfSample bs = sample_bsdf(sp, rng);
+    for (int i = 1; i < light_samples; ++i) {
+        if (strata) set_extra_light_sample_prefix(&rng, strata->key, strata->sample, uint32_t(i - 1), uint32_t(light_samples - 1));
+        add_light_sample();
+    }
+    const size_t at = k * size_t(n);
+    SuffixSample own = trace_suffix<kMedia>(scene, settings, sp, st, p, bs, light_samples, own_samples,
+                                            dirac_z1_per_pixel, rng, counters, &L_out[at], exact ? &nee[at] : nullptr,
+                                            exact ? &next[at] : nullptr, exact && media ? &tr[at] : nullptr);
+    rec.fixed += own.fixed;
+    if (own.has_suffix) {
+        rec.has_suffix = true;
+        static_cast<SuffixVertex&>(rec) = own;
+        if (attribs) attribs->z1 = own.z_attr;
+    }
+    // The private extra paths (path_space_filtering.cpp), kept as their RGB contributions.
+    const SpectralMaterial& sm = spectral.material(sp.hit.material);
+    for (int m = 0; m < extra_paths; ++m) {
+        if (strata) set_extra_bsdf_sample_prefix(&rng, strata->key, strata->extra_bsdf + uint32_t(m));
+        float L[kMaxWavelengths], f[kMaxWavelengths];
+        SuffixSample e = trace_suffix<kMedia>(scene, settings, sp, st, p, sample_bsdf(sp, rng), light_samples,
+                                              own_samples, dirac_z1_per_pixel, rng, counters, L, nullptr, nullptr,
+                                              nullptr);
+        rec.fixed += e.fixed;
+        if (!e.has_suffix) continue;
+        Connection c = connect(sp.hit.p, e.z, e.z_ng);
+        if (!c.valid() || !eval_spectral(sp, sm, p, c.dir, f)) continue;
+        for (int i = 0; i < n; ++i) f[i] *= L[i];
+        extra[m].z = e.z;
+        extra[m].z_ng = e.z_ng;
+        extra[m].contribution = rgb(p.beta, f) * c.g;
+    }
+    return rec;
+}
+
+PsfSpectrum::PsfSpectrum(const Scene& scene, SpectralMode mode, int wavelengths)
+    : impl_(std::make_unique<Impl>(scene, mode, wavelengths)) {}
+PsfSpectrum::~PsfSpectrum() = default;
+
+int PsfSpectrum::count() const { return impl_->sampler.count(); }
+
+void PsfSpectrum::begin_iteration(const RenderSettings& settings, uint32_t s, size_t records, bool exact, bool media) {
+    Impl& I = *impl_;
+    // The iteration is the pixel sample of the spectral path tracer's sequence (one "pixel", 0 0).
+    Rng wavelength_rng = pixel_sample_rng(0, 0, s, settings.seed ^ kWavelengthStream);
+    float u, v;
+    wavelength_offsets(I.sampler, settings, 0, 0, s, wavelength_rng, &u, &v);
+    I.sampler.sample(u, v, wavelength_rng, &I.set);
+    I.n = I.set.n;
+    for (int i = 0; i < I.n; ++i) I.response[i] = rgb_response(I.set.lambda[i]) / I.set.q[i];
+    I.exact = exact;
+    I.media = media;
+    const size_t arrays = 2 + (exact ? 2 : 0) + (exact && media ? 1 : 0);
+    const double bytes = double(records) * double(I.n) * double(arrays) * sizeof(float);
+    constexpr double kLimit = 4.0 * 1024 * 1024 * 1024;
+    if (bytes > kLimit)
+        throw std::runtime_error("spectral path-space filtering would keep " + std::to_string(int(bytes / 1e9)) +
+                                 " GB of per-wavelength records (" + std::to_string(I.n) +
+                                 " wavelengths per pixel): use fewer wavelengths (BRUTE_FORCE has 512), a "
+                                 "smaller image or PATH");
+    const size_t size = records * size_t(I.n);
+    I.beta.resize(size);
+    I.L_out.resize(size);
+    I.nee.resize(exact ? size : 0);
+    I.next.resize(exact ? size : 0);
+    I.tr.resize(exact && media ? size : 0);
+}
+
+PathRecord PsfSpectrum::trace_record(bool media, size_t k, const Scene& scene, const RenderSettings& settings, Ray ray,
+                                     Rng& rng, LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
+                                     TechniqueDensity* model, const PixelStrata* strata, int extra_paths,
+                                     PrivateSuffix* extra, bool dirac_z1_per_pixel, RecordMedia* record_media) const {
+    return media ? impl_->trace_record<true>(k, scene, settings, ray, rng, counters, camera, attribs, model, strata,
+                                             extra_paths, extra, dirac_z1_per_pixel, record_media)
+                 : impl_->trace_record<false>(k, scene, settings, ray, rng, counters, camera, attribs, model, strata,
+                                              extra_paths, extra, dirac_z1_per_pixel, record_media);
+}
+
+bool PsfSpectrum::eval(uint32_t material, const Bsdf& bsdf, const Vec3& wo, const Vec3& wi, float* f) const {
+    const Impl& I = *impl_;
+    return eval_spectral(bsdf, wo, I.spectral.material(material), I.n, I.set.lambda, wi, f);
+}
+
+Color PsfSpectrum::combine(size_t k, const float* f, const float* L, const float* tr) const {
+    const Impl& I = *impl_;
+    const float* b = &I.beta[k * size_t(I.n)];
+    Color sum(0.0f);
+    for (int i = 0; i < I.n; ++i) {
+        if (b[i] == 0.0f) continue;
+        sum += I.response[i] * (b[i] * f[i] * L[i] * (tr ? tr[i] : 1.0f));
+    }
+    return sum;
+}
+
+const float* PsfSpectrum::L_out(size_t k) const { return &impl_->L_out[k * size_t(impl_->n)]; }
+const float* PsfSpectrum::suffix_tr(size_t k) const { return &impl_->tr[k * size_t(impl_->n)]; }
+
+void PsfSpectrum::reevaluate(size_t j, const Bsdf& bz, uint32_t z_material, const Vec3& z_wo, const Vec3& nee_dir,
+                             const Vec3& next_dir, float* out) const {
+    const Impl& I = *impl_;
+    const size_t at = j * size_t(I.n);
+    float f[kMaxWavelengths];
+    std::fill(out, out + I.n, 0.0f);
+    // A zero direction: the estimator found nothing (its weights are 0).
+    if (length_sq(nee_dir) > 0.0f && eval(z_material, bz, z_wo, nee_dir, f))
+        for (int i = 0; i < I.n; ++i) out[i] += f[i] * I.nee[at + i];
+    if (length_sq(next_dir) > 0.0f && eval(z_material, bz, z_wo, next_dir, f))
+        for (int i = 0; i < I.n; ++i) out[i] += f[i] * I.next[at + i];
+}
+
+bool PsfSpectrum::connection_tr(const Scene& scene, const ShadowRay& s, uint32_t visibility, int32_t medium,
+                                float* tr) const {
+    const Impl& I = *impl_;
+    SurfaceHit hit;
+    RayMedia media;
+    if (intersect_through(scene, Ray{s.o, s.d, 0.0f, s.tmax, s.time, visibility}, medium, &hit, &media)) return false;
+    for (int i = 0; i < I.n; ++i) tr[i] = std::exp(-spectral_optical_depth(I.spectral, media, kInf, I.set.lambda[i]));
+    return true;
+}
+
+double PsfSpectrum::bytes_per_record() const {
+    const Impl& I = *impl_;
+    return double(I.beta.size() + I.L_out.size() + I.nee.size() + I.next.size() + I.tr.size()) * sizeof(float) /
+           double(std::max<size_t>(1, I.beta.size() / size_t(std::max(1, I.n))));
+}
+
+}  // namespace smis
