@@ -83,14 +83,18 @@ ANISO_KNOWN = {"glossy_ashikhmin_0p7": 0.0125, "anisotropic_ashikhmin": 0.0125}
 # Anisotropic BSDFs and Principled metal and dielectric, against Cycles' walk on the stretched
 # microsurface; the single-scatter anisotropic GGX sphere of the same alphas is the control (0.23%).
 # Under a white world with Cycles' world sampling off (a furnace in the scene: Cycles' sampled walk alone)
-# every sphere is within 0.14-0.75% of Cycles: the energy is the walk's. Under the sun the table's shape
-# is coarse where the anisotropy is strong (alphas 0.19 / 1: 5-25% off fresh walks pointwise), and
-# Cycles' light samples evaluate a walk started from the shallower direction (94.4% of a white furnace
-# at normal view): measured 5.1% (0.8 / 0.7), 1.7%, 2.4%, 1.4% (metal), allowed those plus a margin so
-# that a regression fails; not the 1% issue 19 asks for (README, the material table).
+# every sphere is within 0.14-0.75% of Cycles: the energy is the walk's. The table's view axis is in theta
+# with normal incidence a node (ggx_aniso_layout.h; before, flat beyond cos 0.9375: 2.4% on the 0.6 / 0.9
+# sphere, now 1.00%). What is left is Cycles' own inconsistency: its light samples (mf_eval) walk from
+# the shallower of the two directions, and its walk is not reciprocal (94.4% of a white furnace at normal
+# view against 100% for its sampled walk), so under the sun Cycles' image is neither its sampled walk nor
+# one BRDF. Evaluating our table from the shallower direction instead (10 theta nodes) gave 2.3% / 1.4% / 2.4% / 1.7% /
+# 0.65% (better on the first sphere, worse on the third): no single deterministic lobe matches both.
+# Measured at 1024 spp against Cycles at 2 x 4096: 5.0% (0.8 / 0.7), 1.8%, 1.00%, 1.44% (metal), 0.44%
+# (dielectric); allowed those plus a margin so that a regression fails; not the 1% issue 19 asks for.
 MSANISO_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "1024"))
-MSANISO_KNOWN = {"aniso_multi_0p8_0p7": 0.06, "aniso_multi_1_m0p5": 0.025, "aniso_multi_0p6_0p9_tangent": 0.03,
-                 "principled_multi_aniso_metal": 0.02}
+MSANISO_KNOWN = {"aniso_multi_0p8_0p7": 0.055, "aniso_multi_1_m0p5": 0.021, "aniso_multi_0p6_0p9_tangent": 0.014,
+                 "principled_multi_aniso_metal": 0.018}
 _BUILT = {}
 
 

@@ -1,7 +1,8 @@
 // The interpolated anisotropic multiscatter GGX table (scene/ggx_aniso.h): multilinear in the two
-// roughnesses sqrt(alpha), the view's cosine and azimuth (folded into [0, pi/2], the exit mirrored with
-// it: the walk is symmetric under x -> -x and y -> -y), cos^2 of the exit and its azimuth from the
-// tangent (periodic); flat beyond the outermost cell centres elsewhere.
+// roughnesses sqrt(alpha), the view's polar angle and azimuth (folded into [0, pi/2], the exit mirrored
+// with it: the walk is symmetric under x -> -x and y -> -y, so the table is even about both ends of
+// that quarter and flat beyond its outermost centres is right to first order), cos^2 of the exit and its
+// azimuth from the tangent (periodic); flat beyond the outermost nodes or cell centres elsewhere.
 #include "scene/ggx_aniso.h"
 
 #include "scene/ggx_aniso_layout.h"
@@ -35,10 +36,13 @@ Rows rows_of(float ax, float ay) {
 
 // The view folded into the first quadrant of the tangent frame, and the exit mirrored with it.
 struct View {
-    float cos_o, phi_o, sx, sy;
+    Axis theta, phi;
+    float sx, sy;
 };
 View view_of(const Vec3& wo) {
-    return {wo.z, std::atan2(std::fabs(wo.y), std::fabs(wo.x)), wo.x < 0.0f ? -1.0f : 1.0f, wo.y < 0.0f ? -1.0f : 1.0f};
+    float theta = std::acos(clampf(wo.z, 0.0f, 1.0f)), phi = std::atan2(std::fabs(wo.y), std::fabs(wo.x));
+    return {axis(theta * (float(kThetaO - 1) / kThetaMax), kThetaO), centred_axis(phi * (2.0f * kInvPi), kPhiO),
+            wo.x < 0.0f ? -1.0f : 1.0f, wo.y < 0.0f ? -1.0f : 1.0f};
 }
 
 // An azimuth difference on kPhiI cells round the circle, sampled at their centres.
@@ -58,7 +62,7 @@ Periodic periodic_axis(float d) {
 float ggx_aniso_brdf(const Vec3& wo, const Vec3& wi, float ax, float ay) {
     View v = view_of(wo);
     Rows r = rows_of(ax, ay);
-    Axis o = centred_axis(v.cos_o, kCosO), p = centred_axis(v.phi_o * (2.0f * kInvPi), kPhiO);
+    const Axis &o = v.theta, &p = v.phi;
     Axis i = centred_axis(wi.z * wi.z, kCosI);
     float phi_i = std::atan2(v.sy * wi.y, v.sx * wi.x);
     Periodic k = periodic_axis(std::isfinite(phi_i) ? phi_i : 0.0f);
@@ -77,7 +81,7 @@ float ggx_aniso_brdf(const Vec3& wo, const Vec3& wi, float ax, float ay) {
 float ggx_aniso_albedo(const Vec3& wo, float ax, float ay) {
     View v = view_of(wo);
     Rows r = rows_of(ax, ay);
-    Axis o = centred_axis(v.cos_o, kCosO), p = centred_axis(v.phi_o * (2.0f * kInvPi), kPhiO);
+    const Axis &o = v.theta, &p = v.phi;
     float sum = 0.0f;
     for (int q = 0; q < 4; ++q)
         for (int b = 0; b < 2; ++b)

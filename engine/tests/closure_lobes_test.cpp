@@ -28,6 +28,7 @@
 #include "scene/bsdf.h"
 #include "scene/ggx_multiple.h"
 #include "scene/ggx_walk.h"
+#include "lobe_checks.h"
 #include "stats.h"
 
 using namespace smis;
@@ -42,12 +43,8 @@ constexpr double kFamilySignificance = 0.01;
 const float kCosThetas[] = {0.95f, 0.5f, 0.05f};
 const float kPhis[] = {0.3f, 1.9f, 4.0f};
 
-Point2 rand2(Rng& rng) { return {rng.next_float(), rng.next_float()}; }
-
-Vec3 dir_from_cos(float cos_theta, float phi) {
-    float s = safe_sqrt(1.0f - cos_theta * cos_theta);
-    return normalize(Vec3(s * std::cos(phi), s * std::sin(phi), cos_theta));
-}
+using lobe_checks::dir_from_cos;
+using lobe_checks::rand2;
 
 Lobe lobe_of(LobeKind kind, float param, Color weight = Color(1.0f), float eta = 1.5f) {
     Lobe l;
@@ -165,11 +162,7 @@ std::vector<NamedLobe> new_lobes() {
     return v;
 }
 
-struct Chi2Case {
-    std::string name;
-    std::function<st::DirSample(Rng&)> sample;
-    std::function<double(const Vec3&)> pdf;
-};
+using lobe_checks::Chi2Case;
 
 std::vector<Chi2Case> build_chi2_cases() {
     std::vector<Chi2Case> cases;
@@ -180,16 +173,7 @@ std::vector<Chi2Case> build_chi2_cases() {
             // almost every sample is totally reflected, and a histogram of the rest would be vacuous.
             const float inside_cos[] = {0.95f, 0.85f, 0.8f};
             float c = i < 3 ? kCosThetas[i] : -inside_cos[i - 3];
-            Vec3 wo = dir_from_cos(c, kPhis[i % 3]);
-            cases.push_back({nl.name + "_cos" + num(c),
-                             [lobe, wo](Rng& rng) {
-                                 Point2 u = rand2(rng);
-                                 BsdfSample s = lobe_sample(lobe, wo, u, rng.next_float());
-                                 if (!s.valid()) return st::DirSample::invalid();
-                                 if (s.delta) return st::DirSample::delta();
-                                 return st::DirSample::valid(s.wi, s.pdf);
-                             },
-                             [lobe, wo](const Vec3& wi) { return double(lobe_pdf(lobe, wo, wi)); }});
+            cases.push_back({nl.name + "_cos" + num(c), lobe, dir_from_cos(c, kPhis[i % 3])});
         }
     return cases;
 }
@@ -203,13 +187,8 @@ class ClosureChi2 : public ::testing::TestWithParam<int> {};
 
 TEST_P(ClosureChi2, SampleMatchesPdf) {
     const Chi2Case& c = chi2_cases()[GetParam()];
-    st::Chi2Options opt;
-    opt.seed = 0x5150 + GetParam();
-    st::Chi2Result r = st::chi2_test_directions(c.sample, c.pdf, kChi2Samples, opt);
-    double alpha = st::sidak_significance(kFamilySignificance, static_cast<int>(chi2_cases().size()));
-    std::printf("[chi2] %-40s %s\n", c.name.c_str(), r.summary().c_str());
-    EXPECT_TRUE(r.passes(alpha)) << c.name << ": " << r.summary() << "\n" << r.residual_map();
-    EXPECT_GT(r.n_valid, kChi2Samples / 10) << c.name;
+    lobe_checks::expect_sampling_matches_pdf(c.name, c.lobe, c.wo, 0x5150 + GetParam(), kChi2Samples,
+                                             static_cast<int>(chi2_cases().size()), kFamilySignificance);
 }
 
 INSTANTIATE_TEST_SUITE_P(All, ClosureChi2, ::testing::Range(0, static_cast<int>(chi2_cases().size())),
@@ -217,24 +196,7 @@ INSTANTIATE_TEST_SUITE_P(All, ClosureChi2, ::testing::Range(0, static_cast<int>(
 
 TEST(ClosureConsistency, SampleAgreesWithEvalAndPdf) {
     Rng rng(7, 19);
-    for (const NamedLobe& nl : new_lobes()) {
-        int valid = 0, mismatches = 0;
-        for (int i = 0; i < 20000; ++i) {
-            Vec3 wo = sample_uniform_sphere(rand2(rng));
-            if (!nl.two_sided) wo.z = std::fabs(wo.z);
-            BsdfSample s = lobe_sample(nl.lobe, wo, rand2(rng), rng.next_float());
-            if (!s.valid()) continue;
-            ++valid;
-            Color e = lobe_eval(nl.lobe, wo, s.wi);
-            float p = lobe_pdf(nl.lobe, wo, s.wi);
-            bool ok = !s.delta && close_rel(s.value.x, e.x) && close_rel(s.value.y, e.y) && close_rel(s.value.z, e.z) &&
-                      close_rel(s.pdf, p) && std::fabs(length(s.wi) - 1.0f) < 1e-4f &&
-                      s.transmission == (s.wi.z * wo.z < 0.0f);
-            mismatches += !ok;
-        }
-        EXPECT_EQ(mismatches, 0) << nl.name;
-        EXPECT_GT(valid, 5000) << nl.name;
-    }
+    for (const NamedLobe& nl : new_lobes()) lobe_checks::expect_sample_agrees_with_eval(nl.name, nl.lobe, rng, nl.two_sided);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -24,21 +24,18 @@
 #include "scene/ggx_glass.h"
 #include "scene/ggx_walk.h"
 #include "scene/lobe_ray_types.h"
+#include "lobe_checks.h"
 #include "stats.h"
 
 using namespace smis;
 namespace st = smis::stats;
-using st::close_rel;
+using lobe_checks::Chi2Case;
+using lobe_checks::dir_from_cos;
+using lobe_checks::NamedLobe;
+using lobe_checks::rand2;
 using st::num;
 
 namespace {
-
-Point2 rand2(Rng& rng) { return {rng.next_float(), rng.next_float()}; }
-
-Vec3 dir_from_cos(float cos_theta, float phi) {
-    float s = safe_sqrt(1.0f - cos_theta * cos_theta);
-    return normalize(Vec3(s * std::cos(phi), s * std::sin(phi), cos_theta));
-}
 
 // The pair for a Glass BSDF of colour c (variant kPerBounce) or a Principled base c (kPerRefraction).
 struct Pair {
@@ -57,10 +54,6 @@ Pair glass_pair(float rough, float eta, Color c = Color(1.0f), uint8_t variant =
 }
 
 
-struct NamedLobe {
-    std::string name;
-    Lobe lobe;
-};
 std::vector<NamedLobe> glass_lobes() {
     std::vector<NamedLobe> v;
     for (float rough : {0.3f, 0.7f, 1.0f})
@@ -73,21 +66,9 @@ std::vector<NamedLobe> glass_lobes() {
     return v;
 }
 
-struct Chi2Case {
-    std::string name;
-    Lobe lobe;
-    Vec3 wo;
-};
-std::vector<Chi2Case> chi2_cases() {
-    std::vector<Chi2Case> cases;
-    const float cosines[] = {0.95f, 0.5f, 0.1f, -0.7f};
-    const float phis[] = {0.3f, 1.9f, 4.0f, 2.5f};
-    for (const NamedLobe& nl : glass_lobes())
-        for (int i = 0; i < 4; ++i) cases.push_back({nl.name + "_cos" + num(cosines[i]), nl.lobe, dir_from_cos(cosines[i], phis[i])});
-    return cases;
-}
+// Each lobe from views high, middle and grazing and from inside.
 const std::vector<Chi2Case>& all_chi2_cases() {
-    static const std::vector<Chi2Case> cases = chi2_cases();
+    static const std::vector<Chi2Case> cases = lobe_checks::chi2_cases_of(glass_lobes(), {{0.95f, 0.3f}, {0.5f, 1.9f}, {0.1f, 4.0f}, {-0.7f, 2.5f}});
     return cases;
 }
 
@@ -95,23 +76,8 @@ class MultiGlassChi2 : public ::testing::TestWithParam<int> {};
 
 TEST_P(MultiGlassChi2, SampleMatchesPdf) {
     const Chi2Case& c = all_chi2_cases()[GetParam()];
-    const Lobe lobe = c.lobe;
-    const Vec3 wo = c.wo;
-    st::Chi2Options opt;
-    opt.seed = 0x6150 + GetParam();
-    constexpr uint64_t kSamples = 400000;
-    st::Chi2Result r = st::chi2_test_directions(
-        [&](Rng& rng) {
-            BsdfSample s = lobe_sample(lobe, wo, rand2(rng), rng.next_float());
-            if (!s.valid()) return st::DirSample::invalid();
-            if (s.delta) return st::DirSample::delta();
-            return st::DirSample::valid(s.wi, s.pdf);
-        },
-        [&](const Vec3& wi) { return double(lobe_pdf(lobe, wo, wi)); }, kSamples, opt);
-    double alpha = st::sidak_significance(0.01, static_cast<int>(all_chi2_cases().size()));
-    std::printf("[chi2] %-40s %s\n", c.name.c_str(), r.summary().c_str());
-    EXPECT_TRUE(r.passes(alpha)) << c.name << ": " << r.summary() << "\n" << r.residual_map();
-    EXPECT_GT(r.n_valid, kSamples / 10) << c.name;
+    lobe_checks::expect_sampling_matches_pdf(c.name, c.lobe, c.wo, 0x6150 + GetParam(), 400000,
+                                             static_cast<int>(all_chi2_cases().size()));
 }
 
 INSTANTIATE_TEST_SUITE_P(All, MultiGlassChi2, ::testing::Range(0, static_cast<int>(all_chi2_cases().size())),
@@ -119,23 +85,10 @@ INSTANTIATE_TEST_SUITE_P(All, MultiGlassChi2, ::testing::Range(0, static_cast<in
 
 TEST(MultiGlassConsistency, SampleAgreesWithEvalAndPdf) {
     Rng rng(7, 29);
-    for (const NamedLobe& nl : glass_lobes()) {
-        int valid = 0, mismatches = 0;
-        for (int i = 0; i < 20000; ++i) {
-            Vec3 wo = sample_uniform_sphere(rand2(rng));
-            BsdfSample s = lobe_sample(nl.lobe, wo, rand2(rng), rng.next_float());
-            if (!s.valid()) continue;
-            ++valid;
-            Color e = lobe_eval(nl.lobe, wo, s.wi);
-            float p = lobe_pdf(nl.lobe, wo, s.wi);
-            bool ok = !s.delta && close_rel(s.value.x, e.x) && close_rel(s.value.y, e.y) && close_rel(s.value.z, e.z) &&
-                      close_rel(s.pdf, p) && std::fabs(length(s.wi) - 1.0f) < 1e-4f &&
-                      s.transmission == (s.wi.z * wo.z < 0.0f) && (!s.transmission || s.eta != 1.0f);
-            mismatches += !ok;
-        }
-        EXPECT_EQ(mismatches, 0) << nl.name;
-        EXPECT_GT(valid, 5000) << nl.name;
-    }
+    for (const NamedLobe& nl : glass_lobes())
+        lobe_checks::expect_sample_agrees_with_eval(
+            nl.name, nl.lobe, rng, true,
+            [](const Vec3&, const BsdfSample& s) { return !s.transmission || s.eta != 1.0f; });
 }
 
 // Fresh walks from wo (z > 0) at relative IOR eta: per side (0 reflected, 1 transmitted), the

@@ -18,11 +18,12 @@
 // (phi -> pi/2 - phi): the rows alpha_x > alpha_y are the mirrored rows alpha_x < alpha_y, not walked.
 //
 // Writes, for roughness rows rx, ry (sqrt alpha = r / (kRough - 1), alpha clamped to 1e-4 as Cycles),
-// the view at the centres of kCosO x kPhiO cells, the exit in cells of cos_i^2 (equal projected solid
-// angle) and of its azimuth phi_i in [0, 2 pi) from the tangent:
+// the view at kThetaO x kPhiO nodes (polar angle from the normal, azimuth at cell centres), the exit in
+// cells of cos_i^2 (equal projected solid angle) and of its azimuth phi_i in [0, 2 pi) from the tangent:
 //   kAnisoBrdf[rx][ry][o][p][i][k]  the white BRDF of the multiple scattering f_ms (the cell's mean),
 //   kAnisoEnergy[rx][ry][o][p]      its albedo from that view,
-//   kAnisoAverage[rx][ry]           the albedo averaged over a cosine-weighted view,
+//   kAnisoAverage[rx][ry]           the albedo averaged over a cosine-weighted view (walks from views
+//                                   drawn cosine-weighted: the nodes are not a quadrature),
 //   kAnisoHalf[rx][ry]              that average with a colour of 0.5 applied at each bounce after the
 //                                   first (as Cycles' walk does), over the white one.
 // Deterministic (std::mt19937 per cell, seeded by its indices). Runs its rows on all cores.
@@ -43,8 +44,8 @@ namespace {
 constexpr int kCells = kCosI * kPhiI;
 
 struct Row {  // one (rx, ry) pair, rx <= ry
-    std::vector<double> brdf = std::vector<double>(size_t(kCosO * kPhiO * kCells), 0.0);
-    std::vector<double> energy = std::vector<double>(size_t(kCosO * kPhiO), 0.0);
+    std::vector<double> brdf = std::vector<double>(size_t(kThetaO * kPhiO * kCells), 0.0);
+    std::vector<double> energy = std::vector<double>(size_t(kThetaO * kPhiO), 0.0);
     double white = 0.0, half = 0.0;
 };
 
@@ -53,13 +54,13 @@ float alpha_of_row(int r) { return std::max(sqr(float(r) / float(kRough - 1)), 1
 Row walk_row(int rx, int ry, long walks) {
     Row row;
     float ax = alpha_of_row(rx), ay = alpha_of_row(ry);
-    for (int o = 0; o < kCosO; ++o)
+    for (int o = 0; o < kThetaO; ++o)
         for (int p = 0; p < kPhiO; ++p) {
-            std::mt19937 gen(uint32_t(((rx * kRough + ry) * kCosO + o) * kPhiO + p + 1));
+            std::mt19937 gen(uint32_t(((rx * kRough + ry) * kThetaO + o) * kPhiO + p + 1));
             auto rand = [&] { return float(gen() >> 8) * 0x1p-24f; };
-            float mu = cos_o_of_cell(o), phi_o = phi_o_of_cell(p), s = std::sqrt(1.0f - mu * mu);
-            Vec3 wo(s * std::cos(phi_o), s * std::sin(phi_o), mu);
-            double white = 0.0, half = 0.0;
+            float theta = theta_o_of_node(o), phi_o = phi_o_of_cell(p), s = std::sin(theta);
+            Vec3 wo(s * std::cos(phi_o), s * std::sin(phi_o), std::cos(theta));
+            double white = 0.0;
             double* cells = &row.brdf[size_t((o * kPhiO + p) * kCells)];
             for (long n = 0; n < walks; ++n) {
                 ggx_walk::Exit e = ggx_walk::walk(wo, ax, ay, rand);
@@ -70,16 +71,23 @@ Row walk_row(int rx, int ry, long walks) {
                 int k = std::min(int(d / (2.0f * kPi) * kPhiI), kPhiI - 1);
                 cells[ci * kPhiI + k] += 1.0;
                 white += 1.0;
-                half += std::pow(0.5, e.bounces - 1);
             }
             // A cell's projected solid angle: 1/kCosI of cos^2 over 2, 2 pi / kPhiI of azimuth.
             double measure = (1.0 / kCosI) * 0.5 * (2.0 * kPi / kPhiI);
             for (int c = 0; c < kCells; ++c) cells[c] /= double(walks) * measure;
             row.energy[size_t(o * kPhiO + p)] = white / double(walks);
-            // Cosine-weighted over the views (midpoint rule of 2 int E mu dmu, mean over the azimuths).
-            row.white += 2.0 * mu * white / double(walks) / (kCosO * kPhiO);
-            row.half += 2.0 * mu * half / double(walks) / (kCosO * kPhiO);
         }
+    // The averages over a cosine-weighted view: as many walks again, each from its own view.
+    std::mt19937 gen(uint32_t((rx * kRough + ry) * 7919 + 3));
+    auto rand = [&] { return float(gen() >> 8) * 0x1p-24f; };
+    long views = walks * kThetaO * kPhiO / 4;
+    for (long n = 0; n < views; ++n) {
+        float mu = std::sqrt(rand()), phi = 2.0f * kPi * rand(), s = std::sqrt(1.0f - mu * mu);
+        ggx_walk::Exit e = ggx_walk::walk(Vec3(s * std::cos(phi), s * std::sin(phi), mu), ax, ay, rand);
+        if (e.bounces < 2 || !(e.dir.z > 0.0f)) continue;
+        row.white += 1.0 / double(views);
+        row.half += std::pow(0.5, e.bounces - 1) / double(views);
+    }
     return row;
 }
 
@@ -90,7 +98,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "usage: ggx_aniso_gen OUT.inc [WALKS]\n");
         return 2;
     }
-    long walks = argc > 2 ? std::atol(argv[2]) : 200000;
+    long walks = argc > 2 ? std::atol(argv[2]) : 300000;
     std::vector<std::pair<int, int>> pairs;
     for (int rx = 0; rx < kRough; ++rx)
         for (int ry = rx; ry < kRough; ++ry) pairs.push_back({rx, ry});
@@ -114,13 +122,13 @@ int main(int argc, char** argv) {
     FILE* f = std::fopen(argv[1], "w");
     if (!f) return 1;
     std::fprintf(f, "// Generated by ggx_aniso_gen (engine/scene/tools/ggx_aniso_gen.cpp), %ld walks per view.\n", walks);
-    std::fprintf(f, "const float kAnisoBrdf[%d][%d][%d][%d][%d] = {\n", kRough * kRough, kCosO, kPhiO, kCosI, kPhiI);
+    std::fprintf(f, "const float kAnisoBrdf[%d][%d][%d][%d][%d] = {\n", kRough * kRough, kThetaO, kPhiO, kCosI, kPhiI);
     for (int rx = 0; rx < kRough; ++rx)
         for (int ry = 0; ry < kRough; ++ry) {
             bool m;
             const Row& row = row_of(rx, ry, &m);
             std::fprintf(f, "{");
-            for (int o = 0; o < kCosO; ++o) {
+            for (int o = 0; o < kThetaO; ++o) {
                 std::fprintf(f, "{");
                 for (int p = 0; p < kPhiO; ++p) {
                     std::fprintf(f, "{");
@@ -140,13 +148,13 @@ int main(int argc, char** argv) {
             }
             std::fprintf(f, "},\n");
         }
-    std::fprintf(f, "};\nconst float kAnisoEnergy[%d][%d][%d] = {\n", kRough * kRough, kCosO, kPhiO);
+    std::fprintf(f, "};\nconst float kAnisoEnergy[%d][%d][%d] = {\n", kRough * kRough, kThetaO, kPhiO);
     for (int rx = 0; rx < kRough; ++rx)
         for (int ry = 0; ry < kRough; ++ry) {
             bool m;
             const Row& row = row_of(rx, ry, &m);
             std::fprintf(f, "{");
-            for (int o = 0; o < kCosO; ++o) {
+            for (int o = 0; o < kThetaO; ++o) {
                 std::fprintf(f, "{");
                 for (int p = 0; p < kPhiO; ++p)
                     std::fprintf(f, "%.6g,", row.energy[size_t(o * kPhiO + (m ? kPhiO - 1 - p : p))]);
