@@ -11,6 +11,7 @@ import pytest
 
 here = os.path.dirname(os.path.abspath(__file__))
 args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-code = pytest.main([here, "-p", "no:cacheprovider", "-ra"] + args)
+# --durations: the slowest tests are listed in every log, so the CI budget can be watched.
+code = pytest.main([here, "-p", "no:cacheprovider", "-ra", "--durations=25"] + args)
 sys.stdout.flush()
 os._exit(int(code))
