@@ -8,7 +8,8 @@ MATERIAL: `hair_bsdf` (default: Cycles' Hair BSDF, a Reflection plus a Transmiss
 Principled Hair BSDF `principled_color`, `principled_melanin`, `principled_absorption` (its three
 colour parametrisations), `principled_random` (melanin and roughness varied per strand by Random Color
 and Random Roughness), `info_intercept` and `info_geometry` (a Diffuse BSDF coloured by Hair
-Info's Intercept through a colour ramp, and by Length, Thickness and Tangent Normal); with the suffix `_direct`, the same lit by the sun alone (black world, max
+Info's Intercept through a colour ramp, and by Length, Thickness and Tangent Normal), `emissive`
+(glowing strands: an Emission coloured along the strand plus a Diffuse BSDF); with the suffix `_direct`, the same lit by the sun alone (black world, max
 bounces 0: direct light only, where Cycles' Hair BSDF evaluates what it defines, lobes/hair.h); with
 `_curves` (before `_direct`), the strands converted to a Curves object (hair curves) instead; with
 the suffix `_sun`, lit by the sun alone through max bounces 8 (light bounced between strands).
@@ -74,8 +75,7 @@ def _diffuse(nt):
 def _hair_info_diffuse(which):
     """A Diffuse BSDF whose colour is Hair Info's `which`: 'intercept', a colour ramp of Intercept
     (root blue, middle green at 0.5, tip red); 'geometry', (Length, Thickness x 50, 0) plus the
-    Tangent Normal mapped into 0..1 (x 0.25 + 0.25). (Diffuse, not Emission: emissive hair is not
-    rendered yet.)"""
+    Tangent Normal mapped into 0..1 (x 0.25 + 0.25)."""
     def build(nt):
         info = nt.nodes.new("ShaderNodeHairInfo")
         em = nt.nodes.new("ShaderNodeBsdfDiffuse")
@@ -110,6 +110,27 @@ def _hair_info_diffuse(which):
     return build
 
 
+def _emissive(nt):
+    """Glowing strands (issue 19: emission on hair): an Emission whose colour runs along the strand
+    through a colour ramp of Hair Info's Intercept (dim red at the root to orange-yellow at the tip;
+    strength 2), added to a Diffuse BSDF."""
+    info = nt.nodes.new("ShaderNodeHairInfo")
+    ramp = nt.nodes.new("ShaderNodeValToRGB")
+    els = ramp.color_ramp.elements
+    els[0].color = (0.3, 0.05, 0.02, 1.0)
+    els[1].color = (1.0, 0.6, 0.1, 1.0)
+    nt.links.new(info.outputs["Intercept"], ramp.inputs["Fac"])
+    em = nt.nodes.new("ShaderNodeEmission")
+    em.inputs["Strength"].default_value = 2.0
+    nt.links.new(ramp.outputs["Color"], em.inputs["Color"])
+    diffuse = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    diffuse.inputs["Color"].default_value = (0.4, 0.4, 0.4, 1.0)
+    add = nt.nodes.new("ShaderNodeAddShader")
+    nt.links.new(em.outputs[0], add.inputs[0])
+    nt.links.new(diffuse.outputs[0], add.inputs[1])
+    return add
+
+
 MATERIALS = {
     "hair_bsdf": _hair_bsdf,
     "hair_reflection": lambda nt: _hair_bsdf(nt, ("Reflection",)),
@@ -131,6 +152,8 @@ MATERIALS = {
     # (node parity; with `_direct`, sun-lit, nothing bounces)
     "info_intercept": _hair_info_diffuse('intercept'),
     "info_geometry": _hair_info_diffuse('geometry'),
+    # emissive strands (with `_sun`: lit by the sun, the floor lit by them too; no world)
+    "emissive": _emissive,
 }
 # The sun's strength (W/m^2) where not 3: bright enough that the direct-light image's 8x8 blocks lie
 # above the error's floor (EPS 0.02 in blender_tests/test_hair.py), so its error is relative.

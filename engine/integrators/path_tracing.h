@@ -297,13 +297,15 @@ DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, c
                            LocalCounters& counters, int32_t medium = -1, int light_samples = 1,
                            int bsdf_samples = 1);
 
+// The light index for_each_emission_along passes for emission found on a strand (no light).
+constexpr uint32_t kStrandLight = ~0u;
 // Emission reaching the ray's origin from lights that are not geometry (area, point, spot) in front
 // of the first hit, from that hit if it emits, or from lights at infinity when nothing is hit;
 // MIS-weighted against next-event estimation from the previous vertex, attenuated by `media` when
 // given. Calls add(light index, weighted radiance) once per light found (spectral rendering needs
-// to know which light); an `add` that also takes a distance, add(light, radiance, t), is called with
-// the radiance before the media and how far along the ray it was found (kInf: at the ray's end), to
-// attenuate it per wavelength itself. `kind`: the ray's Light Path state, for a World program that reads it (a
+// to know which light; kStrandLight for an emissive strand); an `add` that also takes a distance,
+// add(light, radiance, t), is called with the radiance before the media and how far along the ray it
+// was found (kInf: at the ray's end), to attenuate it per wavelength itself. `kind`: the ray's Light Path state, for a World program that reads it (a
 // backplate seen by camera rays only); null: a camera ray at depth 0, an indirect ray after.
 template <class Add>
 void for_each_emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
@@ -348,6 +350,10 @@ void for_each_emission_along(const Scene& scene, const RenderSettings& settings,
         auto& tri = static_cast<const TriangleLight&>(scene.light(hit.light));
         far(uint32_t(hit.light), scene.emission_at(hit, -ray.d) *
                                      weight(scene.light_pmf(hit.light), tri.pdf_at(state.prev_p, hit.p, hit.time)));
+    } else if (hit.light == kStrandEmission && !(hit.holdout && state.transparent_background)) {
+        // An emissive strand: no light sample reaches it, so the ray's hit is its only estimator
+        // (MIS weight 1, as Cycles weighs curve emission).
+        far(kStrandLight, scene.emission_at(hit, -ray.d));
     }
 }
 inline Color emission_along(const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,

@@ -273,7 +273,11 @@ public:
                 float lum = luminance(weighted);
                 if (!(lum > 0.0f)) return;
                 if (media) transmittances(*media, t, f_);
-                L += clamped(p_.emission(spectral_.emitter(light), lum, media ? f_ : nullptr), state.depth <= 1);
+                const float* f = media ? f_ : nullptr;
+                if (light == kStrandLight)
+                    L += clamped(p_.emission(spectral_.strand_emitter(hit.material, weighted), lum, f), state.depth <= 1);
+                else
+                    L += clamped(p_.emission(spectral_.emitter(light), lum, f), state.depth <= 1);
             },
             media, sray);
     }

@@ -578,8 +578,6 @@ PYBIND11_MODULE(_smis, m) {
             "Viewport scenes: new matrices for every instance, in add_instance order; False if the scene must "
             "be rebuilt instead")
         .def("mesh_dropped", &Scene::mesh_dropped)
-        .def("material_emits", [](const Scene& s, uint32_t id) { return s.material(id).emissive(); },
-             "Whether the material may emit (constant emission or an emission closure in its program)")
         .def("add_instance",
              [](Scene& s, uint32_t mesh, MatrixArray matrix, std::vector<float> color, float random, float pass_index,
                 bool holdout, const py::object& visibility, const py::object& motion) {

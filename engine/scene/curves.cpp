@@ -192,7 +192,7 @@ void Scene::fill_curve_hit(const Ray& ray, const RTCRayHit& rh, uint32_t instanc
     hit->ns = n;
     hit->material = mesh.materials[prim];
     hit->holdout = inst.holdout;
-    hit->light = -1;
+    hit->light = materials_[hit->material].emissive() ? kStrandEmission : -1;
     if (kWithTextures) {
         hit->attr.object_color = inst.object_color;
         if (programs_) {

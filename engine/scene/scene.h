@@ -18,13 +18,18 @@
 
 namespace smis {
 
+// SurfaceHit::light of a hit on an emissive strand (hair curves): it emits but is no light, so no
+// light sample can reach it (Cycles 3.4 makes lights of mesh triangles only, and weighs a curve's
+// emission by 1: integrate_surface_emission's MIS is for PRIMITIVE_TRIANGLE).
+constexpr int32_t kStrandEmission = -2;
+
 struct SurfaceHit {
     float t = kInf;
     Vec3 p;               // world position
     Vec3 ng;              // unit geometric normal (triangle winding: Blender's outward side)
     Vec3 ns;              // unit shading normal, on the same side as ng
     uint32_t material = 0;
-    int32_t light = -1;   // index into Scene::lights() when the triangle emits, else -1
+    int32_t light = -1;   // index into Scene::lights() when the triangle emits, kStrandEmission, else -1
     bool holdout = false; // the instance is a holdout (Object > Visibility > Holdout)
     SurfaceAttribs attr;  // UV and object colour, for textured materials
     float time = kShutterCentre;  // the time of the ray that found it (rays leaving it keep it)

@@ -37,6 +37,17 @@ EmitterSpectrum::EmitterSpectrum(EmitterKind kind, const Color& rgb, float tempe
     norm_ = y > 0.0 && std::isfinite(y) ? float(1.0 / y) : 0.0f;
 }
 
+EmitterSpectrum EmitterSpectrum::upsampled(const Color& rgb) {
+    static const double y_d65 = spectrum_luminance([](float l) { return sample_table(tables::illum_D65, l); });
+    EmitterSpectrum e;
+    e.kind_ = EmitterKind::Rgb;
+    const Color c = rgb / std::max(1e-20f, max_component(rgb));
+    e.rgb_ = rgb_spectrum_table(c);
+    const double y = y_d65 * double(luminance(c));
+    e.norm_ = y > 0.0 && std::isfinite(y) ? float(1.0 / y) : 0.0f;
+    return e;
+}
+
 float EmitterSpectrum::raw(float lambda) const {
     switch (kind_) {
         case EmitterKind::Rgb: return rgb_(lambda) * sample_table(tables::illum_D65, lambda);

@@ -24,6 +24,11 @@ class EmitterSpectrum {
 public:
     EmitterSpectrum() = default;
     EmitterSpectrum(EmitterKind kind, const Color& rgb, float temperature);
+    // An RGB emitter fitted per hit (emission that is no light's, so has no spectrum of its own: a
+    // strand's): the table's coefficients, and the normalisation from the colour's luminance,
+    // lum(rgb) Y(D65) (the upsampled reflectance under D65 has the colour's luminance, up to the
+    // table's round trip), instead of the constructor's fit and luminance integral.
+    static EmitterSpectrum upsampled(const Color& rgb);
     float operator()(float lambda) const { return norm_ * raw(lambda); }
     EmitterKind kind() const { return kind_; }
 

@@ -54,6 +54,22 @@ SpectralScene::SpectralScene(const Scene& scene) : scene_(scene) {
         light_emitter_.push_back(it->second);
     }
     for (size_t m = 0; m < scene.material_count(); ++m) materials_.push_back(make_material(scene.material(m)));
+    // Emissive strands are no lights: their spectra are not in the importance mixture below (the
+    // uniform part of it covers them). A spectrum, or an RGB colour the same at every hit, is
+    // fitted here as the lights' are; a colour that varies is upsampled per hit (strand_emitter).
+    for (size_t m = 0; m < scene.material_count(); ++m) {
+        const Material& mat = scene.material(m);
+        EmitterKind kind = EmitterKind::Rgb;
+        parse_emitter_kind(mat.spectral.emission_spectrum, &kind);
+        const bool constant_rgb = kind == EmitterKind::Rgb && !mat.program && !mat.emission_texture;
+        int32_t fixed = -1;
+        if (mat.emissive() && (kind != EmitterKind::Rgb || constant_rgb)) {
+            fixed = int32_t(emitters_.size());
+            const Color c = constant_rgb ? mat.emission / max_component(mat.emission) : Color(1.0f);
+            emitters_.emplace_back(kind, c, mat.spectral.emission_temperature);
+        }
+        material_emitter_.push_back(fixed);
+    }
     for (size_t m = 0; m < scene.medium_count(); ++m) {
         const Medium& med = scene.medium(int32_t(m));
         const Color sigma_t = med.sigma_t();

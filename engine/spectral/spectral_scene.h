@@ -41,6 +41,15 @@ public:
     explicit SpectralScene(const Scene& scene);
     // Emitted spectrum per unit luminance of light `i` (spectral/spectra.h, EmitterSpectrum).
     const EmitterSpectrum& emitter(uint32_t light) const { return emitters_[light_emitter_[light]]; }
+    // The spectrum per unit luminance of emission `rgb` found on a strand of material `material` (no
+    // light: for_each_emission_along's kStrandLight): the material's emission spectrum or constant
+    // colour, fitted once; a colour that varies (a program, a texture) upsampled from the hit's RGB
+    // by the table alone (EmitterSpectrum::upsampled: saturated colours' weak channels off by a few
+    // per cent, as the spectral lobes' varying colours).
+    EmitterSpectrum strand_emitter(uint32_t material, const Color& rgb) const {
+        const int32_t fixed = material_emitter_[material];
+        return fixed >= 0 ? emitters_[fixed] : EmitterSpectrum::upsampled(rgb);
+    }
     const SpectralMaterial& material(uint32_t id) const { return materials_[id]; }
     const SpectralMedium& medium(int32_t id) const { return media_[id]; }
     // p(lambda) proportional to the observer response times the mixture of the lights' spectra
@@ -55,6 +64,7 @@ private:
     const Scene& scene_;
     std::vector<EmitterSpectrum> emitters_;
     std::vector<uint32_t> light_emitter_;
+    std::vector<int32_t> material_emitter_;  // per material: its fitted emitter, or -1 (per hit)
     std::vector<SpectralMaterial> materials_;
     std::vector<SpectralMedium> media_;
 };

@@ -3,6 +3,7 @@
 // with the ray's own); other strands still block it.
 #include <gtest/gtest.h>
 
+#include "integrators/path_tracing.h"
 #include "program_builder.h"
 #include "shading/node_math.h"
 #include "shading/procedural_noise.h"
@@ -77,4 +78,36 @@ TEST(Curves, HairInfoRandomIsCyclesHashOfTheStrandIndex) {
     for (float z : {0.2f, 0.7f}) EXPECT_FLOAT_EQ(strength(0.0f, z), 10.0f + shading::hash_uint2_to_float(5, 0));
     EXPECT_FLOAT_EQ(strength(0.5f, 0.5f), 10.0f + shading::hash_uint2_to_float(6, 0));
     EXPECT_FLOAT_EQ(strength(0.25f, 0.5f), 0.25f);  // the wall behind: no strand
+}
+
+// An emissive strand is no light (Cycles 3.4 makes lights of mesh triangles only), yet a ray that hits
+// it adds its emission, with MIS weight 1 whatever the previous vertex's BSDF density (Cycles'
+// integrate_surface_emission weighs only triangles): no light sample can reach a strand. A shadow ray
+// it blocks stays blocked.
+TEST(Curves, EmissiveStrandAddsItsEmissionWithMisWeightOne) {
+    Scene s;
+    Material glow = diffuse(Color(0.5f));
+    glow.emission = Color(2.0f, 1.0f, 0.5f);
+    uint32_t m = s.add_material(glow);
+    const float r = 0.02f;
+    const float points[] = {0.0f, 0.0f, 0.0f, r, 0.0f, 0.0f, 0.5f, r, 0.0f, 0.0f, 1.0f, r};
+    const int32_t offsets[] = {0, 3};
+    s.add_instance(s.add_curves(points, 3, offsets, 1, m), Transform());
+    s.set_camera(camera_at(Vec3(0.0f, -5.0f, 0.5f), 4, 4));
+    s.commit();
+    EXPECT_TRUE(s.lights().empty());
+    const Ray ray{Vec3(0.0f, -1.0f, 0.5f), Vec3(0.0f, 1.0f, 0.0f)};
+    SurfaceHit h;
+    ASSERT_TRUE(s.intersect(ray, &h));
+    EXPECT_EQ(h.light, kStrandEmission);
+    RenderSettings settings;
+    PathState st;  // a camera ray
+    Color seen = emission_along(s, settings, ray, true, h, st);
+    st.prev_delta = false, st.prev_pdf = 0.3f, st.depth = 1, st.ray_flags = kRayDiffuse;  // a BSDF sample's ray
+    Color bounced = emission_along(s, settings, ray, true, h, st);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_FLOAT_EQ(seen[c], glow.emission[c]);
+        EXPECT_FLOAT_EQ(bounced[c], glow.emission[c]);
+    }
+    EXPECT_TRUE(s.occluded(Vec3(0.0f, -1.0f, 0.5f), Vec3(0.0f, 1.0f, 0.0f), 2.0f));
 }

@@ -104,6 +104,24 @@ TEST(Spectral, RgbEmittersKeepTheirColour) {
     }
 }
 
+// A strand's emission, upsampled per hit (EmitterSpectrum::upsampled: the table's coefficients and the
+// luminance the colour implies) comes back as its colour per unit luminance too, within the table's
+// round trip, and its luminance is 1 as the fitted emitters'. (The saturated orange is the emissive
+// hair scene's tip colour, scenes/hair.py.)
+TEST(Spectral, UpsampledEmittersKeepTheirColour) {
+    for (Color c : {Color(1.0f), Color(4.0f, 1.0f, 0.2f), Color(0.1f, 0.3f, 0.9f), Color(1.0f, 0.6f, 0.1f),
+                    Color(0.3f, 0.05f, 0.02f)}) {
+        EmitterSpectrum e = EmitterSpectrum::upsampled(c);
+        Color rgb(0.0f);
+        for (int k = 0; k < kTableSamples; ++k) rgb += rgb_response(kLambdaMin + k) * e(kLambdaMin + k);
+        Color expect = c / luminance(c);
+        for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(rgb[ch], expect[ch], 0.03 * max_component(expect)) << ch;
+        EXPECT_NEAR(spectrum_luminance(e), 1.0, 0.01);
+        std::printf("upsampled (%g %g %g): rgb/expected %.4f %.4f %.4f, luminance %.4f\n", c.x, c.y, c.z,
+                    rgb.x / expect.x, rgb.y / expect.y, rgb.z / expect.z, spectrum_luminance(e));
+    }
+}
+
 TEST(Spectral, MeasuredAndDispersiveMaterials) {
     // Gold reflects red more than blue at normal incidence; every metal is a good mirror at grazing.
     const tables::MetalTable* au = find_metal("Au");

@@ -293,13 +293,7 @@ def _export_hair(kind, inst, obj, scene, materials, counts, view_layer):
     for (points, offsets), material in systems:
         if len(offsets) < 2:
             continue
-        material_id = materials.id_for(material)
-        if scene.material_emits(material_id):
-            # Curves are not lights and their emission is not added where a ray hits them yet: say so
-            # rather than render the strands without their glow silently.
-            materials.warning("Emission on hair is not rendered yet: '%s' (material '%s') shows only its other "
-                              "closures" % (obj.name, material.name if material else ""))
-        mesh_id = scene.add_curves(points, offsets, material_id, first_curve)
+        mesh_id = scene.add_curves(points, offsets, materials.id_for(material), first_curve)
         first_curve += len(offsets) - 1
         counts.meshes += 1
         counts.dropped_curves += scene.mesh_dropped(mesh_id)
