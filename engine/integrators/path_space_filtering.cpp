@@ -41,7 +41,6 @@
 #include "integrators/psf_records.h"
 #include "integrators/psf_rgb.h"
 #include "integrators/psf_spectral.h"
-#include "integrators/psf_weightings.h"
 #include "integrators/tiles.h"
 
 namespace smis {
@@ -90,6 +89,15 @@ constexpr float kGroupReach = 1.0f;
 // loses little reuse (a mirror's or a lens's x1 are gathered with each other; their neighbours of
 // other depths mostly see other parts of the scene anyway). Making the budget independent of the
 // prefix instead would change what is integrated: PATH bounds the whole path's length.
+
+// How far the own suffix's weight w in its pixel's estimate, among n gathered techniques, is from
+// an even share: 0 at w = 1/n (the filter shares the pixel's suffix as well as it can), 1 at w = 1
+// (it shares nothing). The extra paths are proportional to it.
+float excess_weight(float w, size_t n) {
+    if (n <= 1) return 1.0f;
+    const float even = 1.0f / float(n);
+    return std::clamp((w - even) / (1.0f - even), 0.0f, 1.0f);
+}
 
 // Per-thread scratch of the gather. Reached through a function that is not inlined: a thread_local
 // used in the hot loops costs a TLS lookup per use in a shared library (the compiler recomputes its
@@ -264,6 +272,8 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     std::atomic<uint64_t> gathered{0}, accepted{0}, groups{0}, grouped_pixels{0}, visibility_rays_total{0};
     const int max_n = std::max(1, settings.psf_max_neighbors);
     const int block = psf_block_side(settings.psf_block_size);
+    const bool exact = weighting_ == PsfWeighting::SmisUnbiased;
+    const bool keller = weighting_ == PsfWeighting::Keller;
     const int window_x0 = scene.camera().window_x0(), window_y0 = scene.camera().window_y0();
     auto general_bsdf = [&](uint32_t j) {  // a technique's BSDF (for the General kind and the exact variant)
         const PathRecord& t = records[j];
@@ -321,12 +331,10 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     // my[i]) each) share the technique set drawn around the anchor members[0], whose pixel seeds the
     // random subset.
     // kSpectral (spectral_tag): the records carry their throughput and radiance per wavelength
-    // (psf_spectral.h); the weights are the same. W: the weighting (psf_weightings.h).
-    auto gather_group = [&](auto spectral_tag, auto weighting, const uint32_t* members, const int* mx, const int* my,
-                            int n_members, LocalCounters& local) {
+    // (psf_spectral.h); the weights are the same.
+    auto gather_group = [&](auto spectral_tag, const uint32_t* members, const int* mx, const int* my, int n_members,
+                            LocalCounters& local) {
         constexpr bool kSpectral = decltype(spectral_tag)::value;
-        using W = decltype(weighting);
-        constexpr bool exact = W::kExact;
         GatherScratch& scratch = *gather_scratch();
         const PathRecord& anchor = records[members[0]];
         uint64_t visibility_rays = 0;  // the unbiased variant's shadow rays
@@ -355,10 +363,10 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         // The set's densities, every technique counted once.
         std::vector<BsdfTechnique>& techniques = scratch.techniques;
         DensitySum& density_sum = scratch.density_sum;
-        if constexpr (exact) {
+        if (exact) {
             techniques.clear();
             for (uint32_t j : nb) techniques.push_back(technique(j));
-        } else if constexpr (W::kSumsDensities) {
+        } else if (!keller) {
             density_sum.reset();
             for (uint32_t j : nb) {
                 if (models[j].kind == TechniqueDensity::General)
@@ -439,12 +447,9 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         for (size_t ii = 0; ii < nb.size(); ++ii) {
             const PathRecord& smp = records[nb[ii]];
             if (!smp.has_suffix) continue;
-            per_sample[ii] = W::per_sample([&] { return density(ii, smp.z, smp.z_ng); },
-                                           [&] {
-                                               return shared_denominator(smp.z, smp.z_ng, ii,
-                                                                         exact ? visible.data() + ii * size_t(n_members)
-                                                                               : nullptr);
-                                           });
+            per_sample[ii] = keller ? density(ii, smp.z, smp.z_ng)
+                                    : shared_denominator(smp.z, smp.z_ng, ii,
+                                                         exact ? visible.data() + ii * size_t(n_members) : nullptr);
         }
         groups += 1;
         grouped_pixels += uint64_t(n_members);
@@ -456,10 +461,19 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             const PrivateSuffix* private_suffixes = b.extras.data() + b.extra_offset[k];
             const Bsdf own = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, x1_attr(k), q.wo);
             gathered += nb.size();
-            typename W::Pixel pixel(settings, q, extra, nb.size());
+            Color sum(0.0f);
+            float own_weight = -1.0f;
+            uint32_t n_accepted = 0;
             for (size_t ii = 0; ii < nb.size(); ++ii) {
                 const PathRecord& smp = records[nb[ii]];
-                if (!pixel.takes(smp)) continue;
+                if (keller) {
+                    // Keller et al. 2014: binary similarity of the prefix endpoints (same material,
+                    // normals within psf_keller_normal_cos, near the query's tangent plane).
+                    bool similar = smp.material == q.material && dot(smp.ns, q.ns) >= settings.psf_keller_normal_cos &&
+                                   std::fabs(dot(smp.p - q.p, q.ng)) <= settings.psf_keller_plane * q.radius;
+                    if (!similar) continue;
+                    ++n_accepted;
+                }
                 if (!(per_sample[ii] > 0.0f)) continue;  // no suffix, or no density to divide by
                 // Connection f_1(ybar_j, zbar_i) in the area measure at z1.
                 const Connection c = connect(q.p, smp.z, smp.z_ng);
@@ -478,7 +492,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     if (is_black(f)) continue;
                     L_z = smp.L_out;
                 }
-                if constexpr (exact) {
+                if (exact) {
                     // Visibility and z1's scattering for the new direction (§4.2). The own sample was
                     // reached by a ray; the others' visibility was traced for the denominator, unless
                     // this technique had no density there (then it is traced here).
@@ -518,28 +532,52 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 Color contribution;
                 if constexpr (kSpectral) contribution = spectrum_->combine(k, f_s, L_own, tr) * c.g;
                 else contribution = f * L_z * c.g;
-                pixel.add(contribution, per_sample[ii], ii == size_t(jj),
-                          [&] { return density(size_t(jj), smp.z, smp.z_ng); });
+                if (keller) {  // Keller's estimator divides by the sample's own density only
+                    sum += contribution / per_sample[ii];
+                    continue;
+                }
+                // Eq. (17): the balance heuristic normalised over the sampled techniques, the pixel's
+                // own technique counted once more per extra sample. (Past the visibility test above,
+                // the unbiased variant's own term needs no test of its own.)
+                const bool own_sample = ii == size_t(jj);
+                const float p_own = extra > 0 || own_sample ? density(size_t(jj), smp.z, smp.z_ng) : 0.0f;
+                float denom = extra > 0 ? per_sample[ii] + float(extra) * p_own : per_sample[ii];
+                if (!(denom > 0.0f)) continue;
+                sum += contribution / denom;
+                if (own_sample)  // the own suffix's weight, its density counted once
+                    own_weight = excess_weight(std::min(1.0f, p_own / per_sample[ii]), nb.size());
             }
-            pixel.end_of_set(q.has_suffix);
+            if (keller && q.has_suffix && n_accepted > 0)
+                own_weight = excess_weight(1.0f / float(n_accepted), nb.size());  // Keller's weights: 1 / accepted
+            const uint32_t shared_accepted = n_accepted;
             // The private extra suffixes, sampled by the own technique.
             for (int m = 0; m < extra; ++m) {
                 const PrivateSuffix& ps = private_suffixes[m];
-                pixel.add_private(ps, [&] { return density(size_t(jj), ps.z, ps.z_ng); },
-                                  [&] { return shared_denominator(ps.z, ps.z_ng, size_t(jj), nullptr); });
+                if (keller) {
+                    ++n_accepted;  // every own sample is similar to its pixel
+                    float p_own = is_black(ps.contribution) ? 0.0f : density(size_t(jj), ps.z, ps.z_ng);
+                    if (p_own > 0.0f) sum += ps.contribution / p_own;
+                    continue;
+                }
+                if (is_black(ps.contribution)) continue;
+                float denom = shared_denominator(ps.z, ps.z_ng, size_t(jj), nullptr) +
+                              float(extra) * density(size_t(jj), ps.z, ps.z_ng);
+                if (denom > 0.0f) sum += ps.contribution / denom;
             }
-            if (const uint32_t a = pixel.accepted()) accepted += a;  // Keller's
-            finish(mx[jj], my[jj], k, q.fixed + q.beta * pixel.estimate(), pixel.reused(), pixel.own_weight(), local);
+            float reused = float(nb.size() - 1);  // other paths' suffixes combined here: the diagnostic pass
+            if (keller) {
+                accepted += n_accepted;
+                if (n_accepted > 0) sum = sum / float(n_accepted);
+                reused = shared_accepted > 0 ? float(shared_accepted - 1) : 0.0f;
+            }
+            finish(mx[jj], my[jj], k, q.fixed + q.beta * sum, reused, own_weight, local);
         }
         visibility_rays_total += visibility_rays;
     };
 
-    auto gather = [&](auto weighting, const uint32_t* members, const int* mx, const int* my, int n_members,
-                      LocalCounters& local) {
-        if constexpr (decltype(weighting)::kShares) {
-            if (spectrum_) gather_group(std::true_type{}, weighting, members, mx, my, n_members, local);
-            else gather_group(std::false_type{}, weighting, members, mx, my, n_members, local);
-        }
+    auto gather = [&](const uint32_t* members, const int* mx, const int* my, int n_members, LocalCounters& local) {
+        if (spectrum_) gather_group(std::true_type{}, members, mx, my, n_members, local);
+        else gather_group(std::false_type{}, members, mx, my, n_members, local);
     };
     const uint64_t grid_hash = mix64((uint64_t(s) << 32) ^ uint64_t(settings.seed) ^ 0x6a09e667f3bcc909ull);
     const int offset_x = int(grid_hash % uint64_t(block)), offset_y = int((grid_hash >> 32) % uint64_t(block));
@@ -549,38 +587,35 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         while (e < limit && !starts_block(e, offset)) ++e;
         return e;
     };
-    // The weighting is chosen here, once: the gather is compiled for each (psf_weightings.h).
-    with_weighting(weighting_, [&](auto weighting) {
-        for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
-            if (!starts_block(x, offset_x) || !starts_block(y, offset_y)) return;  // (x, y) starts a block
-            // The block's pixels with a vertex within reach of the anchor form its group; the others are
-            // gathered on their own.
-            uint32_t members[kMaxBlock * kMaxBlock];
-            int mx[kMaxBlock * kMaxBlock], my[kMaxBlock * kMaxBlock];
-            int n_members = 0;
-            const PathRecord* anchor = nullptr;
-            const int x_end = block_end(x, offset_x, w), y_end = block_end(y, offset_y, h);
-            for (int py = y; py < y_end; ++py)
-                for (int px = x; px < x_end; ++px) {
-                    const size_t k = size_t(py) * w + px;
-                    const PathRecord& q = records[k];
-                    if (!q.has_vertex) {
-                        finish(px, py, k, q.fixed, 0.0f, -1.0f, local);
-                    } else if (!decltype(weighting)::kShares || private_class(q.technique_class)) {
-                        const Color own = spectrum_ ? path_estimate(std::true_type{}, k) : path_estimate(std::false_type{}, k);
-                        finish(px, py, k, q.fixed + own, 0.0f, 1.0f, local);  // nothing is shared
-                    } else if (!anchor || (n_members < max_n && q.technique_class == anchor->technique_class &&
-                                           length_sq(q.p - anchor->p) <= sqr(kGroupReach * anchor->radius))) {
-                        if (!anchor) anchor = &q;
-                        members[n_members] = uint32_t(k), mx[n_members] = px, my[n_members] = py;
-                        ++n_members;
-                    } else {
-                        const uint32_t single = uint32_t(k);
-                        gather(weighting, &single, &px, &py, 1, local);
-                    }
+    for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
+        if (!starts_block(x, offset_x) || !starts_block(y, offset_y)) return;  // (x, y) starts a block
+        // The block's pixels with a vertex within reach of the anchor form its group; the others are
+        // gathered on their own.
+        uint32_t members[kMaxBlock * kMaxBlock];
+        int mx[kMaxBlock * kMaxBlock], my[kMaxBlock * kMaxBlock];
+        int n_members = 0;
+        const PathRecord* anchor = nullptr;
+        const int x_end = block_end(x, offset_x, w), y_end = block_end(y, offset_y, h);
+        for (int py = y; py < y_end; ++py)
+            for (int px = x; px < x_end; ++px) {
+                const size_t k = size_t(py) * w + px;
+                const PathRecord& q = records[k];
+                if (!q.has_vertex) {
+                    finish(px, py, k, q.fixed, 0.0f, -1.0f, local);
+                } else if (weighting_ == PsfWeighting::Path || private_class(q.technique_class)) {
+                    const Color own = spectrum_ ? path_estimate(std::true_type{}, k) : path_estimate(std::false_type{}, k);
+                    finish(px, py, k, q.fixed + own, 0.0f, 1.0f, local);  // nothing is shared
+                } else if (!anchor || (n_members < max_n && q.technique_class == anchor->technique_class &&
+                                       length_sq(q.p - anchor->p) <= sqr(kGroupReach * anchor->radius))) {
+                    if (!anchor) anchor = &q;
+                    members[n_members] = uint32_t(k), mx[n_members] = px, my[n_members] = py;
+                    ++n_members;
+                } else {
+                    const uint32_t single = uint32_t(k);
+                    gather(&single, &px, &py, 1, local);
                 }
-            if (n_members > 0) gather(weighting, members, mx, my, n_members, local);
-        });
+            }
+        if (n_members > 0) gather(members, mx, my, n_members, local);
     });
     gather_seconds_ += seconds_since(t0);
     iterations_++;
