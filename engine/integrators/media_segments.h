@@ -1,6 +1,6 @@
 // The pieces of a path through participating media that the integrators built on their own path
-// loops (ReSTIR's and path-space filtering's stage 1) take from the path tracer: a camera or bounce
-// ray's segment up to its first opaque hit, and a reconnection between two points. Only called for
+// loops (ReSTIR's stage 1) take from the path tracer: a camera or bounce ray's segment up to its
+// first opaque hit; and a reconnection between two points (path-space filtering's gather). Only called for
 // scenes with media (Scene::has_media()); the surface-only loops never reach this code.
 #pragma once
 #include "integrators/volume.h"
@@ -21,7 +21,7 @@ struct MediaSegment {
 MediaSegment trace_media_segment(const Scene& scene, const RenderSettings& settings, const Ray& ray,
                                  const PathState& state, SurfaceHit* hit, Rng& rng, LocalCounters& counters);
 
-// One segment of a camera path's prefix as ReSTIR's and path-space filtering's stage 1 take it: the
+// One segment of a camera path's prefix as ReSTIR's stage 1 takes it: the
 // emission found along `ray` (clamped as Clamp Direct's at depth <= 1) and, with media (kMedia: the
 // scene has some), the single scattering along it are added to *L under the throughput beta; with
 // media the segment's transmittance goes into beta and the medium at its end into st. Returns

@@ -18,8 +18,9 @@
 // and says, as constants, whether it takes RIS at the first vertex (kResampledLights) and subsurface
 // walks (kSubsurfaceWalks; without, the caller starts the path with the diffuse ancestor set, so
 // Subsurface lobes render as their diffuse fallback), and whether the path ends at its first
-// non-specular vertex, handed to first_vertex(sp, state) (kEndsAtFirstVertex). Only path_tracing.cpp
-// and spectral_throughput.h include this file.
+// non-specular vertex, handed to first_vertex(sp, state) (kEndsAtFirstVertex). Only the policies'
+// headers include this file: rgb_throughput.h (the path tracer, RGB path-space filtering's prefix and
+// suffix in psf_rgb.cpp) and spectral_throughput.h.
 #pragma once
 #include "integrators/direct_lighting.h"
 #include "integrators/path_tracing.h"
@@ -137,8 +138,8 @@ template <class Spectrum, bool kMedia, bool kRules>
         if (sp.bsdf.empty()) break;
         path.prepare(sp);
         if constexpr (Spectrum::kEndsAtFirstVertex) {
-            // Spectral path-space filtering's prefix (psf_spectral.cpp): the policy records the first
-            // non-specular vertex x1 and the path ends there.
+            // Path-space filtering's prefix (psf_rgb.cpp, psf_spectral.cpp): the policy records the
+            // first non-specular vertex x1 and the path ends there.
             if (state.first_vertex_ahead && !sp.bsdf.is_delta()) {
                 path.first_vertex(sp, state);
                 break;

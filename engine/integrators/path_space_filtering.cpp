@@ -14,10 +14,12 @@
 // Densities are in the area measure at z1 (solid-angle pdf x |cos theta_z1| / d^2), for every term
 // of the SMIS denominator (eq. 17).
 //
+// Stage 1 is the path tracer's own loop (path_loop.h) with policies that end the prefix at x1 and keep
+// the suffix's parts apart: psf_rgb.cpp, and psf_spectral.cpp at one wavelength set per iteration.
+//
 // Media (scenes with media only: the stage-1 tracers are templates instantiated for them). The prefix
-// and the suffix take their segments as the path tracer does (transmittance, single scattering,
-// medium tracking: trace_media_segment), and x1's and z1's light samples carry their shadow rays'
-// transmittance. Vertices are surface vertices only (volume bounces = 0), so the filter gathers as
+// and the suffix take their segments in the path tracer's loop (transmittance, single scattering,
+// medium tracking), and x1's and z1's light samples carry their shadow rays' transmittance. Vertices are surface vertices only (volume bounces = 0), so the filter gathers as
 // without media. The light arriving at x1 along its BSDF sample is split in two: the single
 // scattering along the segment x1 -> z1, a per-pixel part (no other pixel's sample estimates its own
 // segment), and T(x1, z1) L_out(z1), the reused part. A pixel q connecting to another path's z1
@@ -37,6 +39,7 @@
 #include "integrators/path_tracing.h"
 #include "integrators/psf_density.h"
 #include "integrators/psf_records.h"
+#include "integrators/psf_rgb.h"
 #include "integrators/psf_spectral.h"
 #include "integrators/tiles.h"
 
@@ -62,214 +65,6 @@ namespace psf_detail {
 namespace {
 
 using namespace psf_detail;
-
-// The suffix started by BSDF sample `bs` at x1 (shading point sp, prefix throughput beta). x1 takes
-// `light_samples` light samples and `own_samples` BSDF samples per iteration, combined by
-// multi-sample MIS, so this sample carries 1/own_samples of the BSDF technique's per-pixel part.
-// With `dirac_z1_per_pixel` (the unbiased variant), a Dirac lobe sampled at z1 goes to the per-pixel
-// part instead of L_out (see the comment where it is taken).
-// kMedia: the scene has media; prefix.medium is the one the prefix arrived in at x1.
-template <bool kMedia>
-SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
-                          const PathState& prefix, const BsdfSample& bs, const Color& beta, float eta_scale, int light_samples,
-                          int own_samples, bool dirac_z1_per_pixel, Rng& rng, LocalCounters& counters) {
-    SuffixSample out;
-    if (!bs.valid()) {
-        ++counters.samples_rejected;
-        return out;
-    }
-    PathState st1 = suffix_state(sp, prefix, bs, light_samples, own_samples);
-    if constexpr (kMedia) st1.medium = medium_towards(scene, sp, bs.wi, prefix.medium);
-    const Ray r1 = bounce_ray(sp, bs, st1);
-    const Color path_weight = beta * bs.value / bs.pdf;
-    const Color bsdf_weight = path_weight / float(own_samples);
-    st1.clamp_beta = path_weight;
-    if (bs.delta) {
-        // A Dirac lobe of a mixed BSDF: its suffix has no density to share, so the pixel keeps it,
-        // traced as PATH would (a Subsurface lobe walks on from x1; after a Dirac bounce the next
-        // hit's subsurface walks too).
-        if (picks_subsurface(sp, bs))
-            out.fixed = trace_subsurface(scene, settings, sp, bs, prefix, beta / float(own_samples), rng, counters);
-        else {
-            st1.diffuse_ancestor = prefix.diffuse_ancestor;
-            out.fixed = bsdf_weight * trace_path(scene, settings, r1, st1, rng, counters);
-        }
-        return out;
-    }
-    SurfaceHit h1;
-    bool found1;
-    if constexpr (kMedia) {
-        // The single scattering along x1 -> z1 is this pixel's alone (see the top of the file).
-        const MediaSegment seg = trace_media_segment(scene, settings, r1, st1, &h1, rng, counters);
-        found1 = seg.found;
-        out.fixed = clamp_sample_share(settings, bsdf_weight * seg.emission, own_samples, st1.depth <= 1) +
-                    bsdf_weight * seg.scattering;
-        out.segment_tr = seg.transmittance;
-        // z1 is shaded even where the segment's transmittance underflows to 0: other pixels' connections
-        // to it may see it (the unbiased variant's denominators count this technique wherever its ray
-        // reaches z1).
-        st1.medium = seg.end_medium;
-    } else {
-        found1 = scene.intersect(r1, &h1);
-        out.fixed = clamp_sample_share(settings, bsdf_weight * emission_along(scene, settings, r1, found1, h1, st1),
-                                       own_samples, st1.depth <= 1);
-    }
-    if (!found1 || beyond_bounce_limits(settings, st1)) return out;
-
-    // z1: shade it once, keeping its NEE and BSDF estimators apart for re-evaluation.
-    ShadingPoint sp1 = make_shading_point(scene, h1, r1.d);
-    subsurface_fallback(scene, sp1);
-    light_path_lobes(settings, st1, sp1);
-    if (sp1.bsdf.empty()) return out;
-    DirectSample ds1 = sample_direct(scene, settings, sp1, rng, counters, st1.medium);
-    if (ds1.valid) {
-        out.nee_dir = ds1.wi;
-        out.nee_weighted = ds1.weighted;
-        // Clamped as this pixel's path would be (neighbours reuse it under their own throughput).
-        out.L_out += clamp_contribution(settings, direct_eval(sp1, ds1) * ds1.weighted, false, path_weight);
-    }
-    BsdfSample bs1 = sample_bsdf(sp1, rng);
-    if (bs1.valid()) {
-        PathState st2 = tail_state(st1, sp1, bs1);
-        if constexpr (kMedia) st2.medium = medium_towards(scene, sp1, bs1.wi, st1.medium);
-        // Russian roulette in the suffix sees the whole path's throughput, as in PATH: a suffix
-        // traced as if it started with throughput 1 would survive longer, costing more per path.
-        float eta2 = eta_scale * (bs.transmission ? sqr(bs.eta) : 1.0f) * (bs1.transmission ? sqr(bs1.eta) : 1.0f);
-        st2.clamp_beta = path_weight * bs1.value / bs1.pdf;
-        st2.rr_scale = max_component(st2.clamp_beta) * eta2;
-        Color L_in = trace_path(scene, settings, bounce_ray(sp1, bs1, st2), st2, rng, counters);
-        out.next_dir = bs1.wi;
-        out.next_weighted = bs1.delta ? Color(0.0f) : L_in / bs1.pdf;
-        const Color scattered = bs1.value / bs1.pdf * L_in;
-        if (bs1.delta && dirac_z1_per_pixel) {
-            // A Dirac lobe at z1 sends another x1's connection to another direction than the one
-            // traced, so in path space no other technique can produce this path (x1, z1, z2): its
-            // balance-heuristic denominator (eq. 17) holds the pixel's own technique only, counted
-            // own_samples times, and the path is the pixel's at full weight. (Re-evaluating z1's BSDF
-            // for a neighbour's direction, as the unbiased gather does, gives 0 for Dirac lobes, so
-            // the shared L_out must not carry it: it would be lost, not shared.)
-            if constexpr (kMedia) out.fixed += bsdf_weight * scattered * out.segment_tr;  // as it arrives at x1
-            else out.fixed += bsdf_weight * scattered;
-        } else {
-            out.L_out += scattered;
-        }
-    } else {
-        ++counters.samples_rejected;
-    }
-    if constexpr (kMedia) out.L_out *= out.segment_tr;
-    out.found_z1(h1);
-    return out;
-}
-
-// Stage 1 for one pixel sample; `model` receives x1's technique density model (psf_density.h), built
-// here once per stored vertex rather than once per pixel that gathers it. `strata` is null when the
-// sampler is not stratified or there are no extra samples at x1. `extra` receives the pixel's
-// `extra_paths` private suffixes. kMedia: the scene has media, and `media` receives x1's.
-template <bool kMedia>
-PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
-                        LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
-                        TechniqueDensity* model, const PixelStrata* strata, int extra_paths, PrivateSuffix* extra,
-                        bool dirac_z1_per_pixel, RecordMedia* media) {
-    PathRecord rec;
-    *model = TechniqueDensity{};
-    for (int m = 0; m < extra_paths; ++m) extra[m] = PrivateSuffix{};
-    PathState st = camera_path_state(ray.o);
-    if constexpr (kMedia) st.medium = scene.camera_medium();
-    Color beta(1.0f);
-    float eta_scale = 1.0f, prefix_length = 0.0f;
-    for (;; ++st.depth) {
-        SurfaceHit hit;
-        const bool found = trace_prefix_segment<kMedia>(scene, settings, ray, st, beta, &hit, rng, counters, &rec.fixed);
-        if (add_transparency(settings, st, found, hit, beta, counters)) return rec;
-        if (!found || beyond_bounce_limits(settings, st) || (kMedia && is_black(beta))) return rec;
-        prefix_length += hit.t;
-        ShadingPoint sp = make_shading_point(scene, hit, ray.d);
-        if (holdout_ends_path(st, sp, beta, counters)) return rec;
-        if (sp.bsdf.empty()) return rec;
-        if (sp.bsdf.is_delta()) {  // still in the prefix: follow the Dirac bounce
-            BsdfSample bs = sample_bsdf(sp, rng);
-            if (!bs.valid()) return rec;
-            if (picks_subsurface(sp, bs)) {
-                // A Subsurface lobe alone: its exit would be x1, but the gather re-evaluates x1's BSDF
-                // from its material, which is not the exit's; the pixel keeps PATH's estimate from
-                // here (unbiased, not filtered).
-                rec.fixed += trace_subsurface(scene, settings, sp, bs, st, beta, rng, counters);
-                return rec;
-            }
-            beta *= bs.value / bs.pdf;
-            if (bs.transmission) eta_scale *= sqr(bs.eta);
-            update_transparent_background(settings, st, sp.bsdf, bs);
-            advance_ray_type(st, sp.bsdf, bs);
-            if constexpr (kMedia) st.medium = medium_towards(scene, sp, bs.wi, st.medium);
-            st.prev_delta = true;
-            st.prev_pdf = bs.pdf;
-            st.prev_p = hit.p;
-            ray = bounce_ray(sp, bs, st);
-            if (!russian_roulette(st.depth, beta, eta_scale, rng) || is_black(beta)) return rec;
-            continue;
-        }
-
-        // x1: the first non-specular vertex ends the prefix.
-        rec.has_vertex = true;
-        rec.technique_class = technique_class(st.depth, kSharedClass);
-        rec.beta = beta;
-        rec.p = hit.p;
-        rec.wo = sp.wo;
-        rec.ng = sp.ng;
-        rec.ns = sp.backfacing ? -hit.ns : hit.ns;
-        rec.material = hit.material;
-        rec.backfacing = sp.backfacing;
-        if (attribs) attribs->x1 = hit.attr;
-        rec.radius = settings.psf_radius_px * camera.pixel_footprint(prefix_length);
-        *model = TechniqueDensity::of(sp.bsdf, hit.p, sp.wo);
-        if constexpr (kMedia) *media = RecordMedia{st.medium, medium_across(scene, sp, st.medium)};
-        // Direct light at x1, per pixel: psf_light_samples light samples and the pixel's BSDF samples
-        // (its path's own and its extra paths'), combined by multi-sample MIS (each density counted
-        // that many times in both weights). The first light sample and the path's BSDF sample take
-        // the stratified prefix of the pixel sample's stream; the extra light and BSDF samples are
-        // drawn after them, stratified on their own. The BSDF samples' weights read the counts from
-        // PathState::light_pdf_scale (trace_suffix).
-        const int light_samples = std::max(1, settings.psf_light_samples);
-        const int own_samples = 1 + extra_paths;
-        auto add_light_sample = [&] {
-            DirectSample ds = sample_direct(scene, settings, sp, rng, counters, st.medium, light_samples, own_samples);
-            if (ds.valid)
-                rec.fixed += clamp_sample_share(settings, beta * direct_eval(sp, ds) * ds.weighted, light_samples,
-                                                st.depth == 0);
-        };
-        add_light_sample();
-        BsdfSample bs = sample_bsdf(sp, rng);
-        for (int i = 1; i < light_samples; ++i) {
-            if (strata) set_extra_light_sample_prefix(&rng, strata->key, strata->sample, uint32_t(i - 1), uint32_t(light_samples - 1));
-            add_light_sample();
-        }
-        SuffixSample own =
-            trace_suffix<kMedia>(scene, settings, sp, st, bs, beta, eta_scale, light_samples, own_samples,
-                                 dirac_z1_per_pixel, rng, counters);
-        rec.fixed += own.fixed;
-        if (own.has_suffix) {
-            rec.has_suffix = true;
-            static_cast<SuffixVertex&>(rec) = own;
-            if (attribs) attribs->z1 = own.z_attr;
-            if constexpr (kMedia) media->suffix_tr = own.segment_tr;
-        }
-        // The private extra paths: more samples of this pixel's own technique, where the filter has
-        // little to share (see iteration()).
-        for (int m = 0; m < extra_paths; ++m) {
-            if (strata) set_extra_bsdf_sample_prefix(&rng, strata->key, strata->extra_bsdf + uint32_t(m));
-            SuffixSample e = trace_suffix<kMedia>(scene, settings, sp, st, sample_bsdf(sp, rng), beta, eta_scale,
-                                                  light_samples, own_samples, dirac_z1_per_pixel, rng, counters);
-            rec.fixed += e.fixed;
-            if (!e.has_suffix) continue;
-            Connection c = connect(hit.p, e.z, e.z_ng);
-            if (!c.valid()) continue;
-            extra[m].z = e.z;
-            extra[m].z_ng = e.z_ng;
-            extra[m].contribution = sp.bsdf.eval(sp.wo, c.dir) * e.L_out * c.g;
-        }
-        return rec;
-    }
-}
 
 // Stage 2 gathers pixels in blocks that share a technique set (psf_block_size): sides of 1, 2 or 4,
 // so that the tiles' side divides them and a block never spans two tiles (two threads).
@@ -413,12 +208,9 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         records[k] = spectrum_ ? spectrum_->trace_record(media, k, scene, settings, ray, rng, local, scene.camera(),
                                                          record_attribs, &models[k], record_strata, extra,
                                                          record_extras, dirac_z1_per_pixel, media ? &record_media[k] : nullptr)
-                   : media ? trace_record<true>(scene, settings, ray, rng, local, scene.camera(), record_attribs,
-                                                &models[k], record_strata, extra, record_extras, dirac_z1_per_pixel,
-                                                &record_media[k])
-                           : trace_record<false>(scene, settings, ray, rng, local, scene.camera(), record_attribs,
-                                                 &models[k], record_strata, extra, record_extras, dirac_z1_per_pixel,
-                                                 nullptr);
+                   : trace_rgb_record(media, scene, settings, ray, rng, local, scene.camera(), record_attribs,
+                                      &models[k], record_strata, extra, record_extras, dirac_z1_per_pixel,
+                                      media ? &record_media[k] : nullptr);
         records[k].transparency = local.sample_transparency;
         b.extra_bsdf_taken[k] += uint32_t(extra);
         ++local.paths;

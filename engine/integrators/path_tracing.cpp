@@ -1,6 +1,6 @@
 #include "integrators/path_tracing.h"
 
-#include "integrators/path_loop.h"
+#include "integrators/rgb_throughput.h"
 #include "integrators/volume.h"
 #include "integrators/direct_lighting.h"
 #include "integrators/subsurface_disk.h"
@@ -96,24 +96,14 @@ bool subsurface_step(const Scene& scene, ShadingPoint& sp, const BsdfSample& bs,
                                                    : subsurface_walk(scene, sp, entry, rng, &beta, &sp);
 }
 
-namespace {
-
-// Cycles' subsurface bounce at sp, whose BSDF sample bs picked a Subsurface lobe: the walk (or
-// Christensen-Burley's disk sampling) to the exit, which becomes sp, then the exit's light sample
-// (*direct, with the throughput) and its BSDF sample (bs), at the entry's depth (the walk is no
-// bounce of the path in Cycles). False: the path ends. Out of line, so the loops stay as they were
-// for scenes without subsurface.
-[[gnu::noinline]] bool subsurface_bounce(const Scene& scene, const RenderSettings& settings, ShadingPoint& sp,
-                                         BsdfSample& bs, Color& beta, Rng& rng, LocalCounters& counters,
-                                         int32_t medium, Color* direct) {
+bool subsurface_bounce(const Scene& scene, const RenderSettings& settings, ShadingPoint& sp, BsdfSample& bs,
+                       Color& beta, Rng& rng, LocalCounters& counters, int32_t medium, Color* direct) {
     if (!subsurface_step(scene, sp, bs, beta, rng)) return false;
     DirectSample ds = sample_direct(scene, settings, sp, rng, counters, medium);
     *direct = ds.valid ? beta * direct_eval(sp, ds) * ds.weighted : Color(0.0f);
     bs = sample_bsdf(sp, rng);
     return true;
 }
-
-}  // namespace
 
 Color trace_subsurface(const Scene& scene, const RenderSettings& settings, ShadingPoint sp, BsdfSample bs,
                        PathState state, Color beta, Rng& rng, LocalCounters& counters) {
@@ -140,57 +130,6 @@ Color trace_subsurface(const Scene& scene, const RenderSettings& settings, Shadi
 }
 
 namespace {
-
-// The RGB path tracer's spectrum: one Color throughput (path_loop.h describes the policy).
-struct RgbThroughput {
-    static constexpr bool kResampledLights = true;
-    static constexpr bool kEndsAtFirstVertex = false;
-    static constexpr bool kSubsurfaceWalks = true;
-    Color beta{1.0f};
-
-    template <class Clamp>
-    void emission(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const Ray& ray,
-                  bool found, const SurfaceHit& hit, const PathState& state, const RayMedia* media,
-                  const ShaderRay* sray) const {
-        L += clamped(beta * emission_along(scene, settings, ray, found, hit, state, media, sray), state.depth <= 1);
-    }
-    void scattering(Color& L, const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
-                    LocalCounters& counters, bool skip_plane_lights) const {
-        L += beta * single_scattering(scene, ray, media, rng, counters, skip_plane_lights);
-    }
-    void attenuate(const RayMedia& media) { beta *= media.transmittance_to_end(); }
-    const Color& transparency_beta() const { return beta; }
-    bool is_black() const { return smis::is_black(beta); }
-    void prepare(ShadingPoint&) const {}
-    template <class Clamp>
-    void resampled_direct(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings,
-                          const ShadingPoint& sp, Rng& rng, const PathState& state) const {
-        L += clamped(beta * ris_direct(scene, settings, sp, rng, state.medium), state.depth == 0);
-    }
-    template <class Clamp>
-    void direct(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
-                Rng& rng, LocalCounters& counters, const PathState& state) const {
-        DirectSample ds = sample_direct(scene, settings, sp, rng, counters, state.medium);
-        if (ds.valid) L += clamped(beta * direct_eval(sp, ds) * ds.weighted, state.depth == 0);
-    }
-    template <class Clamp>
-    bool subsurface(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, ShadingPoint& sp,
-                    BsdfSample& bs, Rng& rng, LocalCounters& counters, const PathState& state) {
-        Color direct;
-        if (!subsurface_bounce(scene, settings, sp, bs, beta, rng, counters, state.medium, &direct)) return false;
-        L += clamped(direct, state.depth == 0);
-        return true;
-    }
-    bool scatter(const ShadingPoint&, const BsdfSample& bs) {
-        beta *= bs.value / bs.pdf;
-        return true;
-    }
-    void after_scatter(const PathState&, const BsdfSample&) const {}
-    bool roulette(int depth, float eta_scale, Rng& rng) {
-        return russian_roulette(depth, beta, eta_scale, rng) && !smis::is_black(beta);
-    }
-    void finish(LocalCounters&) const {}
-};
 
 template <bool kMedia, bool kRules>
 Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,

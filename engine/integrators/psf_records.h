@@ -9,6 +9,15 @@
 namespace smis {
 namespace psf_detail {
 
+// What a prefix traced by the path loop (path_loop.h, kEndsAtFirstVertex) left at x1, its first
+// non-specular vertex: the RGB and spectral prefix policies record it (psf_rgb.cpp, psf_spectral.cpp).
+struct PrefixEnd {
+    bool reached = false;
+    ShadingPoint sp;
+    PathState state;
+    float distance = 0.0f;  // along the camera path, for the radius
+};
+
 // A suffix's first vertex z1 and what it carried back, as stage 2 reads it.
 struct SuffixVertex {
     Vec3 z, z_ng, z_ns;       // z1, its geometric and shading normals (both on the geometric side)
@@ -132,6 +141,23 @@ inline uint16_t technique_class(int dirac_depth, uint8_t spectral_class) {
     return uint16_t(std::min(dirac_depth, 255) | int(spectral_class) << 8);
 }
 inline bool private_class(uint16_t c) { return (c >> 8) == kPrivateClass; }
+
+// The record of a prefix that reached x1 (end.sp), of spectral class `spectral_class` (kSharedClass
+// in RGB): x1 and its radius, psf_radius_px pixels projected to world space at the prefix's distance.
+inline void record_x1(PathRecord& rec, const PrefixEnd& end, uint8_t spectral_class, const RenderSettings& settings,
+                      const Camera& camera, RecordAttribs* attribs) {
+    const ShadingPoint& sp = end.sp;
+    rec.has_vertex = true;
+    rec.technique_class = technique_class(end.state.depth, spectral_class);
+    rec.p = sp.hit.p;
+    rec.wo = sp.wo;
+    rec.ng = sp.ng;
+    rec.ns = sp.backfacing ? -sp.hit.ns : sp.hit.ns;
+    rec.material = sp.hit.material;
+    rec.backfacing = sp.backfacing;
+    if (attribs) attribs->x1 = sp.hit.attr;
+    rec.radius = settings.psf_radius_px * camera.pixel_footprint(end.distance);
+}
 
 // The state of the suffix's first segment, the ray of x1's BSDF sample bs (x1 takes light_samples
 // light samples and own_samples BSDF samples, combined by multi-sample MIS).

@@ -14,14 +14,6 @@ using namespace spectral_paths;
 
 namespace {
 
-// What the prefix left at x1, its first non-specular vertex.
-struct PrefixEnd {
-    bool reached = false;
-    ShadingPoint sp;
-    PathState state;
-    float distance = 0.0f;  // along the camera path, for the radius
-};
-
 // The spectral path tracer's policy, ending the path at its first non-specular vertex (x1): the loop
 // (path_loop.h) traces the prefix with every feature of the spectral path tracer (media, dispersion,
 // holdouts, Film Transparent) and collects its emission; x1 is recorded for stage 1.
@@ -154,7 +146,7 @@ Color continue_privately(const SpectralScene& spectral, const Scene& scene, cons
                                                                  counters, SpectralThroughput(spectral, p));
 }
 
-// trace_suffix of path_space_filtering.cpp at the iteration's wavelengths: the suffix's per-pixel
+// trace_suffix of psf_rgb.cpp at the iteration's wavelengths: the suffix's per-pixel
 // part (RGB) into the result's `fixed`, its radiance per wavelength into L_out_k, z1's estimators into
 // nee_k and next_k and the segment's transmittance into tr_k (those three when given).
 template <bool kMedia>
@@ -178,7 +170,7 @@ SuffixSample PsfSpectrum::Impl::trace_suffix(const Scene& scene, const RenderSet
     SpectralPath p1;
     continue_from(p, p1, p.beta);
     for (int i = 0; i < n; ++i) p1.beta[i] /= float(own_samples);
-    if (bs.delta) {  // see trace_suffix in path_space_filtering.cpp: the pixel keeps it
+    if (bs.delta) {  // see trace_suffix in psf_rgb.cpp: the pixel keeps it
         st1.diffuse_ancestor = prefix.diffuse_ancestor;
         if constexpr (kMedia) st1.medium = prefix.medium;
         out.fixed = continue_privately<kMedia>(spectral, scene, settings, sp, bs, st1, p1, rng, counters);
@@ -271,7 +263,7 @@ SuffixSample PsfSpectrum::Impl::trace_suffix(const Scene& scene, const RenderSet
             v[i] = bs1.delta ? L_in[i] : f[i] * L_in[i] / bs1.pdf;
         }
         if (bs1.delta && dirac_z1_per_pixel) {
-            // The Dirac lobe at z1 stays with its pixel (path_space_filtering.cpp), as it arrives at x1.
+            // The Dirac lobe at z1 stays with its pixel (psf_rgb.cpp), as it arrives at x1.
             for (int i = 0; i < n; ++i) v[i] *= seg_tr[i];
             out.fixed += rgb(p1.beta, v);
         } else {
@@ -312,20 +304,11 @@ PathRecord PsfSpectrum::Impl::trace_record(size_t k, const Scene& scene, const R
     st.first_vertex_ahead = false;
 
     // x1: the first non-specular vertex ends the prefix.
-    rec.has_vertex = true;
-    rec.technique_class = technique_class(st.depth, spectral_class(p));
+    record_x1(rec, end, spectral_class(p), settings, camera, attribs);
     std::copy(p.beta, p.beta + n, &beta[k * size_t(n)]);
-    rec.p = sp.hit.p;
-    rec.wo = sp.wo;
-    rec.ng = sp.ng;
-    rec.ns = sp.backfacing ? -sp.hit.ns : sp.hit.ns;
-    rec.material = sp.hit.material;
-    rec.backfacing = sp.backfacing;
-    if (attribs) attribs->x1 = sp.hit.attr;
-    rec.radius = settings.psf_radius_px * camera.pixel_footprint(end.distance);
     *model = TechniqueDensity::of(sp.bsdf, sp.hit.p, sp.wo);
     if constexpr (kMedia) *record_media = RecordMedia{st.medium, medium_across(scene, sp, st.medium)};
-    // Direct light at x1, per pixel, as in RGB (trace_record): light samples and the pixel's BSDF
+    // Direct light at x1, per pixel, as in RGB (psf_rgb.cpp): light samples and the pixel's BSDF
     // samples by multi-sample MIS, in the same order of random numbers.
     const int light_samples = std::max(1, settings.psf_light_samples);
     const int own_samples = 1 + extra_paths;

@@ -29,7 +29,7 @@ public:
     // The set of iteration s, and per-wavelength storage for `records` records (`exact`: also z1's
     // estimators and, with media, the own segment's transmittance, for the unbiased gather).
     void begin_iteration(const RenderSettings& settings, uint32_t s, size_t records, bool exact, bool media);
-    // Stage 1 of record k, as path_space_filtering.cpp's trace_record (same arguments) at the
+    // Stage 1 of record k, as psf_rgb.h's trace_rgb_record (same arguments) at the
     // iteration's wavelengths. The record's beta is 1: its throughput is per wavelength here.
     psf_detail::PathRecord trace_record(bool media, size_t k, const Scene& scene, const RenderSettings& settings,
                                         Ray ray, Rng& rng, LocalCounters& counters, const Camera& camera,
