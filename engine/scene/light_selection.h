@@ -17,6 +17,8 @@
 namespace smis {
 
 inline constexpr float kUniformEmitterShare = 0.5f;  // a
+// An emitter id for lights chosen by power only (lights at infinity): not among the G emitters.
+inline constexpr uint32_t kNoEmitter = 0xffffffffu;
 
 // The mixture's weights (they sum to 1 unless no light has power); `emitter[i]` names light i's
 // emitter (equal for the triangles of one instance).

@@ -548,6 +548,9 @@ void Scene::finish_lights() {
         auto base = std::upper_bound(bases.begin(), bases.end(), int32_t(i));
         const bool triangle = base != bases.begin() && dynamic_cast<const TriangleLight*>(lights_[i].get());
         emitter[i] = triangle ? uint32_t(*(base - 1)) : i;
+        // A sun or world lights the whole scene: no uniform share (kNoEmitter); Cycles' clamped
+        // images under a sun match ours only so (test_ray_visibility.py's clamp cases).
+        if (lights_[i]->at_infinity()) emitter[i] = kNoEmitter;
     }
     light_selection_ = DiscreteDistribution(defensive_light_weights(power, emitter));
     light_power_ = DiscreteDistribution(power);
