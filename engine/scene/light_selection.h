@@ -2,7 +2,8 @@
 // and a uniform choice among the emitters (Hesterberg's defensive importance sampling, "Weighted
 // average importance sampling and defensive mixture distributions", Technometrics 1995):
 //   pmf_i = (1 - a) power_i / P + a / G * power_i / P_g(i),
-// G the number of emitters with power (a lamp, a world, or all emissive triangles of one instance),
+// G the number of local emitters with power (a lamp, or all emissive triangles of one instance;
+// suns and worlds, at infinity, have only their power share),
 // P_g the power of light i's emitter. By power alone a dim light beside a bright one gets a
 // sample now and then, and the surfaces only it lights (a strip light over a floor, beside a
 // 300 W light that a wall hides) are grainy; Cycles 3.4 gives each lamp an equal share. The
