@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include "scene/light_selection.h"
+
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
@@ -488,7 +490,7 @@ bool Scene::replace_lights(const std::vector<LightDesc>& descs, const WorldDesc&
 }
 
 // The light table in commit()'s order: the lamps, each instance's emissive triangles (whose
-// indices SurfaceHit::light refers to), the world; then selection by power.
+// indices SurfaceHit::light refers to), the world; then the selection (scene/light_selection.h).
 void Scene::rebuild_lights() {
     lights_.clear();
     emitter_sources_.clear();
@@ -535,8 +537,25 @@ void Scene::finish_lights() {
         if (l.at_infinity()) infinite_lights_.push_back(i);
         else if (!l.is_delta() && !dynamic_cast<const TriangleLight*>(&l)) hittable_lights_.push_back(i);
     }
-    light_selection_ = DiscreteDistribution(power);
-    media_lights_ = MediaLightChoice(lights_, light_selection_);
+    // Each instance's emissive triangles are one emitter (named by its first light), every other
+    // light its own.
+    std::vector<int32_t> bases;
+    for (const Instance& inst : instances_)
+        if (inst.light_base >= 0) bases.push_back(inst.light_base);
+    std::sort(bases.begin(), bases.end());
+    std::vector<uint32_t> emitter(lights_.size());
+    for (uint32_t i = 0; i < lights_.size(); ++i) {
+        auto base = std::upper_bound(bases.begin(), bases.end(), int32_t(i));
+        const bool triangle = base != bases.begin() && dynamic_cast<const TriangleLight*>(lights_[i].get());
+        emitter[i] = triangle ? uint32_t(*(base - 1)) : i;
+        // A sun or world lights the whole scene: no uniform share (kNoEmitter); Cycles' clamped
+        // images under a sun match ours only so (test_ray_visibility.py's clamp cases).
+        if (lights_[i]->at_infinity()) emitter[i] = kNoEmitter;
+    }
+    light_selection_ = DiscreteDistribution(defensive_light_weights(power, emitter));
+    light_power_ = DiscreteDistribution(power);
+    // Media choose per segment (media_light_choice.h), with their own defensive floor.
+    media_lights_ = MediaLightChoice(lights_, light_power_);
     hidden_lights_ = false;
     for (const auto& l : lights_)
         hidden_lights_ = hidden_lights_ || l->visibility != kRayAllVisibility || !l->visible_to_camera || !l->use_mis;

@@ -224,6 +224,9 @@ public:
     const Light& light(uint32_t i) const { return *lights_[i]; }
     const DiscreteDistribution& light_selection() const { return light_selection_; }
     float light_pmf(uint32_t i) const { return light_selection_.pmf(i); }
+    // Light i's share of the lights' power (light_selection() mixes it with a uniform choice among
+    // emitters, scene/light_selection.h).
+    float light_power_pmf(uint32_t i) const { return light_power_.pmf(i); }
     // Single scattering's light choice per ray segment in a medium (media_light_choice.h).
     const MediaLightChoice& media_lights() const { return media_lights_; }
     const std::vector<uint32_t>& infinite_lights() const { return infinite_lights_; }
@@ -381,7 +384,7 @@ private:
     std::vector<EmitterSource> emitter_sources_;
     bool spectral_content_ = false;
     std::vector<uint32_t> hittable_lights_, infinite_lights_;
-    DiscreteDistribution light_selection_;
+    DiscreteDistribution light_selection_, light_power_;
     MediaLightChoice media_lights_;
     Camera camera_;
     bool has_camera_ = false, committed_ = false, fast_build_ = false, varying_materials_ = false, programs_ = false;

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "core/rng.h"
+#include "scene/light_selection.h"
 #include "scene/scene.h"
 #include "test_scenes.h"
 
@@ -248,4 +249,47 @@ TEST(Scene, InPlaceMaterialAndLightEditsEqualAFreshScene) {
     ASSERT_TRUE(updated->intersect(Ray{Vec3(3, 0, 0), Vec3(0, 0, -1), 0, kInf}, &h));
     ASSERT_GE(h.light, 0);
     EXPECT_EQ(static_cast<const TriangleLight&>(updated->light(h.light)).radiance().x, 5.0f);
+}
+
+// scene/light_selection.h: NEE chooses a light half by power and half uniformly among emitters
+// (a lamp, or one instance's emissive triangles), so a dim emitter beside a bright one keeps a
+// share; lights without power are never chosen.
+TEST(Scene, LightSelectionGivesEveryEmitterAShareWhateverItsPower) {
+    const std::vector<float> power = {300.0f, 20.0f, 0.0f, 1.0f, 3.0f};
+    const std::vector<uint32_t> emitter = {0, 1, 2, 3, 3};  // lights 3 and 4: one mesh's triangles
+    std::vector<float> w = defensive_light_weights(power, emitter);
+    const double total = 324.0, a = kUniformEmitterShare;
+    EXPECT_NEAR(w[0], (1 - a) * 300 / total + a / 3, 1e-6);
+    EXPECT_NEAR(w[1], (1 - a) * 20 / total + a / 3, 1e-6);
+    EXPECT_EQ(w[2], 0.0f);
+    EXPECT_NEAR(w[3], (1 - a) * 1 / total + a / 3 * 0.25, 1e-6);
+    EXPECT_NEAR(w[4], (1 - a) * 3 / total + a / 3 * 0.75, 1e-6);
+    EXPECT_NEAR(w[0] + w[1] + w[3] + w[4], 1.0, 1e-6);
+    std::vector<float> by_power = defensive_light_weights(power, emitter, 0.0f);
+    for (size_t i = 0; i < power.size(); ++i) EXPECT_NEAR(by_power[i], power[i] / total, 1e-6) << i;
+
+    // In a scene: a one-triangle emitter ten times brighter than a two-triangle one. Each object
+    // is one emitter (half of the uniform share), its triangles split it by power.
+    Scene s;
+    Material bright, dim;
+    bright.emission = Color(20.0f);
+    dim.emission = Color(2.0f);
+    const uint32_t mesh_bright = s.add_mesh(kQuad, 4, kQuadTris, 1, nullptr, nullptr, {s.add_material(bright)});
+    const uint32_t mesh_dim = s.add_mesh(kQuad, 4, kQuadTris, 2, nullptr, nullptr, {s.add_material(dim)});
+    s.add_instance(mesh_bright, translation(0, 0, -5));
+    s.add_instance(mesh_dim, translation(0, 3, -5));
+    s.set_camera(looking_down_minus_z(16, 16));
+    s.commit();
+    ASSERT_EQ(s.lights().size(), 3u);
+    double sum = 0.0;
+    int bright_lights = 0;
+    for (uint32_t i = 0; i < 3; ++i) {
+        const bool is_bright = s.light_power_pmf(i) > 0.5f;
+        bright_lights += is_bright;
+        EXPECT_NEAR(s.light_power_pmf(i), is_bright ? 10.0 / 12.0 : 1.0 / 12.0, 1e-5) << i;
+        EXPECT_NEAR(s.light_pmf(i), (1 - a) * s.light_power_pmf(i) + a / 2 * (is_bright ? 1.0 : 0.5), 1e-5) << i;
+        sum += s.light_pmf(i);
+    }
+    EXPECT_EQ(bright_lights, 1);
+    EXPECT_NEAR(sum, 1.0, 1e-5);
 }

@@ -485,7 +485,7 @@ TEST(Medium, SegmentLightChoiceIsANormalisedPmfWithADefensiveFloor) {
             for (uint32_t i = 0; i < n; ++i) {
                 const Light& l = scene->light(i);
                 bool plane_light = l.rectangle(nullptr) || l.point(nullptr);
-                if (!(skip && plane_light)) ++eligible, power_sum += scene->light_pmf(i);
+                if (!(skip && plane_light)) ++eligible, power_sum += scene->light_power_pmf(i);
             }
             for (uint32_t i = 0; i < n; ++i) {
                 const Light& l = scene->light(i);
@@ -495,7 +495,7 @@ TEST(Medium, SegmentLightChoiceIsANormalisedPmfWithADefensiveFloor) {
                 if (skip && (l.rectangle(nullptr) || l.point(nullptr))) {
                     EXPECT_EQ(p, 0.0f);
                 } else {
-                    double floor = MediaLightChoice::kPowerWeight * scene->light_pmf(i) / power_sum +
+                    double floor = MediaLightChoice::kPowerWeight * scene->light_power_pmf(i) / power_sum +
                                    MediaLightChoice::kUniformWeight / eligible;
                     EXPECT_GE(p, 0.999 * floor) << "trial " << trial << " light " << i;
                 }
@@ -510,11 +510,11 @@ TEST(Medium, SegmentLightChoiceIsANormalisedPmfWithADefensiveFloor) {
     auto crowd = fog_box(8, 8, fog, many);
     MediaLightChoice::Segment seg{{0.0f, -1.4f, 1.0f}, {0.0f, 1.0f, 0.0f}, 2.8f, 0.3f, false};
     double power_total = 0.0;
-    for (size_t i = 0; i < many.size(); ++i) power_total += crowd->light_pmf(uint32_t(i));
+    for (size_t i = 0; i < many.size(); ++i) power_total += crowd->light_power_pmf(uint32_t(i));
     double sum = 0.0;
     for (uint32_t i = 0; i < many.size(); ++i) {
         float p = crowd->media_lights().pmf(seg, i);
-        EXPECT_NEAR(p, 0.5 * (crowd->light_pmf(i) / power_total + 1.0 / many.size()), 1e-6);
+        EXPECT_NEAR(p, 0.5 * (crowd->light_power_pmf(i) / power_total + 1.0 / many.size()), 1e-6);
         sum += p;
     }
     EXPECT_NEAR(sum, 1.0, 1e-5);
