@@ -66,9 +66,21 @@ PRINCIPLED_KNOWN = {"principled_multi_metal": 0.025}
 # at roughness 1: 5.4%), under the sun alone Cycles' mean is 0.23x to 2.7x ours. The bounds are the
 # measured errors (1024 spp, against Cycles at 2 x 1024 spp) plus a margin, so that a regression fails.
 MULTIGLASS_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "1024"))
+# The Principled glass with Specular Tint 1 (base (0.3, 0.6, 0.9)): 6.1%, and 5.0% with the reflections'
+# tint left out of the multiple scattering: under the sun Cycles' eval is not its walk (its single
+# scattering's eval multiplies even the refraction by the interpolated Fresnel colour at wi + wo), so
+# the tint is checked under the world alone (MULTIGLASS_WORLD_KNOWN below).
 MULTIGLASS_KNOWN = {"glass_multi_0p3": 0.125, "glass_multi_0p8": 0.035, "glass_multi_0p6_tinted": 0.07,
                     "glass_multi_1_ior2": 0.33, "principled_multi_glass_0p5": 0.22,
-                    "principled_multi_glass_tinted": 0.10}
+                    "principled_multi_glass_tinted": 0.10, "principled_multi_glass_specular_tint": 0.075}
+# The Principled multiscatter glass colours (base; base and Specular Tint 1) under the grey world alone,
+# which Cycles reaches only by BSDF samples (closures_multiglass_world, 2 x 1 spheres): Cycles' image is
+# its sampled walk, which ours follows. Measured at 1024 spp against Cycles at 2 x 1024 (noise 0.05% rms):
+# 0.56% (base (0.9, 0.7, 0.5)) and 0.60% (Specular Tint 1, R/G/B 0.71 / 0.59 / 0.49%); with the tint left
+# out of the multiple scattering the latter is 0.83% (R 0.99%; mean +0.6%): under the world the walks'
+# further reflections carry little of the sphere's light, so its bound is 0.75%, below the 1% bar.
+MULTIGLASS_WORLD_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "1024"))
+MULTIGLASS_WORLD_KNOWN = {"principled_multi_glass_specular_tint": 0.0075}
 # The anisotropic set (closures_aniso, 3 x 2 spheres): Ashikhmin-Shirley (Glossy and Anisotropic BSDF) and
 # materials mixing anisotropic closures about different tangents and rotations (before each lobe had its
 # own tangent: 12.3%, 4.6% and 14.1%). The rough Ashikhmin-Shirley spheres: where Cycles 3.4's sampled
@@ -139,10 +151,11 @@ def _tile(img, t):
 def _tile_errors(ours, ref, tiles):
     errors = {}
     for t in tiles:
-        errors[t["name"]] = block_mre(_tile(ours, t), _tile(ref, t))
-        print("%-24s MRE %6.3f %%  ref mean %.4f  ours %.4f" % (t["name"], 100 * errors[t["name"]],
-                                                             _tile(ref, t)[..., :3].mean(),
-                                                             _tile(ours, t)[..., :3].mean()))
+        o, r = _tile(ours, t)[..., :3], _tile(ref, t)[..., :3]
+        errors[t["name"]] = block_mre(o, r)
+        per_channel = [block_mre(o[..., c:c + 1], r[..., c:c + 1]) for c in range(3)]
+        print("%-24s MRE %6.3f %% (R/G/B %s)  ref mean %.4f  ours %.4f" % (
+            t["name"], 100 * errors[t["name"]], " / ".join("%.2f" % (100 * e) for e in per_channel), r.mean(), o.mean()))
     return errors
 
 
@@ -176,6 +189,12 @@ def test_multiscatter_glass_matches_cycles(tmp_path_factory):
     """Multiscatter GGX glass: the Glass BSDF (white at roughness 0.3, 0.8, 1 with IOR 2; coloured)
     and the Principled rough transmission (white, coloured base)."""
     _set_matches_cycles(tmp_path_factory, "closures_multiglass", MULTIGLASS_SPP, MULTIGLASS_KNOWN)
+
+
+def test_multiscatter_glass_colours_match_cycles_walk(tmp_path_factory):
+    """The Principled multiscatter glass' colours under the world alone (Cycles' sampled walk): the base
+    at each refraction, and with Specular Tint the interpolated Fresnel colour at each reflection."""
+    _set_matches_cycles(tmp_path_factory, "closures_multiglass_world", MULTIGLASS_WORLD_SPP, MULTIGLASS_WORLD_KNOWN)
 
 
 def test_beckmann_glass_and_refraction_match_cycles(tmp_path_factory):

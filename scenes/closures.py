@@ -6,9 +6,10 @@ Run:
 SET is `closures` (the default: every closure), `closures_principled` (the Principled BSDF's
 transmission and Multiscatter GGX, 3 x 2 tiles, PRINCIPLED_CLOSURES), `closures_beckmann` (Glass and
 Refraction with the Beckmann distribution, 2 x 1 tiles), `closures_multiglass` (Multiscatter GGX
-glass, 3 x 2 tiles, MULTIGLASS_CLOSURES), `closures_aniso` (Ashikhmin-Shirley and several
+glass, 4 x 2 tiles, MULTIGLASS_CLOSURES), `closures_aniso` (Ashikhmin-Shirley and several
 anisotropic closures in one material, 3 x 2 tiles, ANISO_CLOSURES) or `closures_msaniso` (anisotropic
-Multiscatter GGX, 3 x 2 tiles, MSANISO_CLOSURES). Writes (for the default set)
+Multiscatter GGX, 3 x 2 tiles, MSANISO_CLOSURES) or `closures_multiglass_world` (the Principled
+multiscatter glass colours under the world alone, not sampled as a light: 2 x 1 tiles). Writes (for the default set)
   OUTDIR/closures.blend  COLS x ROWS tiles of TILE_PX x TILE_PX pixels (COLS*TILE_PX x ROWS*TILE_PX):
       an orthographic camera looking straight down (-Z) at one sphere per tile (radius 0.85 of the
       tile's half size, so every sphere has its own 32 x 32 px square of 4 x 4 blocks of 8 x 8 px),
@@ -169,7 +170,8 @@ BECKMANN_CLOSURES = [
 ]
 # Multiscatter GGX glass (closures_multiglass.blend): Cycles 3.4's one multiscatter glass closure of the
 # Glass BSDF (its colour at every bounce of the walk) and of the Principled BSDF's rough transmission
-# (Roughness > 0.05; its base colour at every refraction).
+# (Roughness > 0.05; its base colour at every refraction, and with Specular Tint the interpolated
+# Fresnel colour of cspec0 = lerp(1, base, Specular Tint) at every reflection).
 MULTIGLASS_CLOSURES = [
     ("glass_multi_0p3", lambda nt: _bsdf(nt, "ShaderNodeBsdfGlass", {"IOR": 1.45, "Roughness": 0.3},
                                          distribution='MULTI_GGX')),
@@ -183,6 +185,9 @@ MULTIGLASS_CLOSURES = [
                                                 "Roughness": 0.5, "IOR": 1.45}, distribution='MULTI_GGX')),
     ("principled_multi_glass_tinted", _principled({"Base Color": (0.9, 0.7, 0.5), "Transmission": 1.0,
                                                    "Roughness": 0.8, "IOR": 1.45}, distribution='MULTI_GGX')),
+    ("principled_multi_glass_specular_tint", _principled({"Base Color": (0.3, 0.6, 0.9), "Transmission": 1.0,
+                                                          "Roughness": 0.7, "Specular Tint": 1.0, "IOR": 1.45},
+                                                         distribution='MULTI_GGX')),
 ]
 
 
@@ -242,10 +247,17 @@ MSANISO_CLOSURES = [
                                                        "Anisotropic": 0.8, "Anisotropic Rotation": 0.1}, 'MULTI_GGX')),
     ("aniso_ggx_0p8_0p7", _anisotropic({"Color": (1.0, 1.0, 1.0), "Roughness": 0.8, "Anisotropy": 0.7})),
 ]
-# name -> (closures, columns, rows)
+# The Principled multiscatter glass colours under the grey world alone, which Cycles does not sample as a
+# light (closures_multiglass_world.blend, 2 x 1 tiles): Cycles' image is then its sampled walk (mf_sample),
+# which ours follows, without its light samples' eval (mf_eval), whose inconsistencies (README, the
+# material table) leave the sun-lit sets several percent away.
+MULTIGLASS_WORLD_CLOSURES = [c for c in MULTIGLASS_CLOSURES
+                             if c[0] in ("principled_multi_glass_tinted", "principled_multi_glass_specular_tint")]
+# name -> (closures, columns, rows); a set whose name ends in _world has no sun (see build).
 CLOSURE_SETS = {"closures": (CLOSURES, COLS, ROWS), "closures_principled": (PRINCIPLED_CLOSURES, 3, 2),
-                "closures_beckmann": (BECKMANN_CLOSURES, 2, 1), "closures_multiglass": (MULTIGLASS_CLOSURES, 3, 2),
-                "closures_aniso": (ANISO_CLOSURES, 3, 2), "closures_msaniso": (MSANISO_CLOSURES, 3, 2)}
+                "closures_beckmann": (BECKMANN_CLOSURES, 2, 1), "closures_multiglass": (MULTIGLASS_CLOSURES, 4, 2),
+                "closures_aniso": (ANISO_CLOSURES, 3, 2), "closures_msaniso": (MSANISO_CLOSURES, 3, 2),
+                "closures_multiglass_world": (MULTIGLASS_WORLD_CLOSURES, 2, 1)}
 
 
 def node_material(name, build):
@@ -271,6 +283,9 @@ def build(out_dir, set_name="closures"):
     world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.25, 0.25, 0.25, 1.0)
     scene.world = world
+    world_only = set_name.endswith("_world")
+    if world_only:
+        world.cycles.sampling_method = 'NONE'  # Cycles reaches the world by BSDF samples only
 
     cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
     cam.data.type = 'ORTHO'
@@ -283,7 +298,8 @@ def build(out_dir, set_name="closures"):
     sun.data.energy = 3.0
     sun.data.angle = math.radians(5.0)  # a soft sun: converges faster through the rough refractors
     sun.rotation_euler = (math.radians(40.0), 0.0, math.radians(-35.0))
-    scene.collection.objects.link(sun)
+    if not world_only:
+        scene.collection.objects.link(sun)
 
     tiles = []
     for i, (name, builder) in enumerate(closures):

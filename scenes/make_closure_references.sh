@@ -3,8 +3,8 @@
 #
 #   scenes/make_closure_references.sh [WORKDIR] [SET]
 #
-# SET: closures (the default), closures_principled, closures_beckmann, closures_multiglass, closures_aniso or
-# closures_msaniso
+# SET: closures (the default), closures_principled, closures_beckmann, closures_multiglass, closures_aniso,
+# closures_msaniso or closures_multiglass_world
 # (scenes/closures.py's sets); SET.blend, SET.exr.
 # 1. builds SET.blend with scenes/closures.py into WORKDIR (default /tmp/smis_closure_reference_work),
 # 2. renders it twice with Cycles (CPU, unbiased settings, BOX filter 1 px), seeds 1 and 2

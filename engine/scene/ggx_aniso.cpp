@@ -14,7 +14,7 @@ namespace {
 
 using namespace ggx_aniso;
 
-#include "ggx_aniso_table.inc"
+#include "scene/tables/ggx_aniso_table.inc"
 
 using namespace table_axis;
 

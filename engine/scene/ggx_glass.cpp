@@ -12,7 +12,7 @@ namespace {
 
 using namespace ggx_glass;
 
-#include "ggx_glass_table.inc"
+#include "scene/tables/ggx_glass_table.inc"
 
 using namespace table_axis;
 
@@ -72,19 +72,27 @@ float ggx_glass_multiple_average(float alpha, float eta) {
     return sum;  // 2 int E mu dmu, averaged over the two IORs
 }
 
-float ggx_glass_multiple_colour(float c, float cos_o, float alpha, float eta, int side, int mode) {
+float ggx_glass_multiple_colour(float c, float cos_o, float alpha, float eta, int side, int mode, float spec_tint) {
     Axis r = rough_axis(alpha), e = eta_axis(eta), o = cos_o_axis(cos_o);
+    float x = 1.0f - spec_tint * (1.0f - c);  // Cycles' cspec0 of the channel
     float sum = 0.0f;
     for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b)
             for (int d = 0; d < 2; ++d) {
-                // Horner over the shares: bounce counts start at one further bounce, refraction counts at none.
-                const float* share = mode == 0 ? kGlassBounces[r.lo + a][e.lo + b][o.lo + d][side]
-                                               : kGlassRefractions[r.lo + a][e.lo + b][o.lo + d][side];
-                int bins = mode == 0 ? kBounceBins : kRefractionBins;
                 float poly = 0.0f;
-                for (int k = bins - 1; k >= 0; --k) poly = poly * c + share[k];
-                sum += weight(r, a) * weight(e, b) * weight(o, d) * (mode == 0 ? c * poly : poly);
+                if (mode == 0) {  // Horner over the shares: bounce counts start at one further bounce
+                    const float* share = kGlassBounces[r.lo + a][e.lo + b][o.lo + d][side];
+                    for (int k = kBounceBins - 1; k >= 0; --k) poly = poly * c + share[k];
+                    poly *= c;
+                } else {  // Horner in c over the refractions n, each a polynomial in x over the reflections k
+                    const float* term = kGlassTint[r.lo + a][e.lo + b][o.lo + d][side];
+                    for (int n = kMaxWalkBounces; n >= 0; --n) {
+                        float in_x = 0.0f;
+                        for (int k = kMaxWalkBounces - n; k >= 0; --k) in_x = in_x * x + term[tint_term(n, k)];
+                        poly = poly * c + in_x;
+                    }
+                }
+                sum += weight(r, a) * weight(e, b) * weight(o, d) * poly;
             }
     return sum;
 }

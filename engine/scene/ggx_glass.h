@@ -16,8 +16,10 @@ float ggx_glass_multiple_albedo(float cos_o, float alpha, float eta, int side);
 // does not change when the back face inverts the IOR: the lobe's weight for the lobe selection.
 float ggx_glass_multiple_average(float alpha, float eta);
 // The colour of the multiple scattering from wo on `side` for a colour c applied at each bounce after
-// the first (mode 0: the Glass BSDF) or at each refraction (mode 1: the Principled BSDF):
-// sum_k share_k c^k over the walks' counts.
-float ggx_glass_multiple_colour(float c, float cos_o, float alpha, float eta, int side, int mode);
+// the first (mode 0: the Glass BSDF; sum_k share_k c^k over the walks' counts), or at each refraction
+// with Cycles' interpolated Fresnel colour of Specular Tint spec_tint at each reflection (mode 1: the
+// Principled BSDF; the mean of c^n prod_j (FH_j + (1 - FH_j) cspec0) over the walks, cspec0 = 1 -
+// spec_tint (1 - c)).
+float ggx_glass_multiple_colour(float c, float cos_o, float alpha, float eta, int side, int mode, float spec_tint);
 
 }  // namespace smis

@@ -16,10 +16,14 @@ constexpr int kSides = 2;   // 0: back on the incident side (reflection), 1: thr
 constexpr int kCosI = 8;    // cos^2 theta_i in [i, i + 1) / kCosI, on that side
 constexpr int kPhi = 6;     // |phi_i - phi_o| in [p, p + 1) pi / kPhi (0: wi on wo's side of the normal)
 
-// The colour counts: bounces after the first (1 .. kBounceBins, the walk's at most 10 bounces), and
-// refractions (0 .. kRefractionBins - 1).
+// The colour counts: bounces after the first (1 .. kBounceBins, the walk's at most 10 bounces).
 constexpr int kBounceBins = 9;
-constexpr int kRefractionBins = 11;
+// The Principled walk's colour, a polynomial in the base colour b (one factor per refraction) and the
+// Specular Tint's cspec0 = x (one factor FH + (1 - FH) x per reflection, Cycles' interpolated Fresnel
+// colour): its coefficient of b^n x^k, n + k <= kMaxWalkBounces, at term tint_term(n, k) (triangular).
+constexpr int kMaxWalkBounces = 10;
+constexpr int kTintTerms = (kMaxWalkBounces + 1) * (kMaxWalkBounces + 2) / 2;
+constexpr int tint_term(int n, int k) { return n * (2 * kMaxWalkBounces + 3 - n) / 2 + k; }
 
 inline float cos_o_of_cell(int o) { return (float(o) + 0.5f) / float(kCosO); }
 // The relative IOR of row e.

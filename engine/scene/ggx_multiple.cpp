@@ -11,7 +11,7 @@ namespace {
 
 using namespace ggx_multiple;
 
-#include "ggx_multiple_table.inc"
+#include "scene/tables/ggx_multiple_table.inc"
 
 using namespace table_axis;
 

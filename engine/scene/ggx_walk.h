@@ -182,8 +182,10 @@ struct GlassExit {
 // probability at its microfacet, else refracts; a refracted ray continues on the other side, where the
 // walk's frame is mirrored (the direction flipped, the IOR inverted). As in Cycles' mf_sample (not its
 // mf_eval), the height's CDF is not mirrored with it: the walk goes on from the same CDF.
-template <class Rand>
-GlassExit glass_walk(const Vec3& wi, float alpha, float eta, Rand&& rand) {
+// on_bounce(cos_i, refracted) sees every bounce: cos_i = |w.wm| of the ray arriving at its microfacet
+// (what Cycles' interpolated Fresnel colour of a reflection reads).
+template <class Rand, class OnBounce>
+GlassExit glass_walk(const Vec3& wi, float alpha, float eta, Rand&& rand, OnBounce&& on_bounce) {
     State s;
     s.dir = -wi;
     s.lam = lambda(s.dir, alpha);
@@ -196,7 +198,9 @@ GlassExit glass_walk(const Vec3& wi, float alpha, float eta, Rand&& rand) {
         Vec3 wm = visible_normal(back, alpha, ux, uy);
         float rel = outside ? eta : 1.0f / eta;
         float cos_i = dot(back, wm);
-        if (rand() < dielectric_fresnel(cos_i, rel)) {
+        bool reflected = rand() < dielectric_fresnel(cos_i, rel);
+        on_bounce(std::fabs(cos_i), !reflected);
+        if (reflected) {
             s.dir = wm * (2.0f * cos_i) - back;
         } else {
             float inv = 1.0f / rel;
@@ -209,6 +213,10 @@ GlassExit glass_walk(const Vec3& wi, float alpha, float eta, Rand&& rand) {
         s.escape = escape_probability(s.dir, s.cdf, s.lam);
     }
     return {Vec3(0, 0, 1), 0, refractions};
+}
+template <class Rand>
+GlassExit glass_walk(const Vec3& wi, float alpha, float eta, Rand&& rand) {
+    return glass_walk(wi, alpha, eta, rand, [](float, bool) {});
 }
 
 }  // namespace smis::ggx_walk

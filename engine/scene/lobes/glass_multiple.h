@@ -12,11 +12,13 @@
 // crossing. Colours, as Cycles' walk applies them (kTinted: fresnel() by the side, cos_d > 0 the
 // reflection): the Glass BSDF (variant 0) multiplies by its colour c = f0 at every bounce after the
 // first (the first is in the weight), the Principled BSDF (variant 1) by its base colour f0 at every
-// refraction (its reflections' interpolated Fresnel colour, Specular Tint, is left out: white): the
-// table holds the shares of the walks by their number of further bounces and of refractions, per
-// incident cosine and side, so the colour is sum_k share_k c^k, exact for any c. (A geometric number
-// of them fitted at c = 0.5, as for the glossy lobe, was 3.5-8% off for the Principled colour, and
-// the shares averaged over wo up to 4%.)
+// refraction and by Cycles' interpolated Fresnel colour FH + (1 - FH) cspec0 at every reflection
+// (cspec0 = 1 - Specular Tint (1 - base), kind_colour.x the Specular Tint; FH from the Fresnel term at
+// that reflection's microfacet): the table holds the shares of the walks by their number of further
+// bounces, and the mean coefficients of the Principled colour as a polynomial in the base and cspec0,
+// per incident cosine and side, so the colour is exact for any colour and tint (scene/ggx_glass.h).
+// (A geometric number of them fitted at c = 0.5, as for the glossy lobe, was 3.5-8% off for the
+// Principled colour, and the shares averaged over wo up to 4%.)
 //
 // The lobe's weight holds the table's albedo averaged over wo and over eta and 1 / eta (M, constant
 // when the back face inverts the IOR), so that the lobe selection picks it about as often as its
@@ -46,7 +48,8 @@ struct GlassMultipleLobe : LobeDefaults<GlassMultipleLobe> {
     // terms() passes cos_d = +-cos_o: its sign the side (+ reflected), its size wo's cosine.
     static float tint(const Lobe& lobe, float c, float cos_d) {
         return ggx_glass_multiple_colour(clampf(c, 0.0f, 1.0f), std::fabs(cos_d), lobe.alpha, lobe.eta,
-                                         cos_d > 0.0f ? 0 : 1, lobe.variant);
+                                         cos_d > 0.0f ? 0 : 1, lobe.variant,
+                                         lobe.variant == kPerRefraction ? clampf(lobe.kind_colour.x, 0.0f, 1.0f) : 0.0f);
     }
     static Color fresnel(const Lobe& lobe, float cos_d) {
         return Color(tint(lobe, lobe.f0.x, cos_d), tint(lobe, lobe.f0.y, cos_d), tint(lobe, lobe.f0.z, cos_d));

@@ -3,7 +3,7 @@
 // walk of Cycles 3.4's multiscatter glass (scene/ggx_walk.h, glass_walk) from a fixed seed, and where
 // the walks of two or more bounces leave:
 //
-//   ggx_glass_gen OUT.inc [WALKS]
+//   ggx_glass_gen OUT.inc [WALKS [ROW]]   (ROW = roughness x 18 + IOR row: a slice, scene/tools/walk_rows.h)
 //
 // writes, with the layout of scene/ggx_glass_layout.h (leaving cells of cos_i^2 and of the azimuth
 // |phi| in [0, pi] from wo's, on each side s of the interface):
@@ -13,18 +13,25 @@
 //                                 projected measure,
 //   kGlassBounces[r][e][o][s][k]     of that albedo, the share of the walks with k + 1 bounces after
 //                                    the first (the Glass BSDF's walk colours each),
-//   kGlassRefractions[r][e][o][s][k] and the share of those with k refractions (the Principled BSDF's
-//                                    walk colours each), so that a colour c gives sum_k share_k c^k.
+//                                    so that a colour c gives sum_k share_k c^k,
+//   kGlassTint[r][e][o][s][t]        and the Principled BSDF's walk colour as a polynomial: its mean
+//                                    coefficient of b^n x^k at t = tint_term(n, k) (ggx_glass_layout.h),
+//                                    b the base colour (each refraction), x = cspec0 (each reflection
+//                                    multiplies by Cycles' interpolated Fresnel colour FH + (1 - FH) x,
+//                                    FH = (F(cos_i, eta) - F0) / (1 - F0) at its microfacet, F0 = F(1, eta),
+//                                    eta the walk's own relative IOR: mf_sample's interpolate_fresnel_color),
+//                                    so that Specular Tint t gives sum b^n (1 - t + t b)^k per channel.
 // Deterministic: the same file on every machine (std::mt19937, its 32-bit outputs turned into floats
-// by hand). Runs its rows on all cores.
+// by hand). Runs its rows on all cores; the build reads the copy committed as
+// engine/scene/tables/ggx_glass_table.inc.
 #include <cstdio>
 #include <cstdlib>
 #include <random>
-#include <thread>
 #include <vector>
 
 #include "scene/ggx_glass_layout.h"
 #include "scene/ggx_walk.h"
+#include "scene/tools/walk_rows.h"
 
 using namespace smis;
 using namespace smis::ggx_glass;
@@ -36,7 +43,25 @@ constexpr int kCells = kSides * kCosI * kPhi;
 struct Row {  // one roughness and relative IOR
     std::vector<double> bsdf = std::vector<double>(size_t(kCosO * kCells), 0.0);
     std::vector<double> energy = std::vector<double>(size_t(kCosO * kSides), 0.0);
-    double bounces[kCosO][kSides][kBounceBins] = {}, refractions[kCosO][kSides][kRefractionBins] = {};
+    double bounces[kCosO][kSides][kBounceBins] = {}, tint[kCosO][kSides][kTintTerms] = {};
+};
+
+// One walk's Principled colour: the coefficients p[k] of x^k of prod_j (FH_j + (1 - FH_j) x) over its
+// reflections, and its number of refractions.
+struct WalkTint {
+    double p[kMaxWalkBounces + 1] = {1.0};
+    int reflections = 0, refractions = 0;
+    float eta, f0;
+    explicit WalkTint(float eta) : eta(eta), f0(ggx_walk::dielectric_fresnel(1.0f, eta)) {}
+    void operator()(float cos_i, bool refracted) {
+        if (refracted) {
+            ++refractions;
+            return;
+        }
+        double fh = f0 < 1.0f ? (double(ggx_walk::dielectric_fresnel(cos_i, eta)) - f0) / (1.0 - f0) : 1.0;
+        ++reflections;
+        for (int k = reflections; k >= 0; --k) p[k] = fh * p[k] + (k > 0 ? (1.0 - fh) * p[k - 1] : 0.0);
+    }
 };
 
 Row walk_row(int r, int e, long walks) {
@@ -50,9 +75,10 @@ Row walk_row(int r, int e, long walks) {
         Vec3 wi(std::sqrt(1.0f - mu * mu), 0.0f, mu);
         double white[kSides] = {0.0, 0.0};
         auto& bounces = row.bounces[o];
-        auto& refractions = row.refractions[o];
+        auto& tint = row.tint[o];
         for (long k = 0; k < walks; ++k) {
-            ggx_walk::GlassExit x = ggx_walk::glass_walk(wi, alpha, eta, rand);
+            WalkTint colour(eta);
+            ggx_walk::GlassExit x = ggx_walk::glass_walk(wi, alpha, eta, rand, colour);
             if (x.bounces < 2 || x.dir.z == 0.0f) continue;
             int s = x.dir.z > 0.0f ? 0 : 1;
             int ci = std::min(int(x.dir.z * x.dir.z * kCosI), kCosI - 1);
@@ -61,7 +87,7 @@ Row walk_row(int r, int e, long walks) {
             row.bsdf[size_t(o * kCells + (s * kCosI + ci) * kPhi + cp)] += 1.0;
             white[s] += 1.0;
             bounces[s][std::min(x.bounces - 2, kBounceBins - 1)] += 1.0;
-            refractions[s][std::min(x.refractions, kRefractionBins - 1)] += 1.0;
+            for (int k = 0; k <= colour.reflections; ++k) tint[s][tint_term(colour.refractions, k)] += colour.p[k];
         }
         // A cell's projected solid angle: 1/kCosI of cos^2 over 2, pi/kPhi of azimuth, on both sides of wo's plane.
         double measure = (1.0 / kCosI) * 0.5 * (kPi / kPhi) * 2.0;
@@ -70,8 +96,7 @@ Row walk_row(int r, int e, long walks) {
             row.energy[size_t(o * kSides + s)] = white[s] / double(walks);
             // The counts as shares of this side's walks; where none left here, all at the first bin.
             for (int k = 0; k < kBounceBins; ++k) bounces[s][k] = white[s] > 0.0 ? bounces[s][k] / white[s] : k == 0;
-            for (int k = 0; k < kRefractionBins; ++k)
-                refractions[s][k] = white[s] > 0.0 ? refractions[s][k] / white[s] : k == 0;
+            for (int k = 0; k < kTintTerms; ++k) tint[s][k] = white[s] > 0.0 ? tint[s][k] / white[s] : k == 0;
         }
     }
     return row;
@@ -80,21 +105,17 @@ Row walk_row(int r, int e, long walks) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: ggx_glass_gen OUT.inc [WALKS]\n");
-        return 2;
-    }
-    long walks = argc > 2 ? std::atol(argv[2]) : 100000;
-    std::vector<Row> rows(size_t(kRough * kEtaRows));
-    std::vector<std::thread> threads;
-    unsigned n = std::max(1u, std::thread::hardware_concurrency());
-    for (unsigned t = 0; t < n; ++t)
-        threads.emplace_back([&, t] {
-            for (int k = int(t); k < kRough * kEtaRows; k += int(n)) rows[size_t(k)] = walk_row(k / kEtaRows, k % kEtaRows, walks);
-        });
-    for (std::thread& t : threads) t.join();
+    walk_rows::Args args;
+    if (!walk_rows::parse(argc, argv, "ggx_glass_gen", 100000, &args)) return 2;
+    const long walks = args.walks;
+    Row unwalked;
+    walk_rows::mark_not_walked(unwalked.bsdf, unwalked.energy);
+    for (auto& per_side : unwalked.bounces) walk_rows::mark_not_walked(per_side[0], per_side[1]);
+    for (auto& per_side : unwalked.tint) walk_rows::mark_not_walked(per_side[0], per_side[1]);
+    std::vector<Row> rows = walk_rows::run(kRough * kEtaRows, args, unwalked,
+                                           [&](int k) { return walk_row(k / kEtaRows, k % kEtaRows, walks); });
 
-    FILE* f = std::fopen(argv[1], "w");
+    FILE* f = std::fopen(args.out, "w");
     if (!f) return 1;
     std::fprintf(f, "// Generated by ggx_glass_gen (engine/scene/tools/ggx_glass_gen.cpp), %ld walks per row.\n", walks);
     std::fprintf(f, "const float kGlassBsdf[%d][%d][%d][%d][%d][%d] = {\n", kRough, kEtaRows, kCosO, kSides, kCosI, kPhi);
@@ -142,8 +163,7 @@ int main(int argc, char** argv) {
         }
     };
     shares("kGlassBounces", kBounceBins, [](const Row& row, int o, int s, int b) { return row.bounces[o][s][b]; });
-    shares("kGlassRefractions", kRefractionBins,
-           [](const Row& row, int o, int s, int b) { return row.refractions[o][s][b]; });
+    shares("kGlassTint", kTintTerms, [](const Row& row, int o, int s, int b) { return row.tint[o][s][b]; });
     std::fprintf(f, "};\n");
     return std::fclose(f) == 0 ? 0 : 1;
 }

@@ -1,0 +1,42 @@
+"""Is a slice of a random-walk table (a generator run with ROW, scene/tools/walk_rows.h) the table committed
+under engine/scene/tables/?
+
+    check_walk_table.py SLICE.inc COMMITTED.inc
+
+Both files list the same arrays in the same order; every number the slice walked (not nan) must be
+written exactly as in the committed file, and the slice must have walked some. Exit 0 if so, 1 with
+the first differences if not (the committed table is stale: regenerate it with
+engine/scene/tools/regenerate_tables.sh).
+"""
+import re
+import sys
+
+_NUMBER = re.compile(r"-?nan|-?inf|[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def numbers(path):
+    with open(path) as f:
+        body = "\n".join(line for line in f if not line.lstrip().startswith("//"))
+    body = re.sub(r"\[\d+\]", "", body)  # array sizes
+    body = re.sub(r"\bk\w+", "", body)    # array names
+    return _NUMBER.findall(body)
+
+
+def main(slice_path, committed_path):
+    walked, committed = numbers(slice_path), numbers(committed_path)
+    if len(walked) != len(committed):
+        print("%s has %d numbers, %s %d: not the same layout" % (slice_path, len(walked), committed_path, len(committed)))
+        return 1
+    compared = [(i, a, b) for i, (a, b) in enumerate(zip(walked, committed)) if "nan" not in a]
+    wrong = [(i, a, b) for i, a, b in compared if a != b]
+    print("%s: %d of %d numbers walked, %d differ from %s" % (slice_path, len(compared), len(walked), len(wrong),
+                                                              committed_path))
+    for i, a, b in wrong[:10]:
+        print("  number %d: walked %s, committed %s" % (i, a, b))
+    return 0 if compared and not wrong else 1
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    sys.exit(main(sys.argv[1], sys.argv[2]))
