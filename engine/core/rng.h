@@ -80,11 +80,15 @@ private:
     float prefix_[kMaxPrefix];
 };
 
-// The stream for one pixel sample: a pure function of its coordinates and the user's seed.
-inline Rng pixel_sample_rng(uint32_t px, uint32_t py, uint32_t sample, uint32_t seed) {
+// The stream for one pixel sample: a pure function of its coordinates and the user's seed. The
+// pixel's part (pixel_stream) is the same for all its samples.
+inline uint64_t pixel_stream(uint32_t px, uint32_t py, uint32_t seed) {
     uint64_t key = mix64((static_cast<uint64_t>(py) << 32) | px);
-    uint64_t seq = mix64(key ^ (static_cast<uint64_t>(seed) * 0x632be59bd9b4e019ull));
-    return Rng(seq, mix64(seq + sample));
+    return mix64(key ^ (static_cast<uint64_t>(seed) * 0x632be59bd9b4e019ull));
+}
+inline Rng pixel_sample_rng(uint64_t stream, uint32_t sample) { return Rng(stream, mix64(stream + sample)); }
+inline Rng pixel_sample_rng(uint32_t px, uint32_t py, uint32_t sample, uint32_t seed) {
+    return pixel_sample_rng(pixel_stream(px, py, seed), sample);
 }
 
 }  // namespace smis

@@ -45,12 +45,14 @@ inline uint32_t owen_scramble(uint32_t x, uint32_t seed) {
 
 // The second Sobol dimension (the first is reverse_bits(i), van der Corput's sequence). Its
 // generator matrix is linear over GF(2): the value is the XOR of one column per set bit of i, so
-// four tables of the XORs of 8 columns give it in four lookups.
+// four tables of the XORs of 8 columns give it in four lookups. The tables hold the columns with
+// their bits reversed (reversal commutes with XOR), because the Owen scramble reverses the value
+// first: one bit reversal less per point.
 struct SobolDim1Tables {
     uint32_t t[4][256];
     SobolDim1Tables() {
         uint32_t column[32];
-        for (uint32_t b = 0, v = 1u << 31; b < 32; ++b, v ^= v >> 1) column[b] = v;
+        for (uint32_t b = 0, v = 1u << 31; b < 32; ++b, v ^= v >> 1) column[b] = reverse_bits(v);
         for (int byte = 0; byte < 4; ++byte)
             for (uint32_t x = 0; x < 256; ++x) {
                 uint32_t r = 0;
@@ -60,7 +62,8 @@ struct SobolDim1Tables {
             }
     }
 };
-inline uint32_t sobol_dim1(uint32_t i) {
+// reverse_bits(sobol_dim1(i))
+inline uint32_t sobol_dim1_reversed(uint32_t i) {
     static const SobolDim1Tables tables;
     return tables.t[0][i & 255u] ^ tables.t[1][(i >> 8) & 255u] ^ tables.t[2][(i >> 16) & 255u] ^
            tables.t[3][i >> 24];
@@ -69,8 +72,10 @@ inline uint32_t sobol_dim1(uint32_t i) {
 inline float to_unit(uint32_t x) { return static_cast<float>(x >> 8) * 0x1p-24f; }
 
 // The three scramble seeds of a dimension group (index shuffle, first and second coordinate).
+// They depend on the pixel and the group only: a pixel's samples can share them (sample_2d below).
 struct GroupSeeds {
-    uint32_t index, x, y;
+    uint32_t index = 0, x = 0, y = 0;
+    GroupSeeds() = default;
     GroupSeeds(uint64_t pixel_key, uint32_t group) {
         uint64_t h = mix64(pixel_key ^ (uint64_t(group) * 0x9e3779b97f4a7c15ull));
         index = static_cast<uint32_t>(h);
@@ -87,11 +92,14 @@ inline float sample_1d(uint32_t sample, uint64_t pixel_key, uint32_t group) {
     return to_unit(reverse_bits(laine_karras_permutation(index, seeds.x)));
 }
 
-inline void sample_2d(uint32_t sample, uint64_t pixel_key, uint32_t group, float* out) {
-    GroupSeeds seeds(pixel_key, group);
+inline void sample_2d(uint32_t sample, const GroupSeeds& seeds, float* out) {
     uint32_t index = owen_scramble(sample, seeds.index);
     out[0] = to_unit(reverse_bits(laine_karras_permutation(index, seeds.x)));  // as in sample_1d
-    out[1] = to_unit(owen_scramble(sobol_dim1(index), seeds.y));
+    // owen_scramble(sobol_dim1(index)), with the inner reversal in the table
+    out[1] = to_unit(reverse_bits(laine_karras_permutation(sobol_dim1_reversed(index), seeds.y)));
+}
+inline void sample_2d(uint32_t sample, uint64_t pixel_key, uint32_t group, float* out) {
+    sample_2d(sample, GroupSeeds(pixel_key, group), out);
 }
 
 }  // namespace stratified

@@ -21,9 +21,10 @@ int aux_pass_channels(AuxPass pass) {
     return 0;
 }
 
-void Film::enable_aux() {
+void Film::enable_aux(bool depth_only) {
     size_t n = size_t(width_) * height_;
-    aux_sum_.assign(kAuxChannels * n, 0.0);
+    aux_channels_ = depth_only ? 1 : kAuxChannels;
+    aux_sum_.assign(aux_channels_ * n, 0.0);
     aux_count_ = std::vector<std::atomic<uint32_t>>(n);
 }
 
@@ -31,6 +32,7 @@ std::vector<float> Film::resolve_aux(AuxPass pass) const {
     if (!has_aux()) return {};
     const int first = static_cast<int>(pass), channels = aux_pass_channels(pass);
     std::vector<float> out(channels * aux_count_.size(), 0.0f);
+    if (aux_channels_ == 1 && pass != AuxPass::Depth) return out;  // not recorded (enable_aux)
     for (size_t i = 0; i < aux_count_.size(); ++i) {
         uint32_t n = aux_count_[i].load(std::memory_order_acquire);
         if (!n) {
@@ -38,7 +40,7 @@ std::vector<float> Film::resolve_aux(AuxPass pass) const {
             continue;
         }
         for (int c = 0; c < channels; ++c)
-            out[channels * i + c] = static_cast<float>(aux_sum_[kAuxChannels * i + first + c] / n);
+            out[channels * i + c] = static_cast<float>(aux_sum_[aux_channels_ * i + first + c] / n);
     }
     return out;
 }

@@ -49,14 +49,23 @@ public:
         add(x, y, c);
     }
     // Auxiliary passes cost nothing (no memory, no rays) unless enabled before rendering.
-    void enable_aux();
+    // depth_only: Blender's default Z pass alone (files saved by Blender 2.8-2.9 enable it) keeps one
+    // channel per pixel, not kAuxChannels: 8 bytes a pixel instead of 64. Fresh memory is what a
+    // render pays for here (a page fault per 4 KiB; the allocator hands blocks over 8 MB back to the
+    // system, so each render faults them in again): 480x270 with all channels was 8.3 MB, 2,000
+    // page faults per render. The other passes then read as empty.
+    void enable_aux(bool depth_only = false);
     bool has_aux() const { return kWithAuxPasses && !aux_count_.empty(); }
     void add_aux(int x, int y, const AuxSample& a) {
         size_t i = size_t(y) * width_ + x;
-        double* s = &aux_sum_[kAuxChannels * i];
-        const float v[kAuxChannels] = {a.depth,    a.normal.x, a.normal.y, a.normal.z,
-                                       a.albedo.x, a.albedo.y, a.albedo.z, a.diagnostic};
-        for (int c = 0; c < kAuxChannels; ++c) s[c] += v[c];
+        if (aux_channels_ == 1) {
+            aux_sum_[i] += a.depth;
+        } else {
+            double* s = &aux_sum_[kAuxChannels * i];
+            const float v[kAuxChannels] = {a.depth,    a.normal.x, a.normal.y, a.normal.z,
+                                           a.albedo.x, a.albedo.y, a.albedo.z, a.diagnostic};
+            for (int c = 0; c < kAuxChannels; ++c) s[c] += v[c];
+        }
         aux_count_[i].store(aux_count_[i].load(std::memory_order_relaxed) + 1, std::memory_order_release);
     }
     // One auxiliary pass averaged over its samples: width x height x aux_pass_channels(pass) floats,
@@ -77,8 +86,9 @@ private:
     std::vector<double> sum_;
     std::vector<std::atomic<uint32_t>> count_;
     std::vector<double> transparency_sum_;
-    std::vector<double> aux_sum_;
+    std::vector<double> aux_sum_;  // aux_channels_ per pixel
     std::vector<std::atomic<uint32_t>> aux_count_;
+    int aux_channels_ = kAuxChannels;
 };
 
 // Non-finite radiance never reaches the film: the sample is dropped and counted.

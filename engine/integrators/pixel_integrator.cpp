@@ -6,9 +6,10 @@ namespace smis {
 
 void PixelIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) {
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
+        const PixelCamera camera(ctx, x, y);
         for (uint32_t s = s0; s < s1; ++s) {
             Rng rng;
-            Ray ray = camera_ray(ctx, x, y, s, &rng);
+            Ray ray = camera.ray(s, &rng);
             local.sample_diagnostic = local.sample_transparency = 0.0f;
             local.camera_depth = std::numeric_limits<float>::quiet_NaN();
             const Camera& cam = ctx.scene.camera();

@@ -59,13 +59,6 @@ inline void first_vertex_values(uint64_t key, uint32_t s, float* out) {
     out[5] = choices[0], out[4] = point[0], out[3] = point[1];
     out[2] = choices[1], out[1] = direction[0], out[0] = direction[1];
 }
-inline void set_stratified_prefix(Rng* rng, uint32_t fx, uint32_t fy, uint32_t s, uint32_t seed, bool lens) {
-    const uint64_t key = stratified_pixel_key(fx, fy, seed);
-    float v[4];
-    stratified::sample_2d(s, key, 0, v);
-    if (lens) stratified::sample_2d(s, key, 1, v + 2);
-    rng->set_prefix(v, lens ? 4 : 2, first_vertex_values, 6, key, s);
-}
 
 // Extra light samples at the first vertex (path-space filtering takes several): light sample i of
 // n - 1 extra ones of pixel sample s draws its light choice and point from dimension groups 5 and 6
@@ -95,31 +88,67 @@ inline void set_extra_bsdf_sample_prefix(Rng* rng, uint64_t pixel_key, uint32_t 
 // The dimension group of a camera sample's time in the shutter (groups 0-8 are taken above).
 constexpr uint32_t kTimeDimensionGroup = 9;
 
+// The camera rays of one window pixel (x, y): ray(s, &rng) is sample s's camera ray and sets rng
+// to the sample's own random stream. What depends on the pixel and the seed only (the stream's key,
+// the stratified scrambles of the pixel position, lens and time) is hashed once for all the pixel's
+// samples: where most camera rays leave the scene, these hashes were a tenth of a sample's cost.
+class PixelCamera {
+public:
+    PixelCamera(const RenderContext& ctx, int x, int y)
+        : ctx_(ctx), cam_(ctx.scene.camera()), fx_(x + cam_.window_x0()), fy_(y + cam_.window_y0()),
+          stream_(pixel_stream(fx_, fy_, ctx.settings.seed)),
+          stratified_(kWithStratified && ctx.settings.sampling_pattern == SamplingPattern::Stratified) {
+        if (!stratified_) return;
+        key_ = stratified_pixel_key(fx_, fy_, ctx.settings.seed);
+        position_ = stratified::GroupSeeds(key_, 0);
+        if (cam_.has_aperture()) lens_ = stratified::GroupSeeds(key_, 1);
+        if (ctx.scene.has_motion()) time_ = stratified::GroupSeeds(key_, kTimeDimensionGroup);
+    }
+
+    Ray ray(uint32_t s, Rng* rng) const {
+        *rng = pixel_sample_rng(stream_, s);
+        const bool lens = cam_.has_aperture();
+        if (stratified_) {
+            float v[4];
+            stratified::sample_2d(s, position_, v);
+            if (lens) stratified::sample_2d(s, lens_, v + 2);
+            rng->set_prefix(v, lens ? 4 : 2, first_vertex_values, 6, key_, s);
+        }
+        Point2 off = ctx_.filter.sample({rng->next_float(), rng->next_float()});
+        const float px = fx_ + 0.5f + off.x, py = fy_ + 0.5f + off.y;
+        if (!ctx_.scene.has_motion()) {
+            if (!lens) return cam_.generate_ray(px, py);
+            Point2 u_lens{rng->next_float(), rng->next_float()};
+            return cam_.generate_ray(px, py, u_lens);
+        }
+        // Motion blur: every ray of the path sees the scene at the sample's time in the shutter. Drawn
+        // after the lens, so scenes that do not move keep their numbers; stratified over the pixel's
+        // samples from a group of its own (the prefix's numbers stay the lens' and the first vertex's).
+        Point2 u_lens{0.5f, 0.5f};
+        if (lens) u_lens = {rng->next_float(), rng->next_float()};
+        float u_time;
+        if (stratified_) {
+            float v[2];
+            stratified::sample_2d(s, time_, v);
+            u_time = v[0];
+        } else {
+            u_time = rng->next_float();
+        }
+        return cam_.generate_ray(px, py, u_lens, cam_.sample_time(u_time));
+    }
+
+private:
+    const RenderContext& ctx_;
+    const Camera& cam_;
+    int fx_, fy_;
+    uint64_t stream_;
+    bool stratified_;
+    uint64_t key_ = 0;
+    stratified::GroupSeeds position_, lens_, time_;
+};
+
 inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s, Rng* rng) {
-    const Camera& cam = ctx.scene.camera();
-    int fx = x + cam.window_x0(), fy = y + cam.window_y0();
-    *rng = pixel_sample_rng(fx, fy, s, ctx.settings.seed);
-    if (kWithStratified && ctx.settings.sampling_pattern == SamplingPattern::Stratified) set_stratified_prefix(rng, fx, fy, s, ctx.settings.seed, cam.has_aperture());
-    Point2 off = ctx.filter.sample({rng->next_float(), rng->next_float()});
-    if (!ctx.scene.has_motion()) {
-        if (!cam.has_aperture()) return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y);
-        Point2 u_lens{rng->next_float(), rng->next_float()};
-        return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y, u_lens);
-    }
-    // Motion blur: every ray of the path sees the scene at the sample's time in the shutter. Drawn
-    // after the lens, so scenes that do not move keep their numbers; stratified over the pixel's
-    // samples from a group of its own (the prefix's numbers stay the lens' and the first vertex's).
-    Point2 u_lens{0.5f, 0.5f};
-    if (cam.has_aperture()) u_lens = {rng->next_float(), rng->next_float()};
-    float u_time;
-    if (kWithStratified && ctx.settings.sampling_pattern == SamplingPattern::Stratified) {
-        float v[2];
-        stratified::sample_2d(s, stratified_pixel_key(fx, fy, ctx.settings.seed), kTimeDimensionGroup, v);
-        u_time = v[0];
-    } else {
-        u_time = rng->next_float();
-    }
-    return cam.generate_ray(fx + 0.5f + off.x, fy + 0.5f + off.y, u_lens, cam.sample_time(u_time));
+    return PixelCamera(ctx, x, y).ray(s, rng);
 }
 
 // Stage timings of the multi-stage integrators (reported through Integrator::stats()).

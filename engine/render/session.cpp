@@ -16,7 +16,7 @@ RenderSession::RenderSession(std::shared_ptr<const Scene> scene, RenderSettings 
     if (settings_.max_bounces < 0) settings_.max_bounces = 0;
     if (settings_.aux_passes) {
         require_feature(kWithAuxPasses, "render passes", "aux_passes");
-        film_.enable_aux();
+        film_.enable_aux(!settings_.aux_shading);  // Z alone: one channel
     }
     if (settings_.film_transparent || scene_->has_holdout()) film_.enable_transparency();
 }

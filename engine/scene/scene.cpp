@@ -320,6 +320,7 @@ bool Scene::set_instance_transforms(const float* rows, size_t n) {
         rtcCommitGeometry(geom);
     }
     rtcCommitScene(scene_);  // rebuilds the top level only
+    update_camera_bounds_test();
     return embree_error_.empty();
 }
 
@@ -345,6 +346,7 @@ bool Scene::replace_mesh(uint32_t id, const float* vertices, size_t nv, const in
     stats_.triangles += (mesh.indices.size() / 3 - meshes_[id].indices.size() / 3) * mesh.users;
     meshes_[id] = std::move(mesh);
     rtcCommitScene(scene_);
+    update_camera_bounds_test();
     return embree_error_.empty();
 }
 
@@ -631,6 +633,7 @@ int32_t Scene::medium_at(const Vec3& p) const {
 void Scene::set_camera(const CameraDesc& desc) {
     camera_ = Camera(desc);
     has_camera_ = true;
+    if (committed_) update_camera_bounds_test();  // a viewport camera moved
 }
 
 void Scene::build_mesh_geometry(RTCScene target, Mesh& mesh, unsigned id, uint32_t visibility) {
@@ -899,13 +902,34 @@ void Scene::commit() {
 
     finish_lights();
     update_skipped();
+    update_camera_bounds_test();
     stats_.meshes = meshes_.size();
     stats_.instances = instances_.size();
     stats_.materials = materials_.size();
     committed_ = true;
 }
 
+void Scene::update_camera_bounds_test() {
+    RTCBounds b;
+    rtcGetSceneBounds(scene_, &b);
+    bounds_ = SceneBounds::padded({b.lower_x, b.lower_y, b.lower_z}, {b.upper_x, b.upper_y, b.upper_z});
+    // Moving geometry: the box at one time is not the box over the shutter. No geometry: Embree's
+    // miss is cheap enough.
+    camera_bounds_test_ = !has_motion_ && bounds_.finite();
+    if (!camera_bounds_test_ || !has_camera_ || camera_.has_aperture()) return;
+    // Camera rays share one origin (or, orthographic, one direction), so those that meet the box
+    // form a convex set: when the rays through the image's corners (a few pixels beyond, for the
+    // pixel filter) all meet it, every camera ray does and the test would only cost.
+    const float w = float(camera_.width()), h = float(camera_.height()), m = 4.0f;
+    bool all_meet = true;
+    for (float fx : {-m, w + m})
+        for (float fy : {-m, h + m}) all_meet = all_meet && bounds_.may_meet(camera_.generate_ray(fx, fy));
+    camera_bounds_test_ = !all_meet;
+}
+
 bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
+    // Camera rays that surely miss the scene's box hit nothing: no BVH query (scene_bounds.h).
+    if (camera_bounds_test_ && ray.visibility == kRayCamera && !bounds_.may_meet(ray)) return false;
     if (!embree_accepts(ray.o, ray.d, ray.tmin, ray.tmax)) return false;  // see embree_accepts()
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);

@@ -14,6 +14,7 @@
 #include "scene/material.h"
 #include "scene/media_light_choice.h"
 #include "scene/medium.h"
+#include "scene/scene_bounds.h"
 #include "shading/shader_context.h"
 
 namespace smis {
@@ -178,6 +179,8 @@ public:
     bool intersect_instance(uint32_t instance, const Ray& ray, SurfaceHit* hit) const;
     // Some material has a Subsurface lobe (a BSSRDF closure): hits record their instance.
     bool has_subsurface() const { return has_subsurface_; }
+    // Camera rays test the scene's bounding box before the BVH (scene_bounds.h): some of them miss it.
+    bool tests_camera_rays_against_bounds() const { return camera_bounds_test_; }
     // Something moves during the shutter (an instance or the camera): camera rays draw a time.
     bool has_motion() const { return has_motion_; }
     // Lights that are not geometry (area, point/spot disks) struck before `ray.tmax`; adds their
@@ -397,6 +400,9 @@ private:
     bool has_media_ = false;
     float radius_ = 1.0f;
     Vec3 center_{0.0f};
+    SceneBounds bounds_;               // the BVH's bounds, padded (scene_bounds.h)
+    bool camera_bounds_test_ = false;  // camera rays test bounds_ before the BVH
+    void update_camera_bounds_test();
     ScatteringRegion scattering_;
     SceneStats stats_;
     std::vector<std::string> skipped_;

@@ -155,6 +155,80 @@ TEST(Scene, RejectsUnusableLights) {
     EXPECT_THROW((void)s.commit(), std::invalid_argument);  // no camera
 }
 
+TEST(Scene, CameraRaysSkipTheBvhOnlyWhenTheyMissTheSceneBox) {
+    // Camera rays that surely miss the scene's bounding box are answered without Embree
+    // (scene_bounds.h). Rays aimed within 1e-7 to 1e-2 of the box's edges and corners, from a camera
+    // near a small object and from one 1e4 away from it, must find exactly what the same ray finds
+    // through the BVH (a ray seen by every object takes no shortcut).
+    struct Case {
+        float cam_z, scale;
+    };
+    for (const Case c : {Case{0.0f, 0.5f}, Case{1e4f, 0.01f}}) {
+        Scene s;
+        uint32_t mesh = s.add_mesh(kQuad, 4, kQuadTris, 2, nullptr, nullptr, {});
+        Transform t = translation(0.3f * c.scale, 0.2f * c.scale, -40.0f * c.scale);
+        t.m[0][0] = t.m[1][1] = c.scale;
+        t.m[2][1] = c.scale;  // tilted: the box has depth, its corners are no quad corners
+        s.add_instance(mesh, t);
+        CameraDesc cam = looking_down_minus_z(64, 64);
+        cam.to_world = translation(0, 0, c.cam_z);
+        s.set_camera(cam);
+        s.commit();
+        EXPECT_TRUE(s.tests_camera_rays_against_bounds()) << c.cam_z;
+        const Vec3 o(0, 0, c.cam_z);
+        Rng rng(7, 0);
+        int hits = 0, misses = 0;
+        // The quad's bounding box (y tilted into z): its edges and corners are where rays graze.
+        const Vec3 centre = t.point(Vec3(0.0f)), half(c.scale);
+        for (int i = 0; i < 20000; ++i) {
+            // A point on an edge of the box (two coordinates on a face), then moved off it.
+            Vec3 u(rng.next_float() * 2 - 1, rng.next_float() * 2 - 1, rng.next_float() * 2 - 1);
+            u[int(rng.next_float() * 3)] = rng.next_float() < 0.5f ? -1.0f : 1.0f;
+            u[int(rng.next_float() * 3)] = rng.next_float() < 0.5f ? -1.0f : 1.0f;
+            const float off = c.scale * std::pow(10.0f, -7.0f + 5.0f * rng.next_float());
+            Vec3 target = centre + half * u + normalize(Vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f,
+                                                             rng.next_float() - 0.5f)) * off;
+            Ray camera_ray{o, normalize(target - o), 1e-3f, 1e6f, kShutterCentre, kRayCamera};
+            Ray any_ray = camera_ray;
+            any_ray.visibility = kRayAllVisibility;
+            SurfaceHit h1, h2;
+            const bool f1 = s.intersect(camera_ray, &h1), f2 = s.intersect(any_ray, &h2);
+            ASSERT_EQ(f1, f2) << "case " << c.cam_z << " ray " << i;
+            if (f1) EXPECT_EQ(h1.t, h2.t);
+            (f1 ? hits : misses)++;
+        }
+        EXPECT_GT(hits, 2000) << c.cam_z;
+        EXPECT_GT(misses, 2000) << c.cam_z;
+    }
+    // Every camera ray meets the box (an object filling the view): no test, it would only cost.
+    Scene wall;
+    uint32_t quad = wall.add_mesh(kQuad, 4, kQuadTris, 2, nullptr, nullptr, {});
+    Transform big = translation(0, 0, -1);
+    big.m[0][0] = big.m[1][1] = 100.0f;
+    wall.add_instance(quad, big);
+    wall.set_camera(looking_down_minus_z(64, 64));
+    wall.commit();
+    EXPECT_FALSE(wall.tests_camera_rays_against_bounds());
+}
+
+TEST(SceneBounds, SaysMissOnlyForRaysThatSurelyMissTheBox) {
+    SceneBounds b;  // unpadded: rays exactly on its faces
+    b.lo = Vec3(0.0f), b.hi = Vec3(1.0f);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_TRUE(b.may_meet({{0.5f, 0.5f, -1}, {0, 0, 1}}));
+    EXPECT_FALSE(b.may_meet({{2, 0.5f, -1}, normalize(Vec3(0.1f, 0, 1))}));
+    EXPECT_FALSE(b.may_meet({{0.5f, 0.5f, -1}, normalize(Vec3(1, 0, 0.1f))}));
+    EXPECT_FALSE(b.may_meet({{0.5f, 0.5f, -1}, {0, 0, 1}, 0.0f, 0.5f}));  // stops before the box
+    EXPECT_FALSE(b.may_meet({{0.5f, 0.5f, 3}, {0, 0, 1}}));               // points away
+    // In a face's plane (direction component +-0, origin on the plane: 0 x inf = NaN): may meet.
+    for (float zero : {0.0f, -0.0f}) {
+        EXPECT_TRUE(b.may_meet({{1, 0.5f, -1}, {zero, 0, 1}}));
+        EXPECT_TRUE(b.may_meet({{0, 0.5f, -1}, {zero, 0, 1}}));
+    }
+    EXPECT_TRUE(b.may_meet({{0.5f, 0.5f, -1}, {nan, 0, 1}}));
+    EXPECT_TRUE(b.may_meet({{0.5f, 0.5f, -1}, {0, 0, 1}, nan, kInf}));
+}
+
 TEST(Scene, InPlaceViewportUpdatesEqualAFreshScene) {
     // A fast-build (viewport) scene moved and edited in place answers rays exactly like a scene
     // built from scratch in the final state.
