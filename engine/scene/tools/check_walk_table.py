@@ -4,7 +4,7 @@ under engine/scene/tables/?
     check_walk_table.py SLICE.inc COMMITTED.inc
 
 Both files list the same arrays in the same order; every number the slice walked (not nan) must be
-the committed one within a relative 1e-4 (and the slice must have walked some). Not digit for digit: the
+the committed one within a relative 3e-4 (and the slice must have walked some). Not digit for digit: the
 walks call libm, whose x86-64 variants (FMA or not, chosen by the CPU) may differ in a last bit, and one
 walk that branches differently moves a row's mean by about 1/walks (1e-5 and less); a change to a walk or
 to its random numbers moves it by the walk's noise (1e-3 and more). Exit 0 if so, 1 with
@@ -35,7 +35,8 @@ def _close(a, b):
     return abs(x - y) <= REL_TOL * max(abs(x), abs(y)) + ABS_TOL
 
 
-REL_TOL, ABS_TOL = 1e-4, 1e-7
+# The tables print 5 significant digits: a last-digit step is up to 1e-4 of the value.
+REL_TOL, ABS_TOL = 3e-4, 1e-7
 
 
 def main(slice_path, committed_path):
