@@ -923,6 +923,35 @@ def build_procedural(path):
     save(path)
 
 
+def build_textured_plane(path):
+    """One image-textured plane under a point light, camera looking straight down: the simple
+    public-scene case of issue 21's speed bar (bench/path_speed.py). The 512x512 texture is made
+    here (a checker with a smooth colour gradient) and packed into the .blend."""
+    import numpy as np
+    sc = new_scene(480, 270, samples=64)
+    set_world(sc, (0.05, 0.05, 0.05), 1.0)
+    n = 512
+    y, x = np.mgrid[0:n, 0:n] / n
+    checker = ((np.floor(x * 16) + np.floor(y * 16)) % 2) * 0.6 + 0.2
+    rgba = np.stack([checker * (0.5 + 0.5 * x), checker * (0.5 + 0.5 * y), checker * 0.7,
+                     np.ones_like(x)], axis=-1).astype(np.float32)
+    img = bpy.data.images.new("Checker", n, n)
+    img.pixels.foreach_set(rgba.ravel())
+    img.pack()
+    m, nt, out = _node_material("Textured")
+    bsdf = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    tex = nt.nodes.new("ShaderNodeTexImage")
+    tex.image = img
+    nt.links.new(tex.outputs["Color"], bsdf.inputs["Color"])
+    nt.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
+    bm = bmesh.new()
+    bmesh.ops.create_grid(bm, x_segments=1, y_segments=1, size=4.0, calc_uvs=True)
+    _finish_mesh(sc, "Plane", bm, m)
+    add_light(sc, "Point", 'POINT', (0.5, -0.5, 2.0), energy=200.0, shadow_soft_size=0.1)
+    add_camera(sc, (0.0, 0.0, 3.0), (0.0, 0.0, 0.0), lens=35.0)
+    save(path)
+
+
 def save(path):
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
     print("build_scenes: wrote", path)
@@ -943,6 +972,7 @@ SCENE_NAMES = {
     "many_lights": build_many_lights,
     "principled_coat": build_principled_coat,
     "procedural": build_procedural,
+    "textured_plane": build_textured_plane,
 }
 
 
