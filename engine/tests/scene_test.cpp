@@ -367,3 +367,35 @@ TEST(Scene, LightSelectionGivesEveryEmitterAShareWhateverItsPower) {
     EXPECT_EQ(bright_lights, 1);
     EXPECT_NEAR(sum, 1.0, 1e-5);
 }
+
+// Lights at infinity (a sun, the world) take only their power share, no uniform one: with an equal
+// share clamped sun and world images moved (scene.cpp, where the emitter ids are set).
+TEST(Scene, LightSelectionGivesSunAndWorldOnlyTheirPowerShare) {
+    Scene s;
+    LightDesc lamp;
+    lamp.type = "POINT";
+    lamp.power = 100.0f;
+    lamp.to_world = translation(0, 0, -1);
+    LightDesc sun;
+    sun.type = "SUN";
+    sun.strength = 3.0f;
+    s.add_light(lamp);
+    s.add_light(sun);
+    s.set_world(Color(0.5f));
+    const uint32_t quad = s.add_mesh(kQuad, 4, kQuadTris, 2, nullptr, nullptr, {s.add_material(Material{})});
+    s.add_instance(quad, translation(0, 0, -3));
+    s.set_camera(looking_down_minus_z(8, 8));
+    s.commit();
+    const double a = kUniformEmitterShare;
+    int at_infinity = 0;
+    double sum = 0.0;
+    for (uint32_t i = 0; i < s.lights().size(); ++i) {
+        const bool infinite = s.light(i).at_infinity();
+        at_infinity += infinite;
+        // The only local emitter (the lamp) gets the whole uniform share.
+        EXPECT_NEAR(s.light_pmf(i), (1 - a) * s.light_power_pmf(i) + (infinite ? 0.0 : a), 1e-5) << i;
+        sum += s.light_pmf(i);
+    }
+    EXPECT_EQ(at_infinity, 2);
+    EXPECT_NEAR(sum, 1.0, 1e-5);
+}
