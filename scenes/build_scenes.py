@@ -945,6 +945,7 @@ def build_textured_plane(path):
     nt.links.new(tex.outputs["Color"], bsdf.inputs["Color"])
     nt.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
     bm = bmesh.new()
+    bm.loops.layers.uv.new("UVMap")  # create_grid's calc_uvs fills the mesh's UV layer
     bmesh.ops.create_grid(bm, x_segments=1, y_segments=1, size=4.0, calc_uvs=True)
     _finish_mesh(sc, "Plane", bm, m)
     add_light(sc, "Point", 'POINT', (0.5, -0.5, 2.0), energy=200.0, shadow_soft_size=0.1)

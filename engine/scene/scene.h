@@ -194,7 +194,7 @@ public:
     const Camera& camera() const { return camera_; }
     // --- shader programs (materials with per-hit node evaluation) ---------------------------------
     // What the program of a hit's material reads, rebuilt from the triangle and its barycentrics.
-    ShaderContext shader_context(const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray) const;
+    ShaderContext shader_context(const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray, bool full = true) const;
     // Attribute `id` at the context's point into out[0..3]; false when the mesh does not have it.
     bool attribute(const ShaderContext& ctx, int32_t id, float* out) const;
     // The shading of a hit on a material with a program: BSDF (shading normal from the program),
@@ -332,9 +332,14 @@ private:
     static void set_object_inputs(const Instance& inst, ShaderContext* c);
     // The Embree geometry of `inst` (its mesh, flattened or instanced) into `target` under geom_id.
     void attach_instance_geometry(RTCScene target, Instance& inst, unsigned geom_id, bool own);
-    // Runs a material's program at a hit for `outputs` (the context it built into *ctx_out when given).
+    // The context a material's program reads at a hit for `outputs`: its basic part only where the
+    // program reads no more (ShaderProgram::needs_full_context).
+    ShaderContext program_context(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
+                                  ShaderOutputs outputs = ShaderOutputs::All) const;
+    // Runs a material's program for `outputs` in `ctx`, or in the context it builds for the hit.
+    ShaderResult run_program(uint32_t material, const ShaderContext& ctx, ShaderOutputs outputs = ShaderOutputs::All) const;
     ShaderResult run_program(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
-                             ShaderContext* ctx_out = nullptr, ShaderOutputs outputs = ShaderOutputs::All) const;
+                             ShaderOutputs outputs = ShaderOutputs::All) const;
     Color program_emission(const SurfaceAttribs& at, uint32_t material, const Vec3& wo) const;
     // Cut-out filter for program materials: 1 - the grey part of the transparency at the hit.
     float program_keep(uint32_t instance, uint32_t prim, float bu, float bv, const Vec3& dir) const;

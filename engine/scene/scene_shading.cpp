@@ -21,7 +21,7 @@ Point2 uv_offset(const Vec3& dpdu, const Vec3& dpdv, const Vec3& d) {
 
 }  // namespace
 
-ShaderContext Scene::shader_context(const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray) const {
+ShaderContext Scene::shader_context(const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray, bool full) const {
     ShaderContext c;
     c.scene = this;
     c.ray = ray;
@@ -44,10 +44,12 @@ ShaderContext Scene::shader_context(const SurfaceAttribs& at, const Vec3& wo, co
         ns = cn[0] * w + cn[1] * at.bu + cn[2] * at.bv;
     }
     // Flattened meshes (identity instances) hold world-space normals, |det| M^-T times the object's.
-    if (!mesh.corner_normals.empty())
-        c.N_object = inst.identity ? inst.to_world.normal_to_object(ns) / std::fabs(inst.to_world.determinant3()) : ns;
-    else
-        c.N_object = normalize(inst.identity ? inst.to_world.normal_to_object(ng) : ng);
+    if (full) {
+        if (!mesh.corner_normals.empty())
+            c.N_object = inst.identity ? inst.to_world.normal_to_object(ns) / std::fabs(inst.to_world.determinant3()) : ns;
+        else
+            c.N_object = normalize(inst.identity ? inst.to_world.normal_to_object(ng) : ng);
+    }
     Vec3 p = a * w + b * at.bu + cc * at.bv;
     Vec3 e1 = b - a, e2 = cc - a;
     if (!inst.identity) {
@@ -66,15 +68,19 @@ ShaderContext Scene::shader_context(const SurfaceAttribs& at, const Vec3& wo, co
     c.backfacing = dot(wo, ng) < 0.0f;
     c.Ng = c.backfacing ? -ng : ng;
     c.N = c.backfacing ? -ns : ns;
+    const Point2* t = mesh.uvs.empty() ? nullptr : &mesh.uvs[3 * at.prim];
+    if (t) {
+        c.uv = {t[0].x * w + t[1].x * at.bu + t[2].x * at.bv, t[0].y * w + t[1].y * at.bu + t[2].y * at.bv};
+        c.has_uv = true;
+    }
+    // The basic part ends here (ShaderProgram::needs_full_context).
+    if (!full) return c;
     set_object_inputs(inst, &c);
     c.material_index = 0.0f;
     c.texspace_location = mesh.texspace_location;
     c.texspace_size = mesh.texspace_size;
     Vec3 dpdu(0.0f), dpdv(0.0f);
-    if (!mesh.uvs.empty()) {
-        const Point2* t = &mesh.uvs[3 * at.prim];
-        c.uv = {t[0].x * w + t[1].x * at.bu + t[2].x * at.bv, t[0].y * w + t[1].y * at.bu + t[2].y * at.bv};
-        c.has_uv = true;
+    if (t) {
         float du1 = t[1].x - t[0].x, dv1 = t[1].y - t[0].y, du2 = t[2].x - t[0].x, dv2 = t[2].y - t[0].y;
         float det = du1 * dv2 - du2 * dv1;
         if (std::fabs(det) > 1e-20f) {
@@ -123,13 +129,20 @@ bool Scene::attribute(const ShaderContext& ctx, int32_t id, float* out) const {
     return false;
 }
 
-ShaderResult Scene::run_program(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
-                                ShaderContext* ctx_out, ShaderOutputs outputs) const {
-    ShaderContext ctx = shader_context(at, wo, ray);
+ShaderContext Scene::program_context(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
+                                     ShaderOutputs outputs) const {
+    return shader_context(at, wo, ray, materials_[material].program->needs_full_context(outputs));
+}
+
+ShaderResult Scene::run_program(uint32_t material, const ShaderContext& ctx, ShaderOutputs outputs) const {
     ShaderResult res;
     materials_[material].program->eval(ctx, &res, outputs);
-    if (ctx_out) *ctx_out = ctx;
     return res;
+}
+
+ShaderResult Scene::run_program(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
+                                ShaderOutputs outputs) const {
+    return run_program(material, program_context(material, at, wo, ray, outputs), outputs);
 }
 
 // The shading frame of an anisotropic closure: s along its tangent turned by `turns` x 2 pi about n
@@ -166,8 +179,8 @@ static void own_tangents_in_frame(const Frame& frame, ShaderResult* res) {
 
 Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, bool backfacing,
                          const ShaderRay& ray, Vec3* ns_out, Color* holdout_out) const {
-    ShaderContext ctx;
-    ShaderResult res = run_program(material, at, wo, ray, &ctx);
+    const ShaderContext ctx = program_context(material, at, wo, ray);
+    ShaderResult res = run_program(material, ctx);
     // Every closure's normal is repaired, the interpolated one too (Cycles' svm_node_closure_bsdf).
     Vec3 ns = shading::ensure_valid_reflection(ctx.Ng, ctx.I, res.has_normal ? res.normal : ctx.N);
     if (!is_finite(ns) || !(dot(ns, ctx.Ng) > 0.0f)) ns = ctx.N;
@@ -185,7 +198,7 @@ Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3
 
 Color Scene::program_emission(const SurfaceAttribs& at, uint32_t material, const Vec3& wo) const {
     if (!materials_[material].program->may_emit()) return Color(0.0f);
-    ShaderResult res = run_program(material, at, wo, ShaderRay{}, nullptr, ShaderOutputs::Emission);
+    ShaderResult res = run_program(material, at, wo, ShaderRay{}, ShaderOutputs::Emission);
     float keep = transparency_keep(res);
     return keep > 1e-6f ? res.emission / keep : Color(0.0f);
 }
@@ -195,7 +208,7 @@ Color Scene::emission(uint32_t instance, uint32_t prim, uint32_t material, float
     at.instance = instance, at.prim = prim, at.bu = bu, at.bv = bv;
     // A light sample is seen with the probability a ray would keep the hit (the cut-out), so its
     // emission is the kept hit's emission times that probability: the unscaled program emission.
-    ShaderResult res = run_program(material, at, wo, ShaderRay{}, nullptr, ShaderOutputs::Emission);
+    ShaderResult res = run_program(material, at, wo, ShaderRay{}, ShaderOutputs::Emission);
     return is_finite(res.emission) ? res.emission : Color(0.0f);
 }
 
@@ -205,7 +218,7 @@ float Scene::program_keep(uint32_t instance, uint32_t prim, float bu, float bv, 
     // Embree's filter does not know the ray's kind: the cut-out is the one a camera ray sees, as in
     // program_bsdf for camera rays (a transparency keyed on Light Path's ray kinds is not honoured).
     uint32_t material = meshes_[instances_[instance].mesh].materials[prim];
-    return transparency_keep(run_program(material, at, -dir, ShaderRay{}, nullptr, ShaderOutputs::Transparency));
+    return transparency_keep(run_program(material, at, -dir, ShaderRay{}, ShaderOutputs::Transparency));
 }
 
 }  // namespace smis

@@ -76,6 +76,21 @@ bool reads_context(const ShaderOp& op) {
     }
 }
 
+// Context ops that read only ShaderContext's basic part (hit point, normals, view, facing, UV, the
+// triangle and its barycentrics, the ray): every other context op (and any added later) gets the
+// whole context.
+bool reads_basic_context_only(const ShaderOp& op) {
+    // Texture Coordinate's UV, Camera, Window and Reflection outputs, and Object from a chosen object.
+    if (op.code == Op::TexCoord)
+        return op.out[0] == kNoReg && op.out[1] == kNoReg && (op.out[3] == kNoReg || op.i[0] == 1);
+    switch (op.code) {
+        case Op::UvMap: case Op::Attribute: case Op::LightPath: case Op::Fresnel: case Op::LayerWeight:
+        case Op::CameraData:
+            return true;
+        default: return false;
+    }
+}
+
 inline Vec3 load3(const float* r, uint16_t i, const Vec3& fallback) {
     return i == kNoReg ? fallback : Vec3(r[i], r[i + 1], r[i + 2]);
 }
@@ -539,7 +554,10 @@ void ShaderProgram::slice(ShaderOutputs outputs, const std::vector<bool>& varyin
         for (uint16_t reg : op.in) need(reg);
     }
     for (uint32_t k : varying_)
-        if (live[k]) s.varying.push_back(k);
+        if (live[k]) {
+            s.varying.push_back(k);
+            s.full_context = s.full_context || (reads_context(ops_[k]) && !reads_basic_context_only(ops_[k]));
+        }
 }
 
 void ShaderProgram::fold_constants() {
@@ -568,14 +586,23 @@ void ShaderProgram::eval(const ShaderContext& ctx_in, ShaderResult* out, ShaderO
     const Slice& s = slices_[size_t(outputs)];
     float r[kMaxRegisters + 3];
     std::memcpy(r, registers_.data(), registers_.size() * sizeof(float));
-    ShaderContext ctx = ctx_in;  // bump evaluation moves the point
-    if (s.needs_hit)
+    auto run_varying = [&](ShaderContext* ctx) {
         for (uint32_t k : s.varying) {
             const ShaderOp& op = ops_[k];
             if (op.code == Op::Math) math_node(op, r);
             else if (op.code == Op::MixWeights) mix_weights_node(op, r);
-            else run(op, &ctx, r, out);
+            else run(op, ctx, r, out);
         }
+    };
+    if (s.needs_hit) {
+        if (s.full_context) {
+            ShaderContext ctx = ctx_in;  // bump evaluation moves the point
+            run_varying(&ctx);
+        } else {
+            // Only the bump ops write the context, and they need the full one: read in place.
+            run_varying(const_cast<ShaderContext*>(&ctx_in));
+        }
+    }
     // Closures read registers only.
     if (outputs == ShaderOutputs::All)
         for (uint32_t k : s.closures) run(ops_[k], nullptr, r, out);

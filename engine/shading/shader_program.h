@@ -124,6 +124,13 @@ public:
         return s.needs_hit ? s.varying.size() : 0;
     }
     size_t register_count() const { return registers_.size(); }
+    // Whether an evaluation for `outputs` reads the context's object, tangent or footprint fields
+    // (shader_context.h), or moves the point (Bump): without, Scene::shader_context fills the basic
+    // part only and eval reads the caller's context in place.
+    bool needs_full_context(ShaderOutputs outputs = ShaderOutputs::All) const {
+        const Slice& s = slices_[size_t(outputs)];
+        return s.needs_hit && s.full_context;
+    }
     // The Nishita sky whose sun Cycles would sample on its own (one Nishita Sky Texture with its disc
     // above the horizon, reading the unmodified direction), else null (environment_light.h).
     const NishitaSky* sampled_sun() const;
@@ -143,6 +150,7 @@ private:
     struct Slice {
         std::vector<uint32_t> varying, closures;
         bool needs_hit = false;
+        bool full_context = false;  // some per-hit op reads more of the hit than ShaderContext's basic part
     };
     std::vector<ShaderOp> ops_;
     std::vector<uint32_t> varying_;  // indices of the ops that vary per hit (inputs and what they feed)

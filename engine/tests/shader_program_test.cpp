@@ -276,3 +276,60 @@ TEST(ShaderProgram, BadProgramsAreRefusedOrMadeHarmless) {
 }
 
 }  // namespace
+
+// Programs whose context ops read only ShaderContext's basic part get only that part
+// (ShaderProgram::needs_full_context, Scene::program_context): every context op, output by output,
+// on a turned, scaled and shifted instance with UVs and smooth normals, must give the same value in
+// the context the scene chooses as in the full one.
+TEST(ShaderProgram, BasicContextGivesEveryContextOpItsFullValue) {
+    const float v[] = {-1, -1, 0, 1, -1, 0.2f, 1, 1, 0.1f, -1, 1, 0};
+    const int32_t t[] = {0, 1, 2, 0, 2, 3};
+    const float normals[] = {0.1f, 0, 1, 0, 0.2f, 1, 0, 0, 1, 0.1f, 0, 1, 0, 0, 1, -0.1f, 0.1f, 1};
+    const float uvs[] = {0, 0, 0.9f, 0.1f, 1, 1, 0, 0, 1, 1, 0.2f, 0.8f};
+    Transform turn;  // 30 degrees about z, scaled (2, 0.5, 1.5), shifted
+    const float c = std::cos(0.5236f), s = std::sin(0.5236f);
+    turn.m[0][0] = 2 * c, turn.m[0][1] = -0.5f * s, turn.m[0][3] = 3;
+    turn.m[1][0] = 2 * s, turn.m[1][1] = 0.5f * c, turn.m[1][3] = -1;
+    turn.m[2][2] = 1.5f, turn.m[2][3] = 0.5f;
+    int basic = 0, full = 0;
+    for (int code = int(ShaderOpCode::TexCoord); code <= int(ShaderOpCode::Displacement); ++code) {
+        const auto op_code = ShaderOpCode(code);
+        const bool context_op = code <= int(ShaderOpCode::NormalMap) || op_code == ShaderOpCode::VectorTransform ||
+                                op_code == ShaderOpCode::Displacement;
+        if (!context_op || op_code == ShaderOpCode::BumpEnter || op_code == ShaderOpCode::BumpLeave) continue;
+        for (int k = 0; k < 13; ++k) {
+            Builder b;
+            uint16_t out = b.alloc(3);
+            ShaderOp& op = b.op(op_code);
+            op.out[k] = out;
+            ShaderOp& e = b.op(ShaderOpCode::Emission);
+            e.in[1] = out;
+            e.in[2] = b.constant(1.0f);
+            Scene scene;
+            Material mat;
+            mat.program = b.build();
+            if (!mat.program || mat.program->is_constant()) continue;
+            const uint32_t id = scene.add_material(mat);
+            const uint32_t mesh = scene.add_mesh(v, 4, t, 2, normals, nullptr, {id}, uvs);
+            scene.add_instance(mesh, turn);
+            scene.set_camera(camera_at(Vec3(3, -1, 6), 8, 8));
+            scene.commit();
+            const ShaderProgram& program = *scene.material(id).program;
+            const Vec3 wo = normalize(Vec3(0.2f, -0.3f, 1.0f));
+            for (uint32_t prim : {0u, 1u}) {
+                SurfaceAttribs at;
+                at.instance = 0, at.prim = prim, at.bu = 0.3f, at.bv = 0.25f;
+                const Color chosen = scene.emission(0, prim, id, at.bu, at.bv, wo);
+                ShaderResult r;
+                program.eval(scene.shader_context(at, wo, ShaderRay{}, true), &r, ShaderOutputs::Emission);
+                EXPECT_EQ(chosen.x, r.emission.x) << "op " << code << " output " << k;
+                EXPECT_EQ(chosen.y, r.emission.y) << "op " << code << " output " << k;
+                EXPECT_EQ(chosen.z, r.emission.z) << "op " << code << " output " << k;
+            }
+            (program.needs_full_context(ShaderOutputs::Emission) ? full : basic)++;
+        }
+    }
+    // Both kinds occur (UV, Light Path, Fresnel ... basic; Generated, Object Info, Normal Map ... full).
+    EXPECT_GT(basic, 5);
+    EXPECT_GT(full, 5);
+}
