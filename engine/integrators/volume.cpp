@@ -81,12 +81,36 @@ bool intersect_through(const Scene& scene, const Ray& ray, int32_t medium, Surfa
                 [&](float t0, float t1, int32_t m) { media->add(scene, t0, t1, m); });
 }
 
+namespace {
+
+// What a shadow ray from origin along unit dir up to tmax meets: a surface (blocked), nothing (it
+// stays in its medium), or maybe boundaries to walk through (walk() then finds out).
+enum class ShadowPath { kBlocked, kOneMedium, kWalk };
+
+ShadowPath shadow_path(const Scene& scene, const Vec3& origin, const Vec3& dir, float tmax) {
+    const BoundaryPlanes& boundaries = scene.boundary_planes();
+    // Without the planes' test: one any-hit query for everything; a hit, on a surface or a boundary,
+    // is walked.
+    if (!boundaries.usable()) return scene.occluded(origin, dir, tmax) ? ShadowPath::kWalk : ShadowPath::kOneMedium;
+    // One any-hit query for surfaces alone, past the boundaries: blocked shadow rays (most of them
+    // when a wall stands between the medium and a light) need no closest-hit walk to a surface the
+    // first query already saw; the clear ones stay in one medium when their ends lie on one side of
+    // every boundary plane, which for a shadow ray inside a fog box to a light inside it is no query.
+    if (scene.occluded(origin, dir, tmax, kShutterCentre, kRayShadowSurface)) return ShadowPath::kBlocked;
+    return boundaries.separated(origin, origin + dir * tmax) ? ShadowPath::kOneMedium : ShadowPath::kWalk;
+}
+
+}  // namespace
+
 Color shadow_transmittance(const Scene& scene, const Vec3& origin, const Vec3& dir, float tmax, int32_t medium) {
-    // Most shadow rays meet no surface at all: then they stay in one medium, and an any-hit query is
-    // much cheaper than walking closest hits.
-    if (!scene.occluded(origin, dir, tmax))
+    // Most shadow rays meet no boundary at all: then they stay in one medium.
+    switch (shadow_path(scene, origin, dir, tmax)) {
+    case ShadowPath::kBlocked: return Color(0.0f);
+    case ShadowPath::kOneMedium:
         return medium >= 0 ? RayMedia::transmittance_from_tau(optical_depth(scene.medium(medium).sigma_t(), tmax))
                            : Color(1.0f);
+    case ShadowPath::kWalk: break;
+    }
     Color tau(0.0f);
     SurfaceHit hit;
     int32_t end;
@@ -100,7 +124,9 @@ bool shadow_media(const Scene& scene, const Vec3& origin, const Vec3& dir, float
                   RayMedia* media) {
     media->count = 0;
     media->tau_end = Color(0.0f);
-    if (!scene.occluded(origin, dir, tmax)) {
+    const ShadowPath path = shadow_path(scene, origin, dir, tmax);
+    if (path == ShadowPath::kBlocked) return false;
+    if (path == ShadowPath::kOneMedium) {
         media->add(scene, 0.0f, tmax, medium);
         media->end_medium = medium;
         return true;
@@ -149,11 +175,21 @@ struct RgbScattering {
     const RayMedia& media;
     Color L{0.0f};
     Color tr{1.0f};  // the last shadow ray's transmittance
+    // The last distance sample and its segment: scattering_samples asks for the density of the
+    // distance it just drew, which sample_segment_distance computed already (the same function of
+    // the same arguments, so the same value).
+    DistanceSample last{};
+    int32_t last_medium = kNoMedium;
+    float last_len = 0.0f;
 
-    DistanceSample sample_distance(int32_t medium, float len, float u_channel, float u) const {
-        return sample_segment_distance(scene.medium(medium).sigma_t(), len, u_channel, u);
+    DistanceSample sample_distance(int32_t medium, float len, float u_channel, float u) {
+        last = sample_segment_distance(scene.medium(medium).sigma_t(), len, u_channel, u);
+        last_medium = medium;
+        last_len = len;
+        return last;
     }
     float distance_pdf(int32_t medium, float len, float t) const {
+        if (last.pdf > 0.0f && t == last.t && medium == last_medium && len == last_len) return last.pdf;
         return segment_distance_pdf(scene.medium(medium).sigma_t(), len, t);
     }
     bool transmit(const Vec3& x, const Vec3& wi, float tmax, int32_t medium, bool cast_shadow) {

@@ -63,7 +63,8 @@ void MediaLightChoice::segment_pmfs(const Segment& s, float* pmf) const {
     }
     double total = 0.0;
     for (uint32_t i : m.eligible) {
-        if (g[i] > 0.0f) g[i] *= m.power_pmf[i] * std::exp(tau_min - tau[i]);
+        // exp(0) = 1 exactly: the light that sets tau_min (often the only one near) needs no exp.
+        if (g[i] > 0.0f) g[i] *= m.power_pmf[i] * (tau[i] == tau_min ? 1.0f : std::exp(tau_min - tau[i]));
         total += g[i];
     }
     const bool segment = total > 0.0 && std::isfinite(total);

@@ -16,6 +16,10 @@ enum RayVisibility : uint32_t {
     kRayTransmission = 1u << 3,
     kRayShadow = 1u << 4,
     kRayVolumeScatter = 1u << 5,
+    // Not a Cycles ray type: the mask bit of the objects that block shadow rays with a surface (seen
+    // by shadow rays, and some triangle's material has a surface, not only a volume). A shadow ray in
+    // media asks with it alone for opaque blockers, past the pass-through boundaries (volume.cpp).
+    kRayShadowSurface = 1u << 30,
     // The types of rays that leave a surface after scattering (a light excluded from them is not
     // sampled for the matching lobes either).
     kRayBounceTypes = kRayDiffuse | kRayGlossy | kRayTransmission,

@@ -321,6 +321,7 @@ bool Scene::set_instance_transforms(const float* rows, size_t n) {
     }
     rtcCommitScene(scene_);  // rebuilds the top level only
     update_camera_bounds_test();
+    update_boundary_planes();
     return embree_error_.empty();
 }
 
@@ -340,6 +341,7 @@ bool Scene::replace_mesh(uint32_t id, const float* vertices, size_t nv, const in
         if (instances_[i].mesh != id) continue;
         RTCGeometry geom = rtcGetGeometry(scene_, static_cast<unsigned>(i));
         rtcSetGeometryInstancedScene(geom, mesh.prototype);
+        rtcSetGeometryMask(geom, geometry_mask(mesh, instances_[i].visibility));  // its materials may differ
         rtcCommitGeometry(geom);
     }
     rtcReleaseScene(meshes_[id].prototype);
@@ -347,6 +349,7 @@ bool Scene::replace_mesh(uint32_t id, const float* vertices, size_t nv, const in
     meshes_[id] = std::move(mesh);
     rtcCommitScene(scene_);
     update_camera_bounds_test();
+    update_boundary_planes();
     return embree_error_.empty();
 }
 
@@ -747,10 +750,40 @@ void Scene::add_triangle_lights(Instance& inst) {
     }
 }
 
+uint32_t Scene::geometry_mask(const Mesh& mesh, uint32_t visibility) const {
+    bool surface = false;
+    for (uint32_t m : mesh.materials) surface = surface || !materials_[m].pass_through;
+    const uint32_t rest = visibility & ~uint32_t(kRayShadowSurface);
+    return surface && (visibility & kRayShadow) ? rest | kRayShadowSurface : rest;
+}
+
+void Scene::update_boundary_planes() {
+    RTCBounds b;
+    rtcGetSceneBounds(scene_, &b);
+    float extent = 0.0f;
+    for (float c : {b.lower_x, b.lower_y, b.lower_z, b.upper_x, b.upper_y, b.upper_z})
+        extent = std::max(extent, std::fabs(c));
+    boundary_planes_.reset(instances_.empty() ? 1.0f : extent);
+    for (const Instance& inst : instances_) {
+        const Mesh& mesh = meshes_[inst.mesh];
+        if (mesh.curves || !(inst.visibility & kRayShadow)) continue;  // shadow rays do not see them
+        for (size_t t = 0; t < mesh.materials.size(); ++t) {
+            if (!materials_[mesh.materials[t]].pass_through) continue;
+            if (!inst.motion.empty() || mesh.motion_steps != 0) return boundary_planes_.disable();
+            Vec3 v[3];
+            for (int k = 0; k < 3; ++k) {
+                const Vec3 p = load3(&mesh.positions[3 * mesh.indices[3 * t + k]]);
+                v[k] = inst.identity ? p : inst.to_world.point(p);
+            }
+            boundary_planes_.add_triangle(v[0], v[1], v[2]);
+        }
+    }
+}
+
 void Scene::attach_instance_geometry(RTCScene target, Instance& inst, unsigned geom_id, bool own) {
     Mesh& mesh = meshes_[inst.mesh];
     if (!mesh.prototype) {
-        build_mesh_geometry(target, mesh, geom_id, own ? kRayAllVisibility : inst.visibility);
+        build_mesh_geometry(target, mesh, geom_id, own ? kRayAllVisibility : geometry_mask(mesh, inst.visibility));
         return;
     }
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
@@ -770,7 +803,7 @@ void Scene::attach_instance_geometry(RTCScene target, Instance& inst, unsigned g
             has_motion_ = true;
         }
     }
-    rtcSetGeometryMask(geom, own ? kRayAllVisibility : inst.visibility);
+    rtcSetGeometryMask(geom, own ? kRayAllVisibility : geometry_mask(mesh, inst.visibility));
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(target, geom, geom_id);
     rtcReleaseGeometry(geom);
@@ -889,6 +922,7 @@ void Scene::commit() {
     }
     rtcCommitScene(scene_);
     if (!embree_error_.empty()) throw std::runtime_error(embree_error_);
+    update_boundary_planes();
     hit_ids_ = (kWithTextures && programs_) || has_subsurface_;
     has_motion_ = has_motion_ || camera_.has_motion();
     radius_ = instances_.empty() ? 1.0f : std::max(1e-3f, 0.5f * length(hi - lo));

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/distribution.h"
+#include "scene/boundary_planes.h"
 #include "scene/camera.h"
 #include "scene/lights.h"
 #include "scene/material.h"
@@ -264,6 +265,8 @@ public:
         bool empty() const { return !everywhere && !(lo.x <= hi.x); }
     };
     const ScatteringRegion& scattering_region() const { return scattering_; }
+    // The planes of the pass-through boundaries seen by shadow rays (boundary_planes.h).
+    const BoundaryPlanes& boundary_planes() const { return boundary_planes_; }
     RTCDevice device() const { return device_; }
 
 private:
@@ -409,6 +412,11 @@ private:
     bool camera_bounds_test_ = false;  // camera rays test bounds_ before the BVH
     void update_camera_bounds_test();
     ScatteringRegion scattering_;
+    BoundaryPlanes boundary_planes_;
+    // The Embree mask of an instance's geometry: its visibility, with kRayShadowSurface when shadow
+    // rays see it and some triangle of `mesh` has a surface. boundary_planes_ from the instances.
+    uint32_t geometry_mask(const Mesh& mesh, uint32_t visibility) const;
+    void update_boundary_planes();
     SceneStats stats_;
     std::vector<std::string> skipped_;
     std::vector<std::string> attribute_names_;

@@ -195,6 +195,52 @@ TEST(Medium, ShadowTransmittanceThroughABoxIsBeersLaw) {
     EXPECT_EQ(scene->medium_at({0.0f, 0.0f, 1.0f}), 0);
 }
 
+TEST(Medium, ShadowRaysThroughBoundaryPlanesMatchTheWalk) {
+    // The shadow queries' shortcuts (a surfaces-only any-hit query, the boundary planes) against
+    // the closest-hit walk through the boundaries itself (intersect_through), bit for bit: random
+    // segments inside the fog box, out of it, blocked by the floor or the block, and ending within
+    // the margin of a face. The fog box's planes are in use (six of them).
+    Medium fog = make_medium({0.1f, 0.2f, 0.3f}, {0.4f, 0.3f, 0.2f});
+    auto scene = fog_box(8, 8, fog);
+    ASSERT_TRUE(scene->boundary_planes().usable());
+    ASSERT_EQ(scene->boundary_planes().size(), 6u);
+    Rng rng(7, 0);
+    int blocked = 0, clear_inside = 0, crossing = 0;
+    for (int i = 0; i < 4000; ++i) {
+        auto point = [&](float pad) {
+            return Vec3(-1.5f - pad + (3.0f + 2.0f * pad) * rng.next_float(), -1.5f - pad + (3.0f + 2.0f * pad) * rng.next_float(),
+                        -0.2f - pad + (2.7f + 2.0f * pad) * rng.next_float());
+        };
+        Vec3 a = point(0.5f), b = point(i % 4 == 0 ? 0.0f : 0.5f);
+        if (i % 7 == 0) b.x = 1.5f - 2e-4f * rng.next_float();  // within the margin of the face x = 1.5
+        const Vec3 d = b - a;
+        const float len = length(d);
+        if (!(len > 1e-3f)) continue;
+        const Vec3 dir = d / len;
+        const int32_t medium = scene->medium_at(a);
+        SurfaceHit hit;
+        RayMedia media;
+        const bool hits = intersect_through(*scene, Ray{a, dir, 0.0f, len, kShutterCentre, kRayShadow}, medium, &hit, &media);
+        const Color expected = hits ? Color(0.0f) : media.transmittance_to_end();
+        const Color tr = shadow_transmittance(*scene, a, dir, len, medium);
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(tr[c], expected[c]) << "segment " << i << " channel " << c;
+        RayMedia shadow;
+        ASSERT_EQ(shadow_media(*scene, a, dir, len, medium, &shadow), !hits) << "segment " << i;
+        if (!hits) {
+            const Color from_media = shadow.transmittance_to_end();
+            for (int c = 0; c < 3; ++c) ASSERT_EQ(from_media[c], expected[c]) << "segment " << i;
+        }
+        blocked += hits;
+        const bool inside = media.count == 1 && media.seg[0].t0 == 0.0f && media.seg[0].t1 == len;
+        clear_inside += !hits && inside;
+        crossing += !hits && !inside;
+    }
+    // Every kind of segment was met often.
+    EXPECT_GT(blocked, 200);
+    EXPECT_GT(clear_inside, 200);
+    EXPECT_GT(crossing, 200);
+}
+
 namespace {
 
 // The single-scattering estimator's mean along `ray` against a fine quadrature (midpoint rule) of
