@@ -302,16 +302,17 @@ uint32_t PhotonPlanesIntegrator::surface_samples(const RenderContext& ctx, const
     if (ctx.settings.plane_surface_samples > 0) {
         surface_samples_ = ctx.settings.plane_surface_samples;
     } else if (surface_samples_ == 0) {
-        // A crossing (its weight, transmittance and shadow ray) costs about kCrossingCost path
-        // samples. Measured per iteration at 512x384 with the thread-time statistics below
-        // (path_thread_seconds, gather_thread_seconds): 0.14 on volume_spot (46 crossings per camera
-        // ray, 0.56 us each, a path sample 3.9 us), 0.28 on volume_planes (6 crossings, the camera
-        // ray's own traversal included). It was 0.5 (from volume_planes at 96x96 and 40,960 planes):
-        // on volume_spot that gave M = 15, the path samples took 72% of an iteration, and an
-        // iteration so long (8.7 s) that a 15 s budget completed one and discarded the second
-        // (SMAPE 0.244; M = 6: two iterations, 0.203, the same relMSE; volume_planes M = 3: 0.210,
-        // M = 1: 0.178, relMSE 0.182 and 0.180). M gives the two parts about equal time.
-        constexpr double kCrossingCost = 0.15;
+        // A crossing counted on the grid (its weight, transmittance and shadow ray, and its share
+        // of the camera ray's traversal) costs about kCrossingCost path samples. Measured per
+        // iteration at 512x384 with the thread-time statistics below (path_thread_seconds,
+        // gather_thread_seconds): 0.2 on volume_spot (gathering 23 us per camera ray for about 30
+        // grid crossings, a path sample 3.9 us), 0.28 on volume_planes (12.7 us for about 6, a path
+        // sample 7.4 us). It was 0.5 (from volume_planes at 96x96 and 40,960 planes): on volume_spot
+        // that gave M = 15, the path samples took 72% of an iteration, and an iteration so long
+        // (8.7 s) that a 15 s budget completed one and discarded the second (SMAPE 0.244; M = 6:
+        // two iterations, 0.203, the same relMSE; volume_planes M = 3: 0.210, M = 1: 0.178, relMSE
+        // 0.182 and 0.180). M gives the two parts about equal time.
+        constexpr double kCrossingCost = 0.2;
         const double ratio = crossings_per_camera_ray(ctx, set) * kCrossingCost;
         surface_samples_ = uint32_t(std::clamp(std::lround(ratio), 1l, 64l));
     }
