@@ -246,6 +246,7 @@ def main():
     ap.add_argument("--budgets", nargs="+", type=float, default=None)
     ap.add_argument("--seeds", nargs="+", type=int, default=SEEDS)
     ap.add_argument("--no-order", action="store_true", help="skip the equal-plane-count ordering")
+    ap.add_argument("--order-only", action="store_true", help="only the equal-plane-count ordering")
     ap.add_argument("--force-ref", action="store_true")
     ap.add_argument("--ref-seconds", type=float, default=REF_SECONDS, help="time limit of each reference half")
     ap.add_argument("--eps", type=float, default=M.EPS_RELMSE)
@@ -276,7 +277,7 @@ def main():
     out_json = os.path.join(RESULTS, args.stem + ".json")
     for name in args.scenes:
         ref, refs[name] = reference(name, args.force_ref, args.ref_seconds)
-        for budget in args.budgets:
+        for budget in [] if args.order_only else args.budgets:
             for seed in args.seeds:
                 for est in ESTIMATORS:
                     rows.append(row_of(name, "time", est, seed, budget, render(name, est, seed, budget), ref, args.eps))

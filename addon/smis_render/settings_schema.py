@@ -347,6 +347,12 @@ SETTINGS = [
                 "lights, secondary rays), so surfaces are not held to the plane iterations' count. 0: chosen per "
                 "scene from the plane set's gathering cost (photon_planes.cpp).",
             min=0, soft_max=64, panel="volumes", show=_uses_planes),
+    Setting("plane_stratified", "bool", True, "Stratified Plane Sets",
+            "Draw each plane set's random numbers stratified over the set (Owen-scrambled Sobol points: the planes "
+            "cover each light, its directions and their lengths evenly) instead of independently; unbiased either way",
+            why="The planes of one set stratified over the set (PlaneSequence, photon_plane_set.h): each plane alone "
+                "is distributed as before, so the estimator stays unbiased, but the number of planes a camera ray "
+                "crosses varies far less (the grain).", panel="volumes", show=_uses_planes),
     Setting("smis_planes", "int", 2, "SMIS Orientations",
             "n, the number of stratified plane orientations per SMIS realisation (eq. 27); with 2 the partner "
             "plane is perpendicular and only weighted", why="n: orientations per SMIS realisation (eq. 27)",

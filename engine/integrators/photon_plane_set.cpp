@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/stratified.h"
 #include "scene/embree_ray.h"
 #include "scene/medium.h"
 
@@ -25,11 +26,42 @@ Chord chord_through(float x, float y, float width, float height, float c, float 
     return chord_through(x, y, width, height, c, s, c != 0.0f ? 1.0f / c : 0.0f, s != 0.0f ? 1.0f / s : 0.0f);
 }
 
-PhotonPlane sample_photon_plane(const PlaneLight& l, uint32_t light_index, Rng& rng) {
+float PlaneSequence::light_u(uint32_t i) {
+    return stratified_ ? stratified::sample_1d(i, key_, 0) : rng_.next_float();
+}
+
+PlaneUniforms PlaneSequence::plane(uint32_t light, uint32_t j, bool point_light) {
+    PlaneUniforms u{};
+    if (stratified_) {
+        // Dimension groups of light `light`: 1 + 3 light, 2 + 3 light, 3 + 3 light.
+        const uint32_t g = 1 + 3 * light;
+        float v[2];
+        stratified::sample_2d(j, key_, g, v);
+        u.point = {v[0], v[1]};
+        stratified::sample_2d(j, key_, g + 1, v);
+        u.dir = {v[0], v[1]};
+        stratified::sample_2d(j, key_, g + 2, v);
+        u.alpha = v[0];
+        u.flight = v[1];
+        return u;
+    }
+    // The order the planes drew their numbers in before the stratified sets (images unchanged).
+    u.point.x = rng_.next_float();
+    u.point.y = rng_.next_float();
+    if (!point_light) {
+        u.alpha = rng_.next_float();
+        u.dir.x = rng_.next_float();
+        u.dir.y = rng_.next_float();
+    }
+    u.flight = rng_.next_float();
+    return u;
+}
+
+PhotonPlane sample_photon_plane(const PlaneLight& l, uint32_t light_index, const PlaneUniforms& u) {
     // Fig. 10b: a uniform point on the light, an orientation alpha ~ U[0, pi) and the chord through
     // the point at that angle; the offset of the chord then has density |s| / A given alpha (eq. 25).
-    float x = rng.next_float() * l.width, y = rng.next_float() * l.height;
-    float alpha = kPi * rng.next_float();
+    float x = u.point.x * l.width, y = u.point.y * l.height;
+    float alpha = kPi * u.alpha;
     float c = std::cos(alpha), s = std::sin(alpha);
     Chord ch = chord_through(x, y, l.width, l.height, c, s);
     PhotonPlane p;
@@ -46,18 +78,17 @@ PhotonPlane sample_photon_plane(const PlaneLight& l, uint32_t light_index, Rng& 
     p.edge0 = p.s_hat * p.chord_length;
     // w_l ~ cos / pi around the emitting normal; the free flight with a grey rate truncates the
     // sweep, standing in for the light-side transmittance (the integrator corrects the colour).
-    Point2 u{rng.next_float(), rng.next_float()};
-    p.w_l = Frame(l.normal).to_world(sample_cosine_hemisphere(u));
-    p.sweep_length = std::min(sample_free_flight(l.flight_rate, rng.next_float()), l.max_length);
+    p.w_l = Frame(l.normal).to_world(sample_cosine_hemisphere(u.dir));
+    p.sweep_length = std::min(sample_free_flight(l.flight_rate, u.flight), l.max_length);
     p.edge1 = p.w_l * p.sweep_length;
     p.light = light_index;
     return p;
 }
 
-PhotonPlane sample_point_photon_plane(const PlaneLight& l, uint32_t light_index, Rng& rng) {
+PhotonPlane sample_point_photon_plane(const PlaneLight& l, uint32_t light_index, const PlaneUniforms& uniforms) {
     // Every photon path y -> x from a point light y lies in the planes through y that contain x - y;
     // a uniform normal gives the crossing of a camera ray a closed-form density (photon_planes.cpp).
-    Point2 u{rng.next_float(), rng.next_float()};
+    const Point2 u = uniforms.point;
     PhotonPlane p{};
     p.light = light_index;
     if (l.normal_band < 1.0f) {
@@ -75,7 +106,7 @@ PhotonPlane sample_point_photon_plane(const PlaneLight& l, uint32_t light_index,
         p.s_hat = cross(n, p.w_l);
         const float cos_wedge = std::min(1.0f, l.emitter.cos_half / std::max(ring, 1e-12f));
         const float sin_wedge = std::sqrt(std::max(0.0f, 1.0f - cos_wedge * cos_wedge));
-        p.reach = std::min(sample_free_flight(l.flight_rate, rng.next_float()), l.max_length);
+        p.reach = std::min(sample_free_flight(l.flight_rate, uniforms.flight), l.max_length);
         p.chord_length = 2.0f * p.reach * std::max(sin_wedge, 1e-6f);
         p.sweep_length = p.reach;
         p.origin = l.emitter.position - p.s_hat * (0.5f * p.chord_length);
@@ -83,7 +114,7 @@ PhotonPlane sample_point_photon_plane(const PlaneLight& l, uint32_t light_index,
         Frame f(sample_uniform_sphere(u));
         p.s_hat = f.s;
         p.w_l = f.t;
-        p.reach = std::min(sample_free_flight(l.flight_rate, rng.next_float()), l.max_length);
+        p.reach = std::min(sample_free_flight(l.flight_rate, uniforms.flight), l.max_length);
         p.chord_length = p.sweep_length = 2.0f * p.reach;
         p.origin = l.emitter.position - (p.s_hat + p.w_l) * p.reach;
     }

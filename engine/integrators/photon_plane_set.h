@@ -85,10 +85,43 @@ private:
     RTCScene scene_ = nullptr;
 };
 
-// One plane from light `l` (chosen with probability `pmf` by the caller); six random numbers.
-PhotonPlane sample_photon_plane(const PlaneLight& l, uint32_t light_index, Rng& rng);
+// The random numbers of one plane, each uniform on [0, 1).
+struct PlaneUniforms {
+    Point2 point;   // rectangle: the light point; point light: the plane's normal
+    Point2 dir;     // rectangle: the sweep direction w_l; unused for point lights
+    float alpha;    // rectangle: the chord's orientation
+    float flight;   // the free flight that truncates the sweep
+};
+
+// The random numbers of a plane set, stratified over the set (`stratified`) or independent. Plane
+// i chooses its light with light_u(i) (van der Corput, Owen-scrambled: the planes of each light
+// number N pmf to within one); the j-th plane of light l takes point j of padded, Owen-scrambled 2D
+// Sobol sequences of its own (core/stratified.h) for its light point, its sweep direction and its
+// (orientation, flight). Every plane alone is still distributed as with independent numbers (each
+// scrambled point is uniform), so the planes' sum, linear in each plane, keeps its expectation:
+// the estimator stays unbiased. What changes is that the planes of one set cover the light, the
+// directions and the normals evenly, so the number of planes a camera ray crosses (Poisson-like
+// with independent planes, the grain of the image) varies much less.
+class PlaneSequence {
+public:
+    // `seed`, `iteration`: the set's own stream (independent of the pixels' streams).
+    PlaneSequence(uint64_t seed, uint32_t iteration, bool stratified)
+        : key_(mix64(seed ^ mix64(iteration))), stratified_(stratified), rng_(seed, iteration) {}
+    // Call light_u(i), then plane() for plane i, in the order of i (the independent numbers are
+    // one stream, drawn in that order).
+    float light_u(uint32_t i);
+    PlaneUniforms plane(uint32_t light, uint32_t j, bool point_light);
+
+private:
+    uint64_t key_;
+    bool stratified_;
+    Rng rng_;  // the independent numbers (stratified_ false)
+};
+
+// One plane from light `l` (chosen with probability `pmf` by the caller).
+PhotonPlane sample_photon_plane(const PlaneLight& l, uint32_t light_index, const PlaneUniforms& u);
 // One plane from a point light: a plane through the light with a uniformly distributed normal,
-// covering the disk of a free flight's radius around it; three random numbers.
-PhotonPlane sample_point_photon_plane(const PlaneLight& l, uint32_t light_index, Rng& rng);
+// covering the disk of a free flight's radius around it.
+PhotonPlane sample_point_photon_plane(const PlaneLight& l, uint32_t light_index, const PlaneUniforms& u);
 
 }  // namespace smis

@@ -112,6 +112,16 @@ PlaneLights collect_plane_lights(const Scene& scene) {
         out.lights.push_back(pl);
         power.push_back(scene.light(i).power(scene.radius()));
     }
+    // Planes per light: half by power, half shared equally among the lights that emit. By power
+    // alone a dim light that lights a large part of the fog (volume_spot's fill light beside a
+    // 40x brighter spot, 12 planes of 512) drew too few planes to cover it: streaks and empty
+    // regions wherever it is the only light. The pmf is in the estimator's scale: unbiased.
+    double total = 0.0;
+    int emitting = 0;
+    for (float p : power)
+        if (p > 0.0f && std::isfinite(p)) total += p, ++emitting;
+    for (float& p : power)
+        p = p > 0.0f && std::isfinite(p) ? float(0.5 * p / total + 0.5 / emitting) : 0.0f;
     out.selection = DiscreteDistribution(power);
     return out;
 }
@@ -292,12 +302,17 @@ uint32_t PhotonPlanesIntegrator::surface_samples(const RenderContext& ctx, const
     if (ctx.settings.plane_surface_samples > 0) {
         surface_samples_ = ctx.settings.plane_surface_samples;
     } else if (surface_samples_ == 0) {
-        // A crossing (its weight, transmittance and shadow ray) costs about kCrossingCost path
-        // samples (measured on volume_planes: an iteration of 390 crossings per camera ray cost what
-        // about 200 path samples cost). M gives the two parts equal time: a path sample's variance
-        // (surfaces, fireflies of area lights) is the larger where measured, so M below the time
-        // ratio left the surfaces noisier (volume_planes, 8 s: relMSE 0.028 at M = 14, 0.014 at 64).
-        constexpr double kCrossingCost = 0.5;
+        // A crossing counted on the grid (its weight, transmittance and shadow ray, and its share
+        // of the camera ray's traversal) costs about kCrossingCost path samples. Measured per
+        // iteration at 512x384 with the thread-time statistics below (path_thread_seconds,
+        // gather_thread_seconds): 0.2 on volume_spot (gathering 23 us per camera ray for about 30
+        // grid crossings, a path sample 3.9 us), 0.28 on volume_planes (12.7 us for about 6, a path
+        // sample 7.4 us). It was 0.5 (from volume_planes at 96x96 and 40,960 planes): on volume_spot
+        // that gave M = 15, the path samples took 72% of an iteration, and an iteration so long
+        // (8.7 s) that a 15 s budget completed one and discarded the second (SMAPE 0.244; M = 6:
+        // two iterations, 0.203, the same relMSE; volume_planes M = 3: 0.210, M = 1: 0.178, relMSE
+        // 0.182 and 0.180). M gives the two parts about equal time.
+        constexpr double kCrossingCost = 0.2;
         const double ratio = crossings_per_camera_ray(ctx, set) * kCrossingCost;
         surface_samples_ = uint32_t(std::clamp(std::lround(ratio), 1l, 64l));
     }
@@ -317,12 +332,14 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     std::vector<PhotonPlane> planes;
     std::vector<Color> plane_scale;  // Le pi A / (pmf N) per rectangle, I / (pmf N) per point light
     if (use_planes) {
-        Rng rng(mix64(0x706c616e6573ull ^ settings.seed), s);
+        PlaneSequence sequence(mix64(0x706c616e6573ull ^ settings.seed), s, settings.plane_stratified);
+        std::vector<uint32_t> per_light(lights.lights.size(), 0);
         planes.reserve(settings.photon_planes);
         for (uint32_t i = 0; i < settings.photon_planes; ++i) {
-            uint32_t li = static_cast<uint32_t>(lights.selection.sample(rng.next_float()));
+            uint32_t li = static_cast<uint32_t>(lights.selection.sample(sequence.light_u(i)));
             const PlaneLight& l = lights.lights[li];
-            PhotonPlane p = l.point ? sample_point_photon_plane(l, li, rng) : sample_photon_plane(l, li, rng);
+            const PlaneUniforms u = sequence.plane(li, per_light[li]++, l.point);
+            PhotonPlane p = l.point ? sample_point_photon_plane(l, li, u) : sample_photon_plane(l, li, u);
             if (p.chord_length > 0.0f && p.sweep_length > 0.0f) planes.push_back(p);
         }
         for (uint32_t li = 0; li < lights.lights.size(); ++li) {
@@ -341,11 +358,13 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     std::vector<Color> image(size_t(w) * h);
     std::vector<float> gathered_at(ctx.film.has_aux() ? image.size() : 0);  // the diagnostic pass
     std::vector<float> transparency(ctx.film.has_transparency() ? image.size() : 0);
+    std::atomic<uint64_t> path_ns{0}, gather_ns{0};  // thread time of the path samples and the gathering
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         // M path samples (pixel samples s M ... s M + M - 1) for all but the planes' part; the first
         // one's camera ray also gathers the planes, whose estimate is not divided by M.
         Color surfaces(0.0f), planes_L(0.0f);
         float transparent = 0.0f;
+        uint64_t pixel_path_ns = 0;
         for (uint32_t m = 0; m < M; ++m) {
             Rng rng;
             Ray ray = camera_ray(ctx, x, y, s * M + m, &rng);
@@ -353,12 +372,16 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             PathState camera = camera_path_state(ray.o);
             camera.medium = scene.camera_medium();
             camera.planes_on_camera_ray = use_planes;
+            auto t_path = Clock::now();
             if (!settings.camera_volume_only) surfaces += guard_sample(trace_path(scene, settings, ray, camera, rng, local), local);
+            auto t_gather = Clock::now();
+            pixel_path_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(t_gather - t_path).count());
             transparent += local.sample_transparency;
             ++local.paths;
             if (m > 0 || !use_planes) continue;
             GatherCounts n;
             planes_L = gather(ray, camera.medium, rng, &n);
+            gather_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t_gather).count());
             plane_hits_ += n.gathered;
             shadow_rays_ += n.shadow_rays;
             if (!gathered_at.empty()) gathered_at[size_t(y) * w + x] = float(n.gathered);
@@ -366,6 +389,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             nonfinite_rejected_ += n.nonfinite;
             local.samples_rejected += n.parallel + n.nonfinite;
         }
+        path_ns += pixel_path_ns;
         image[size_t(y) * w + x] = guard_sample(surfaces / float(M) + planes_L, local);
         if (!transparency.empty()) transparency[size_t(y) * w + x] = transparent / float(M);
     });
@@ -379,6 +403,8 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             ctx.film.add(x, y, image[size_t(y) * w + x], transparency.empty() ? 0.0f : transparency[size_t(y) * w + x]);
         }
     render_seconds_ += seconds_since(t0);
+    path_seconds_ += 1e-9 * double(path_ns.load());
+    gather_seconds_ += 1e-9 * double(gather_ns.load());
     ++iterations_;
     planes_ += set.size();
 }
@@ -392,7 +418,9 @@ std::map<std::string, double> PhotonPlanesIntegrator::stats() const {
             {"nonfinite_rejected", double(nonfinite_rejected_.load())},
             {"surface_samples", double(surface_samples_)},
             {"build_seconds", build_seconds_},
-            {"render_seconds", render_seconds_}};
+            {"render_seconds", render_seconds_},
+            {"path_thread_seconds", path_seconds_},
+            {"gather_thread_seconds", gather_seconds_}};
 }
 
 }  // namespace smis

@@ -37,6 +37,7 @@ private:
     uint32_t surface_samples_ = 0;
     // Measurements, summed over iterations.
     double build_seconds_ = 0, render_seconds_ = 0;
+    double path_seconds_ = 0, gather_seconds_ = 0;  // thread time: path samples, plane gathering
     uint64_t iterations_ = 0, planes_ = 0;
     std::atomic<uint64_t> plane_hits_{0}, shadow_rays_{0}, parallel_rejected_{0}, nonfinite_rejected_{0};
 };

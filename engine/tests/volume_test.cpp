@@ -436,7 +436,8 @@ struct BlockStats {
 
 BlockStats across_renders(const std::shared_ptr<Scene>& scene, const std::string& estimator, int renders,
                           uint32_t samples, uint32_t seed0, float scale = 1.0f, int smis_planes = 2,
-                          uint32_t plane_shadow_rays = 0, uint32_t plane_surface_samples = 0) {
+                          uint32_t plane_shadow_rays = 0, uint32_t plane_surface_samples = 0,
+                          bool plane_stratified = true) {
     BlockStats bs;
     bs.blocks.resize((kW / kBlock) * (kH / kBlock));
     for (int r = 0; r < renders; ++r) {
@@ -449,6 +450,7 @@ BlockStats across_renders(const std::shared_ptr<Scene>& scene, const std::string
         s.smis_planes = smis_planes;
         s.plane_shadow_rays = plane_shadow_rays;
         s.plane_surface_samples = plane_surface_samples;
+        s.plane_stratified = plane_stratified;
         s.filter = PixelFilterKind::Box;
         s.filter_width = 1.0f;
         auto img = render(scene, s);
@@ -711,6 +713,36 @@ TEST(PhotonPlanes, PointAndSpotLightPlanesConvergeToThePathTracer) {
                             planes.blocks[b].std_error(), ref.blocks[b].mean(), ref.blocks[b].std_error(), z);
         }
         EXPECT_EQ(bad, 0) << e;
+    }
+}
+
+TEST(PhotonPlanes, StratifiedPlaneSetsConvergeToThePathTracer) {
+    // Plane sets drawn from Owen-scrambled Sobol points (PlaneSequence) instead of independent
+    // numbers: every plane alone keeps its distribution, so the image must still agree with PATH,
+    // here with rectangles, a point light and a spot drawing from one set, stratified and not. The
+    // variance of these 4x4-pixel blocks is printed, not tested: averaged over 16 pixels it hardly
+    // changes (0.54 either way), the gain is per pixel (SMAPE on volume_spot, README). (Checked red:
+    // the stratified light choice scaled by 0.9, 0.9 light_u(i), makes 19 of the 37
+    // comparisons disagree.)
+    Medium fog = make_medium({0.05f, 0.08f, 0.12f}, {0.35f, 0.3f, 0.25f}, 0.3f);
+    LightDesc spot = point_light({-0.4f, 0.3f, 2.0f}, 60.0f);
+    spot.type = "SPOT";
+    spot.spot_size = 1.0f;
+    spot.spot_blend = 0.4f;
+    auto scene = fog_box(kW, kH, fog,
+                         {rect_light({-0.5f, 0.2f, 2.0f}, 0.6f, 0.4f, 30.0f, 0.3f), spot,
+                          point_light({0.7f, 0.6f, 1.2f}, 15.0f)});
+    BlockStats ref = across_renders(scene, "PATH", 16, 1024, 2100);
+    double variance[2] = {0.0, 0.0};
+    for (bool stratified : {true, false}) {
+        BlockStats planes = across_renders(scene, "PLANES_SMIS_EXACT", 24, 4, 2900, 1.0f, 2, 0, 1, stratified);
+        int bad = disagreeing_blocks(planes, ref, 2);
+        for (const st::MeanEstimator& b : planes.blocks) variance[stratified] += b.variance() / (b.mean() * b.mean());
+        std::printf("PLANES_SMIS_EXACT, %s plane sets: image mean %.5f +- %.5f (PATH %.5f +- %.5f); blocks "
+                    "disagreeing %d; summed relative variance of the blocks %.4g\n",
+                    stratified ? "stratified" : "independent", planes.image.mean(), planes.image.std_error(),
+                    ref.image.mean(), ref.image.std_error(), bad, variance[stratified]);
+        EXPECT_EQ(bad, 0) << stratified;
     }
 }
 
