@@ -43,21 +43,34 @@ struct PrefixEnd {
     float eta_scale = 1.0f;        // the prefix's refractions' radiance scaling (for Russian roulette)
 };
 
+// The pixel sample whose auxiliary passes the prefix records at its first hit (aux_passes.h).
+struct AuxRequest {
+    const RenderContext* ctx;
+    int x, y;
+    uint32_t s;
+};
+
 // The camera path up to x1 on the path tracer's loop (RGB throughput), changing only what differs:
 // the loop ends at x1 (kEndsAtFirstVertex), whose shading point, throughput and path length go into
 // the pixel record; its Dirac vertices take no light sample (none can light a Dirac BSDF, and no
-// random numbers are drawn for one); a Subsurface lobe alone walks to its exit, which is x1.
+// random numbers are drawn for one); a Subsurface lobe alone walks to its exit, which is x1. With
+// `aux` (the passes need shading, and the scene has no media, whose boundaries the path's rays pass
+// and the passes' do not), the first hit's passes go into the pixel record too.
 class RestirPrefix : public RgbThroughput {
 public:
     static constexpr bool kResampledLights = false;
     static constexpr bool kEndsAtFirstVertex = true;
-    RestirPrefix(RestirPixel* px, PrefixEnd* end) : px_(px), end_(end) {}
+    RestirPrefix(RestirPixel* px, PrefixEnd* end, const AuxRequest* aux) : px_(px), end_(end), aux_(aux) {}
     // In media a segment's emission and single scattering join L as one sum (emission first), the
     // order ReSTIR's stage 1 has always added them in, so its images stay bit-identical.
     template <class Clamp>
     void emission(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const Ray& ray,
                   bool found, const SurfaceHit& hit, const PathState& state, const RayMedia* media,
                   const ShaderRay* sray) {
+        if (aux_ && !found && state.depth == 0) {  // the camera ray saw nothing: the background's passes
+            px_->aux = AuxSample{};
+            px_->aux_ready = true;
+        }
         const Color e = clamped(beta * emission_along(scene, settings, ray, found, hit, state, media, sray),
                                 state.depth <= 1);
         if (media && state.depth <= settings.max_bounces) segment_emission_ = e;  // scattering() adds it
@@ -67,7 +80,14 @@ public:
                     LocalCounters& counters, bool skip_plane_lights) const {
         L += segment_emission_ + beta * single_scattering(scene, ray, media, rng, counters, skip_plane_lights);
     }
-    void prepare(ShadingPoint& sp) { px_->distance += sp.hit.t; }
+    void prepare(ShadingPoint& sp) {
+        // The first call is the first hit's (an earlier end leaves the passes to stage 2).
+        if (aux_ && !px_->aux_ready) {
+            px_->aux = first_hit_passes(*aux_->ctx, aux_->x, aux_->y, aux_->s, sp);
+            px_->aux_ready = true;
+        }
+        px_->distance += sp.hit.t;
+    }
     template <class Clamp>
     void direct(Color&, Clamp&&, const Scene&, const RenderSettings&, const ShadingPoint&, Rng&, LocalCounters&,
                 const PathState&) const {}
@@ -95,6 +115,7 @@ public:
 private:
     RestirPixel* px_;
     PrefixEnd* end_;
+    const AuxRequest* aux_;
     Color segment_emission_{0.0f};
 };
 
@@ -102,7 +123,7 @@ private:
 // scene has media (instantiated only then).
 template <bool kMedia>
 void trace_pixel(const Scene& scene, const RenderSettings& settings, const Ray& camera, Rng& rng,
-                 LocalCounters& counters, RestirPixel& px) {
+                 LocalCounters& counters, RestirPixel& px, const AuxRequest* aux) {
     px.has_vertex = false;
     px.beta = Color(0.0f);
     px.distance = 0.0f;
@@ -113,7 +134,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, const Ray& 
     if constexpr (kMedia) st.medium = scene.camera_medium();
     PrefixEnd end;
     px.fixed = trace_path_loop<RestirPrefix, kMedia, true>(scene, settings, camera, st, rng, counters,
-                                                           RestirPrefix(&px, &end));
+                                                           RestirPrefix(&px, &end, aux));
     if (!end.reached) return;
     // x1's reservoir; resampled: the vertex the next ray leaves from took it.
     st = end.state;
@@ -199,6 +220,7 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     // Two passes, each with one barrier: stages 1-2 and stages 3-4 read only their own pixel's (and,
     // for 3, neighbours' stage-2) data. Every stage keeps its own random stream.
     const bool temporal = prev_.size() == n_pixels && history_cap > 0.0f;
+    const bool aux_shading = ctx.film.has_aux() && settings.aux_shading;
     auto t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         const size_t i = size_t(y) * w + x;
@@ -206,16 +228,20 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
         local.sample_transparency = 0.0f;
+        local.camera_depth = std::numeric_limits<float>::quiet_NaN();
+        me.aux_ready = false;
         if (spectral_) {
             const Camera& cam = scene.camera();
             me.fixed = spectral_->trace_restir_pixel(ctx, x + cam.window_x0(), y + cam.window_y0(), s, ray, rng, local,
                                                      me, &lambda_[i * n_lambda], &weight_[i * n_lambda]);
         } else if (scene.has_media()) {
-            trace_pixel<true>(scene, settings, ray, rng, local, me);
+            trace_pixel<true>(scene, settings, ray, rng, local, me, nullptr);
         } else {
-            trace_pixel<false>(scene, settings, ray, rng, local, me);
+            const AuxRequest aux{&ctx, x, y, s};
+            trace_pixel<false>(scene, settings, ray, rng, local, me, aux_shading ? &aux : nullptr);
         }
         me.transparency = local.sample_transparency;
+        me.camera_depth = local.camera_depth;
         ++local.paths;
         const RestirPixel& old = temporal ? prev_[i] : me;
         if (!temporal || !me.has_vertex || !old.has_vertex) return;
@@ -282,8 +308,15 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             L += clamp_contribution(settings, direct, me.camera_hit);
         }
         if (ctx.film.has_aux()) {  // diagnostic pass: the candidates the shaded reservoir stands for (M)
-            Rng camera_rng;
-            add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), me.has_vertex ? final_[i].M : 0.0f);
+            const float M = me.has_vertex ? final_[i].M : 0.0f;
+            if (me.aux_ready) {
+                AuxSample a = me.aux;
+                a.diagnostic = M;
+                ctx.film.add_aux(x, y, a);
+            } else {
+                Rng camera_rng;
+                add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), M, me.camera_depth);
+            }
         }
         ctx.film.add(x, y, guard_sample(L, local), me.transparency);
     });
