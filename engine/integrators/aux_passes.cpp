@@ -15,6 +15,42 @@ Color albedo(const Bsdf& bsdf) {
     return sum;
 }
 
+// The passes at the camera ray's first hit, whose shading point is `first`.
+AuxSample aux_at(const Scene& scene, const ShadingPoint& first, Rng& rng) {
+    AuxSample a;
+    a.depth = scene.camera().view_depth(first.hit.p);
+    a.normal = first.ns;
+    if (!first.bsdf.is_delta()) {
+        a.albedo = albedo(first.bsdf);
+    } else {
+        ShadingPoint sp = first;
+        Color throughput(1.0f);
+        for (int bounce = 0;; ++bounce) {
+            if (!sp.bsdf.is_delta() || bounce == kAuxMaxDeltaBounces) {
+                a.albedo = throughput * albedo(sp.bsdf);
+                break;
+            }
+            BsdfSample bs = sample_bsdf(sp, rng);
+            if (!bs.valid()) break;
+            throughput *= bs.value / bs.pdf;
+            // Dirac bounces only: a glossy reflection or a transmission (ray_visibility.h).
+            const Ray ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, sp.hit.time,
+                          ray_mask(bs.transmission ? kRayTransmission : kRayGlossy)};
+            SurfaceHit hit;
+            if (!scene.intersect(ray, &hit)) break;
+            sp = make_shading_point(scene, hit, ray.d);
+        }
+    }
+    if (!is_finite(a.albedo)) a.albedo = Color(0.0f);
+    return a;
+}
+
+// A stream apart from the pixel sample's, so enabling passes leaves the image unchanged.
+Rng aux_rng(const RenderContext& ctx, int x, int y, uint32_t s) {
+    const Camera& cam = ctx.scene.camera();
+    return pixel_sample_rng(x + cam.window_x0(), y + cam.window_y0(), s, ctx.settings.seed ^ 0xa0c5a11eu);
+}
+
 }  // namespace
 
 AuxSample first_hit_depth(const Scene& scene, const Ray& camera_ray) {
@@ -25,30 +61,14 @@ AuxSample first_hit_depth(const Scene& scene, const Ray& camera_ray) {
 }
 
 AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng) {
-    AuxSample a;
     SurfaceHit hit;
-    Ray ray = camera_ray;
-    if (!scene.intersect(ray, &hit)) return a;
-    a.depth = scene.camera().view_depth(hit.p);
-    ShadingPoint sp = make_shading_point(scene, hit, ray.d);
-    a.normal = sp.ns;
-    Color throughput(1.0f);
-    for (int bounce = 0;; ++bounce) {
-        if (!sp.bsdf.is_delta() || bounce == kAuxMaxDeltaBounces) {
-            a.albedo = throughput * albedo(sp.bsdf);
-            break;
-        }
-        BsdfSample bs = sample_bsdf(sp, rng);
-        if (!bs.valid()) break;
-        throughput *= bs.value / bs.pdf;
-        // Dirac bounces only: a glossy reflection or a transmission (ray_visibility.h).
-        ray = Ray{spawn_origin(sp, bs.wi), bs.wi, 0.0f, kInf, hit.time,
-                  ray_mask(bs.transmission ? kRayTransmission : kRayGlossy)};
-        if (!scene.intersect(ray, &hit)) break;
-        sp = make_shading_point(scene, hit, ray.d);
-    }
-    if (!is_finite(a.albedo)) a.albedo = Color(0.0f);
-    return a;
+    if (!scene.intersect(camera_ray, &hit)) return AuxSample{};
+    return aux_at(scene, make_shading_point(scene, hit, camera_ray.d), rng);
+}
+
+AuxSample first_hit_passes(const RenderContext& ctx, int x, int y, uint32_t s, const ShadingPoint& first) {
+    Rng rng = aux_rng(ctx, x, y, s);
+    return aux_at(ctx.scene, first, rng);
 }
 
 void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const Ray& camera_ray, float diagnostic,
@@ -56,9 +76,7 @@ void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const Ray& cam
     if (!ctx.film.has_aux()) return;
     AuxSample a;
     if (ctx.settings.aux_shading) {
-        const Camera& cam = ctx.scene.camera();
-        // A stream apart from the pixel sample's, so enabling passes leaves the image unchanged.
-        Rng rng = pixel_sample_rng(x + cam.window_x0(), y + cam.window_y0(), s, ctx.settings.seed ^ 0xa0c5a11eu);
+        Rng rng = aux_rng(ctx, x, y, s);
         a = first_hit_aux(ctx.scene, camera_ray, rng);
     } else if (!std::isnan(camera_depth)) {
         a.depth = camera_depth;  // Blender's default Z pass alone, from the path's own camera ray

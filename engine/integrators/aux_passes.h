@@ -5,6 +5,8 @@
 
 namespace smis {
 
+struct ShadingPoint;
+
 // Depth and normal of the first hit along the camera ray, as Cycles' Z and Normal passes. Albedo
 // as Cycles' denoising albedo: the first hit that is not a perfect mirror or smooth glass gives its
 // closures' reflectance (weights, Fresnel-scaled at normal incidence for specular layers and
@@ -12,6 +14,10 @@ namespace smis {
 // kAuxMaxDeltaBounces, chosen with `rng`, a stream of its own so the image does not change).
 constexpr int kAuxMaxDeltaBounces = 8;
 AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng);
+// The same from a first hit the integrator's own camera path has shaded already (`first`, the
+// camera ray's hit for sample s of window pixel (x, y)): no second camera ray; the albedo's Dirac
+// bounces, if any, draw from the same stream of their own as first_hit_aux's.
+AuxSample first_hit_passes(const RenderContext& ctx, int x, int y, uint32_t s, const ShadingPoint& first);
 // Only the depth (normal and albedo left at their background values): when no pass needs more.
 AuxSample first_hit_depth(const Scene& scene, const Ray& camera_ray);
 

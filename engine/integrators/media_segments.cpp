@@ -2,18 +2,6 @@
 
 namespace smis {
 
-MediaSegment trace_media_segment(const Scene& scene, const RenderSettings& settings, const Ray& ray,
-                                 const PathState& state, SurfaceHit* hit, Rng& rng, LocalCounters& counters) {
-    MediaSegment seg;
-    RayMedia media;
-    seg.found = intersect_through(scene, ray, state.medium, hit, &media);
-    seg.emission = emission_along(scene, settings, ray, seg.found, *hit, state, &media);
-    if (state.depth <= settings.max_bounces) seg.scattering = single_scattering(scene, ray, media, rng, counters);
-    seg.transmittance = media.transmittance_to_end();
-    seg.end_medium = media.end_medium;
-    return seg;
-}
-
 bool connection_through_media(const Scene& scene, const ShadowRay& s, uint32_t visibility, int32_t medium, Color* tr) {
     // Most connections meet no surface at all: one medium, and an any-hit query is enough.
     if (!scene.occluded(s.o, s.d, s.tmax, s.time, visibility)) {

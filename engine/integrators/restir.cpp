@@ -1,8 +1,9 @@
 // ReSTIR (Bitterli et al. 2020, Alg. 5) for the direct light at the camera path's first non-specular
 // vertex x1, with the offline analogue of temporal reuse. One iteration (one sample per pixel):
-//   1. trace: per pixel the camera prefix through Dirac bounces to x1, x1's initial RIS reservoir
-//      (M candidates, visibility reuse: an occluded selection is dropped), and the rest of the path
-//      (BSDF sample at x1 and the path tracer from there), which is kept per pixel as `fixed`;
+//   1. trace: per pixel the camera prefix through Dirac bounces to x1 (the path tracer's loop,
+//      path_loop.h, with the RestirPrefix policy below), x1's initial RIS reservoir (M candidates,
+//      visibility reuse: an occluded selection is dropped), and the rest of the path (BSDF sample at
+//      x1 and the path tracer from there), which is kept per pixel as `fixed`;
 //   2. temporal (only with a history cap > 0; off by default, see RenderSettings::restir_history_cap):
 //      the reservoir is combined with the same pixel's final reservoir of the previous iteration (a
 //      different x1: another sub-pixel position), its M capped at cap x M;
@@ -18,14 +19,14 @@
 // A subsurface exit is a surface vertex like any other: x1 when the Subsurface lobe is the entry's
 // only one (the entry is then a Dirac vertex of the prefix), else the path tracer's part after x1.
 // With media the prefix's segments carry transmittance and single scattering as the path tracer's
-// do (trace_media_segment), and the resampled light at x1 its shadow ray's transmittance (unshadowed
+// do (the loop's), and the resampled light at x1 its shadow ray's transmittance (unshadowed
 // targets, visibility [T > 0] in the reservoirs and the MIS: direct_lighting.h).
 #include "integrators/restir.h"
 
 #include "integrators/aux_passes.h"
 
-#include "integrators/media_segments.h"
 #include "integrators/reservoir_reuse.h"
+#include "integrators/rgb_throughput.h"
 #include "integrators/tiles.h"
 
 namespace smis {
@@ -34,81 +35,147 @@ namespace {
 // Stream offsets of the reuse stages, distinct from the camera sample's stream.
 constexpr uint32_t kTemporalStream = 0x7e3a91c5u, kSpatialStream = 0x2b8d4f17u;
 
+// Where the camera prefix ended: x1 (written into the pixel record) and the path's state there.
+struct PrefixEnd {
+    bool reached = false;
+    bool subsurface_exit = false;  // x1 is the exit of a Subsurface lobe alone (a Dirac entry)
+    PathState state;               // at x1 (at the entry for a subsurface exit: the walk is no bounce)
+    float eta_scale = 1.0f;        // the prefix's refractions' radiance scaling (for Russian roulette)
+};
+
+// The pixel sample whose auxiliary passes the prefix records at its first hit (aux_passes.h).
+struct AuxRequest {
+    const RenderContext* ctx;
+    int x, y;
+    uint32_t s;
+};
+
+// The camera path up to x1 on the path tracer's loop (RGB throughput), changing only what differs:
+// the loop ends at x1 (kEndsAtFirstVertex), whose shading point, throughput and path length go into
+// the pixel record; its Dirac vertices take no light sample (none can light a Dirac BSDF, and no
+// random numbers are drawn for one); a Subsurface lobe alone walks to its exit, which is x1. With
+// `aux` (the passes need shading, and the scene has no media, whose boundaries the path's rays pass
+// and the passes' do not), the first hit's passes go into the pixel record too.
+class RestirPrefix : public RgbThroughput {
+public:
+    static constexpr bool kResampledLights = false;
+    static constexpr bool kEndsAtFirstVertex = true;
+    RestirPrefix(RestirPixel* px, PrefixEnd* end, const AuxRequest* aux) : px_(px), end_(end), aux_(aux) {}
+    // In media a segment's emission and single scattering join L as one sum (emission first), the
+    // order ReSTIR's stage 1 has always added them in, so its images stay bit-identical.
+    template <class Clamp>
+    void emission(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const Ray& ray,
+                  bool found, const SurfaceHit& hit, const PathState& state, const RayMedia* media,
+                  const ShaderRay* sray) {
+        if (aux_ && !found && state.depth == 0) {  // the camera ray saw nothing: the background's passes
+            px_->aux = AuxSample{};
+            px_->aux_ready = true;
+        }
+        const Color e = clamped(beta * emission_along(scene, settings, ray, found, hit, state, media, sray),
+                                state.depth <= 1);
+        if (media && state.depth <= settings.max_bounces) segment_emission_ = e;  // scattering() adds it
+        else L += e;
+    }
+    void scattering(Color& L, const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
+                    LocalCounters& counters, bool skip_plane_lights) const {
+        L += segment_emission_ + beta * single_scattering(scene, ray, media, rng, counters, skip_plane_lights);
+    }
+    void prepare(ShadingPoint& sp) {
+        // The first call is the first hit's (an earlier end leaves the passes to stage 2).
+        if (aux_ && !px_->aux_ready) {
+            px_->aux = first_hit_passes(*aux_->ctx, aux_->x, aux_->y, aux_->s, sp);
+            px_->aux_ready = true;
+        }
+        px_->distance += sp.hit.t;
+    }
+    template <class Clamp>
+    void direct(Color&, Clamp&&, const Scene&, const RenderSettings&, const ShadingPoint&, Rng&, LocalCounters&,
+                const PathState&) const {}
+    template <class Clamp>
+    bool subsurface(Color&, Clamp&&, const Scene& scene, const RenderSettings&, ShadingPoint& sp, BsdfSample& bs,
+                    Rng& rng, LocalCounters&, const PathState& state) {
+        if (!subsurface_step(scene, sp, bs, beta, rng)) return false;
+        end_->subsurface_exit = true;
+        first_vertex(sp, state);
+        return false;
+    }
+    void after_scatter(const PathState&, const BsdfSample& bs) {
+        if (bs.transmission) end_->eta_scale *= sqr(bs.eta);
+    }
+    void first_vertex(const ShadingPoint& sp, const PathState& state) {
+        end_->reached = true;
+        end_->state = state;
+        px_->has_vertex = true;
+        px_->camera_hit = state.depth == 0;
+        px_->sp = sp;
+        px_->beta = beta;
+        px_->medium = state.medium;
+    }
+
+private:
+    RestirPixel* px_;
+    PrefixEnd* end_;
+    const AuxRequest* aux_;
+    Color segment_emission_{0.0f};
+};
+
 // Stage 1 for one pixel sample, written in place (a pixel record is large: no copies). kMedia: the
 // scene has media (instantiated only then).
 template <bool kMedia>
-void trace_pixel(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng, LocalCounters& counters,
-                 RestirPixel& px) {
+void trace_pixel(const Scene& scene, const RenderSettings& settings, const Ray& camera, Rng& rng,
+                 LocalCounters& counters, RestirPixel& px, const AuxRequest* aux) {
     px.has_vertex = false;
-    px.beta = px.fixed = Color(0.0f);
+    px.beta = Color(0.0f);
     px.distance = 0.0f;
     px.r = Reservoir{};
     px.eval = CandidateEval{};
-    PathState st = camera_path_state(ray.o);
+    PathState st = camera_path_state(camera.o);
+    st.first_vertex_ahead = true;
     if constexpr (kMedia) st.medium = scene.camera_medium();
-    Color beta(1.0f);
-    float eta_scale = 1.0f;
-    for (;; ++st.depth) {
-        SurfaceHit hit;
-        const bool found = trace_prefix_segment<kMedia>(scene, settings, ray, st, beta, &hit, rng, counters, &px.fixed);
-        if (add_transparency(settings, st, found, hit, beta, counters)) return;
-        if (!found || beyond_bounce_limits(settings, st) || (kMedia && is_black(beta))) return;
-        px.distance += hit.t;
-        ShadingPoint sp = make_shading_point(scene, hit, ray.d);
-        if (holdout_ends_path(st, sp, beta, counters)) return;
-        if (sp.bsdf.empty()) return;
-        bool first = !sp.bsdf.is_delta();
-        // x1 gets the reservoir; resampled: the vertex the next ray leaves from took it.
-        auto take_reservoir = [&] {
-            px.has_vertex = true;
-            px.camera_hit = st.depth == 0;
-            px.sp = sp;
-            px.beta = beta;
-            px.medium = st.medium;
-            px.r = ris_reservoir(scene, sp, settings.ris_candidates, settings.restir_visibility_reuse, rng, &px.eval,
-                                 st.medium);
-        };
-        if (first) take_reservoir();
-        bool resampled = first;
-        BsdfSample bs = sample_bsdf(sp, rng);
-        if (picks_subsurface(sp, bs)) {
-            // The subsurface exit is a surface vertex like any other at the entry's depth: x1 when
-            // the entry was a Dirac one (a Subsurface lobe alone), else it takes plain NEE (part of
-            // the path tracer's estimate after x1, as in PATH).
-            if (!subsurface_step(scene, sp, bs, beta, rng)) return;
-            if (!first) {
-                first = true;
-                take_reservoir();
-            } else {
-                resampled = false;
-                DirectSample ds = sample_direct(scene, settings, sp, rng, counters, st.medium);
-                if (ds.valid) px.fixed += clamp_contribution(settings, beta * direct_eval(sp, ds) * ds.weighted, st.depth == 0);
-            }
-            bs = sample_bsdf(sp, rng);
-        }
-        if (!bs.valid()) {
-            ++counters.samples_rejected;
-            return;
-        }
-        beta *= bs.value / bs.pdf;
-        if (bs.transmission) eta_scale *= sqr(bs.eta);
-        update_transparent_background(settings, st, sp.bsdf, bs);
-        advance_ray_type(st, sp.bsdf, bs);
-        if constexpr (kMedia) st.medium = medium_towards(scene, sp, bs.wi, st.medium);
-        st.prev_delta = bs.delta;
-        st.light_pdf_scale = resampled ? resampled_light_pdf_scale(settings) : 1.0f;
-        st.prev_pdf = bs.pdf;
-        st.prev_p = sp.hit.p;  // the exit after a subsurface step
-        ray = bounce_ray(sp, bs, st);
-        if (!russian_roulette(st.depth, beta, eta_scale, rng) || is_black(beta)) return;
-        if (first) {
-            // The rest of the path, with NEE from here on.
-            ++st.depth;
-            st.clamp_beta = beta;
-            px.fixed += beta * trace_path(scene, settings, ray, st, rng, counters);
-            return;
-        }
+    PrefixEnd end;
+    px.fixed = trace_path_loop<RestirPrefix, kMedia, true>(scene, settings, camera, st, rng, counters,
+                                                           RestirPrefix(&px, &end, aux));
+    if (!end.reached) return;
+    // x1's reservoir; resampled: the vertex the next ray leaves from took it.
+    st = end.state;
+    st.first_vertex_ahead = false;
+    px.r = ris_reservoir(scene, px.sp, settings.ris_candidates, settings.restir_visibility_reuse, rng, &px.eval,
+                         st.medium);
+    Color beta = px.beta;
+    float eta_scale = end.eta_scale;
+    bool resampled = !end.subsurface_exit;
+    const ShadingPoint* from = &px.sp;
+    ShadingPoint exit;
+    BsdfSample bs = sample_bsdf(px.sp, rng);
+    if (!end.subsurface_exit && picks_subsurface(px.sp, bs)) {
+        // The subsurface exit after x1 is a surface vertex at x1's depth with plain NEE (part of the
+        // path tracer's estimate after x1, as in PATH).
+        exit = px.sp;
+        Color direct;
+        if (!subsurface_bounce(scene, settings, exit, bs, beta, rng, counters, st.medium, &direct)) return;
+        px.fixed += clamp_contribution(settings, direct, st.depth == 0);
+        resampled = false;
+        from = &exit;
     }
+    if (!bs.valid()) {
+        ++counters.samples_rejected;
+        return;
+    }
+    beta *= bs.value / bs.pdf;
+    if (bs.transmission) eta_scale *= sqr(bs.eta);
+    update_transparent_background(settings, st, from->bsdf, bs);
+    advance_ray_type(st, from->bsdf, bs);
+    if constexpr (kMedia) st.medium = medium_towards(scene, *from, bs.wi, st.medium);
+    st.prev_delta = bs.delta;
+    st.light_pdf_scale = resampled ? resampled_light_pdf_scale(settings) : 1.0f;
+    st.prev_pdf = bs.pdf;
+    st.prev_p = from->hit.p;
+    const Ray ray = bounce_ray(*from, bs, st);
+    if (!russian_roulette(st.depth, beta, eta_scale, rng) || is_black(beta)) return;
+    // The rest of the path, with NEE from here on.
+    ++st.depth;
+    st.clamp_beta = beta;
+    px.fixed += beta * trace_path(scene, settings, ray, st, rng, counters);
 }
 
 // Bitterli et al. 2020's neighbour heuristic, on geometry only.
@@ -153,6 +220,7 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     // Two passes, each with one barrier: stages 1-2 and stages 3-4 read only their own pixel's (and,
     // for 3, neighbours' stage-2) data. Every stage keeps its own random stream.
     const bool temporal = prev_.size() == n_pixels && history_cap > 0.0f;
+    const bool aux_shading = ctx.film.has_aux() && settings.aux_shading;
     auto t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         const size_t i = size_t(y) * w + x;
@@ -160,16 +228,20 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
         local.sample_transparency = 0.0f;
+        local.camera_depth = std::numeric_limits<float>::quiet_NaN();
+        me.aux_ready = false;
         if (spectral_) {
             const Camera& cam = scene.camera();
             me.fixed = spectral_->trace_restir_pixel(ctx, x + cam.window_x0(), y + cam.window_y0(), s, ray, rng, local,
                                                      me, &lambda_[i * n_lambda], &weight_[i * n_lambda]);
         } else if (scene.has_media()) {
-            trace_pixel<true>(scene, settings, ray, rng, local, me);
+            trace_pixel<true>(scene, settings, ray, rng, local, me, nullptr);
         } else {
-            trace_pixel<false>(scene, settings, ray, rng, local, me);
+            const AuxRequest aux{&ctx, x, y, s};
+            trace_pixel<false>(scene, settings, ray, rng, local, me, aux_shading ? &aux : nullptr);
         }
         me.transparency = local.sample_transparency;
+        me.camera_depth = local.camera_depth;
         ++local.paths;
         const RestirPixel& old = temporal ? prev_[i] : me;
         if (!temporal || !me.has_vertex || !old.has_vertex) return;
@@ -236,8 +308,15 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             L += clamp_contribution(settings, direct, me.camera_hit);
         }
         if (ctx.film.has_aux()) {  // diagnostic pass: the candidates the shaded reservoir stands for (M)
-            Rng camera_rng;
-            add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), me.has_vertex ? final_[i].M : 0.0f);
+            const float M = me.has_vertex ? final_[i].M : 0.0f;
+            if (me.aux_ready) {
+                AuxSample a = me.aux;
+                a.diagnostic = M;
+                ctx.film.add_aux(x, y, a);
+            } else {
+                Rng camera_rng;
+                add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), M, me.camera_depth);
+            }
         }
         ctx.film.add(x, y, guard_sample(L, local), me.transparency);
     });
