@@ -45,23 +45,8 @@ std::shared_ptr<Scene> spectral_fog_scene(int w, int h) {
     boundary.pass_through = true;
     boundary.medium = s->add_medium(fog);
     add_box(*s, {-0.95f, -0.95f, 0.02f}, {0.95f, 0.95f, 0.9f}, s->add_material(boundary));
-    LightDesc area;
-    area.type = "AREA";
-    area.shape = "SQUARE";
-    area.size = 0.6f;
-    area.power = 60.0f;
-    area.spectrum = "F10";
-    area.visible_to_camera = false;  // its randomly covered edge pixels would dominate the noise
-    area.to_world.m[2][3] = 1.98f;
-    s->add_light(area);
-    LightDesc lamp;
-    lamp.type = "POINT";
-    lamp.power = 5.0f;
-    lamp.radius = 0.05f;
-    lamp.spectrum = "D65";
-    lamp.visible_to_camera = false;
-    lamp.to_world.m[0][3] = 0.5f, lamp.to_world.m[1][3] = 0.4f, lamp.to_world.m[2][3] = 0.6f;
-    s->add_light(lamp);
+    s->add_light(area_light(0.6f, 60.0f, {0.0f, 0.0f, 1.98f}).spectrum("F10").hidden_from_camera());
+    s->add_light(point_light(5.0f, 0.05f, {0.5f, 0.4f, 0.6f}).spectrum("D65").hidden_from_camera());
     s->set_camera(camera_along_y({0.0f, -2.9f, 1.0f}, w, h, 22.0f));
     s->commit();
     return s;
