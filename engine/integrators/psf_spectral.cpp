@@ -168,8 +168,8 @@ struct SpectralSuffixParts {
 //   z1: its light sample per wavelength into L_out (and its estimator into nee, for the unbiased
 //     gather), clamped as this pixel's path would be; its BSDF sample is kept (parts).
 //   after z1: the rest of the path at unit throughput (path tail, its emission per wavelength into
-//     L_in through SpectralPath::out), with Russian roulette under the whole path's throughput, as
-//     the spectral path tracer would.
+//     L_in through SpectralPath::out), clamped and stopped by Russian roulette under the whole
+//     path's throughput, as the spectral path tracer would.
 class SpectralSuffix {
 public:
     static constexpr bool kResampledLights = false;
@@ -187,8 +187,11 @@ public:
     template <class Clamp>
     void emission(Color&, Clamp&&, const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
                   const SurfaceHit& hit, const PathState& state, const RayMedia* media, const ShaderRay* sray) {
-        Color unused(0.0f);
-        if (!on_segment()) return tail_.emission(unused, unclamped, scene, settings, ray, found, hit, state, media, sray);
+        if (!on_segment()) {
+            return into_tail(settings, state.depth <= 1, [&](Color& unused) {
+                tail_.emission(unused, unclamped, scene, settings, ray, found, hit, state, media, sray);
+            });
+        }
         auto share = [&](const Color& c, bool) { return clamp_sample_share(settings, c, own_samples_, state.depth <= 1); };
         segment_.emission(parts_->out.fixed, share, scene, settings, ray, found, hit, state, media, nullptr);
     }
@@ -218,8 +221,11 @@ public:
     template <class Clamp>
     void direct(Color&, Clamp&&, const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
                 LocalCounters& counters, const PathState& state) {
-        Color unused(0.0f);
-        if (!at_z1()) return tail_.direct(unused, unclamped, scene, settings, sp, rng, counters, state);
+        if (!at_z1()) {
+            return into_tail(settings, state.depth == 0, [&](Color& unused) {
+                tail_.direct(unused, unclamped, scene, settings, sp, rng, counters, state);
+            });
+        }
         bool shadowed = false;
         const DirectSample ds = sample_direct_through(
             scene, settings, sp, rng, counters, state.medium, 1, 1, [&](const ShadowRay& shadow, int32_t medium) {
@@ -266,7 +272,10 @@ public:
         if (!alive) return false;
         const float eta2 = eta1_ * (bs.transmission ? sqr(bs.eta) : 1.0f);
         float whole = 0.0f;
-        for (int i = 0; i < n; ++i) whole = std::max(whole, w_[i] * (bs.delta ? 1.0f : f[i] / bs.pdf));
+        for (int i = 0; i < n; ++i) {
+            clamp_w_[i] = w_[i] * (bs.delta ? 1.0f : f[i] / bs.pdf);
+            whole = std::max(whole, clamp_w_[i]);
+        }
         rr_scale_ = whole * eta2;
         parts_->tail_traced = true;
         return true;
@@ -279,6 +288,25 @@ public:
 
 private:
     static Color unclamped(const Color& c, bool) { return c; }
+    // One of the tail's estimates (its emission along a ray, or a light sample), added by `add` to
+    // L_in, clamped as the whole path's contribution (clamp_w_ times it, as RGB): RgbSuffix clamps it
+    // under the whole path's clamp_beta, the spectral path tracer under the path's throughput.
+    template <class Add>
+    void into_tail(const RenderSettings& settings, bool direct, Add&& add) {
+        Color unused(0.0f);
+        const bool clamps = (direct ? settings.clamp_direct : settings.clamp_indirect) > 0.0f;
+        SpectralPath& tail = tail_path_;
+        float c[kMaxWavelengths];
+        if (clamps) std::fill(c, c + tail.n, 0.0f), tail.out = c;
+        add(unused);  // one call site: the tail's emission and light sampling are inlined once
+        if (!clamps) return;
+        tail.out = parts_->L_in;
+        Color rgb(0.0f);
+        for (int i = 0; i < tail.n; ++i)
+            if (clamp_w_[i] != 0.0f) rgb += tail.response[i] * (clamp_w_[i] * c[i]);
+        const float scale = clamp_scale(settings, rgb, direct);
+        for (int i = 0; i < tail.n; ++i) parts_->L_in[i] += c[i] * scale;
+    }
     bool on_segment() const { return vertex_ == 0; }
     bool at_z1() const { return vertex_ == 1; }
     const SpectralScene& spectral_;
@@ -287,6 +315,7 @@ private:
     SpectralSuffixParts* parts_;
     const SpectralMaterial* z1_material_ = nullptr;
     const float* w_;
+    float clamp_w_[kMaxWavelengths];  // the whole path's throughput up to z1's sample (set there)
     float* L_out_;
     float* nee_;
     int vertex_ = 0;  // the vertices shaded so far (z1 is the first)

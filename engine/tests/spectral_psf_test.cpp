@@ -94,3 +94,20 @@ TEST(SpectralPsf, EveryModeAndWeightingRendersFinite) {
                 EXPECT_GT(channel_mean(img, 1).mean(), 0.0) << integrator << " " << mode;
         }
 }
+
+// Clamping (Cycles' Clamp Indirect) limits each estimate a path adds by its whole throughput times
+// the radiance, as RGB. PSF_PATH shares nothing, so clamped or not it is the spectral path tracer
+// pixel for pixel in expectation: its suffix after z1 (traced at unit throughput) must be clamped
+// under the whole path's throughput, as psf_rgb.cpp's suffix is.
+TEST(SpectralPsf, PathClampsItsSuffixAsTheSpectralPathTracer) {
+    auto s = small_room(12, 12);
+    RenderSettings st = settings("PATH", "HERO");
+    st.clamp_indirect = 0.02f;
+    PixelStats ref = across_renders(s, st, 16, 64, 7000, true);
+    RenderSettings unclamped = st;
+    unclamped.clamp_indirect = 0.0f;
+    double z = 0.0;  // the clamp changes the image: the test can fail
+    EXPECT_LT(smallest_channel_p_value(across_renders(s, unclamped, 16, 64, 7100, true), ref, &z), 1e-6) << z;
+    st.integrator = IntegratorKind::PsfPath;
+    smis::testing::expect_agreement(across_renders(s, st, 16, 64, 8000, true), ref, "PSF_PATH clamped", "PATH");
+}
