@@ -111,3 +111,42 @@ TEST(SpectralPsf, PathClampsItsSuffixAsTheSpectralPathTracer) {
     st.integrator = IntegratorKind::PsfPath;
     smis::testing::expect_agreement(across_renders(s, st, 16, 64, 8000, true), ref, "PSF_PATH clamped", "PATH");
 }
+
+// A room seen through glass: a dispersive (N-SF11) pane beside a plain one, between the camera and
+// the lit walls, so that most camera paths pass glass before x1. The dispersive refractions keep the
+// conditioning wavelength alone (r = 1 there, 0 elsewhere) and its reflections weight each
+// wavelength by F(l_j) / F(l_c) (a prefix no other shares), while the plain pane's prefixes, with as
+// many Dirac bounces, reach the same walls with r = 1: only psf_spectral.cpp's spectral_class keeps
+// them apart.
+namespace {
+std::shared_ptr<Scene> behind_dispersive_glass(int w, int h) {
+    auto s = std::make_shared<Scene>();
+    const uint32_t white = s->add_material(diffuse(Color(0.7f)));
+    const uint32_t orange = s->add_material(diffuse(Color(0.75f, 0.3f, 0.08f)));
+    add_room(*s, white, white, orange);
+    add_box(*s, {0.2f, 0.2f, 0.0f}, {0.7f, 0.7f, 0.8f}, s->add_material(diffuse(Color(0.2f, 0.5f, 0.7f))));
+    Material glass = smooth_glass(1.5f);
+    const uint32_t plain = s->add_material(glass);
+    glass.spectral.dispersion = "N-SF11";
+    const uint32_t dispersive = s->add_material(glass);
+    add_box(*s, {-0.9f, -0.9f, 0.0f}, {0.0f, -0.85f, 1.5f}, dispersive);
+    add_box(*s, {0.0f, -0.9f, 0.0f}, {0.9f, -0.85f, 1.5f}, plain);
+    s->add_light(area_light(0.6f, 60.0f, {0.0f, 0.0f, 1.98f}).spectrum("F10").hidden_from_camera());
+    s->set_camera(camera_along_y({0.0f, -2.9f, 1.0f}, w, h, 22.0f));
+    s->commit();
+    return s;
+}
+}  // namespace
+
+// The unbiased weighting shares suffixes only within a spectral class: through the glass it still
+// converges to the spectral path tracer of the same mode.
+TEST(SpectralPsf, UnbiasedBehindDispersiveGlassConvergesToSpectralPath) {
+    auto s = behind_dispersive_glass(12, 12);
+    for (const char* mode : {"HERO", "SMIS"}) {
+        PixelStats ref = across_renders(s, settings("PATH", mode), 16, 64, 7000, true);
+        EXPECT_GT(ref.image.mean(), 0.02);  // lit: the test can fail
+        const std::string label = std::string("PSF_SMIS_UNBIASED ") + mode;
+        smis::testing::expect_agreement(across_renders(s, settings("PSF_SMIS_UNBIASED", mode), 16, 32, 8000, true),
+                                        ref, label.c_str(), "PATH");
+    }
+}
