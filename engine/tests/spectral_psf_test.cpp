@@ -18,15 +18,21 @@ using namespace smis::testing;
 
 namespace {
 
+// The closed room of this file's scenes: white, with an orange left wall.
+std::shared_ptr<Scene> white_room_orange_left() {
+    auto s = std::make_shared<Scene>();
+    const uint32_t white = s->add_material(diffuse(Color(0.7f)));
+    const uint32_t orange = s->add_material(diffuse(Color(0.75f, 0.3f, 0.08f)));
+    add_room(*s, white, white, orange);
+    return s;
+}
+
 // psf_test's room (media_integrators_test's fog room) made spectral: an F10 square light under the
 // ceiling, a coloured left wall, measured gold, a mirror wall, a dispersive (N-SF11) glass block
 // holding a coloured medium, fog (a pass-through box) in the lower part with a D65 lamp in it.
 // Closed, so that the indirect light path-space filtering reuses is a large part of the image.
 std::shared_ptr<Scene> spectral_fog_scene(int w, int h) {
-    auto s = std::make_shared<Scene>();
-    const uint32_t white = s->add_material(diffuse(Color(0.7f)));
-    const uint32_t orange = s->add_material(diffuse(Color(0.75f, 0.3f, 0.08f)));
-    add_room(*s, white, white, orange);
+    auto s = white_room_orange_left();
     add_box(*s, {0.98f, -1.0f, 0.0f}, {1.0f, 1.0f, 2.0f}, s->add_material(glossy(Color(0.9f), 0.0f)));
     Material gold = glossy(Color(1.0f), 0.3f);
     gold.spectral.metal = "Au";
@@ -120,10 +126,7 @@ TEST(SpectralPsf, PathClampsItsSuffixAsTheSpectralPathTracer) {
 // them apart.
 namespace {
 std::shared_ptr<Scene> behind_dispersive_glass(int w, int h) {
-    auto s = std::make_shared<Scene>();
-    const uint32_t white = s->add_material(diffuse(Color(0.7f)));
-    const uint32_t orange = s->add_material(diffuse(Color(0.75f, 0.3f, 0.08f)));
-    add_room(*s, white, white, orange);
+    auto s = white_room_orange_left();
     add_box(*s, {0.2f, 0.2f, 0.0f}, {0.7f, 0.7f, 0.8f}, s->add_material(diffuse(Color(0.2f, 0.5f, 0.7f))));
     Material glass = smooth_glass(1.5f);
     const uint32_t plain = s->add_material(glass);
