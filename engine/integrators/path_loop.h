@@ -20,7 +20,8 @@
 // Subsurface lobes render as their diffuse fallback), and whether the path ends at its first
 // non-specular vertex, handed to first_vertex(sp, state) (kEndsAtFirstVertex). Only the policies'
 // headers include this file: rgb_throughput.h (the path tracer, RGB path-space filtering's prefix and
-// suffix in psf_rgb.cpp) and spectral_throughput.h.
+// suffix in psf_rgb.cpp) and spectral_throughput.h (the spectral path tracer, spectral path-space
+// filtering's prefix and suffix in psf_spectral.cpp).
 #pragma once
 #include "integrators/direct_lighting.h"
 #include "integrators/path_tracing.h"

@@ -190,18 +190,13 @@ inline Color clamp_sample_share(const RenderSettings& s, const Color& c, int n, 
     return n == 1 ? clamp_contribution(s, c, direct) : clamp_contribution(s, c * float(n), direct) / float(n);
 }
 // The state of a camera path starting at `origin`; `subsurface_walks` false for the integrators
-// that render subsurface scattering as its diffuse fallback (see subsurface_fallback).
+// that render subsurface scattering as its diffuse fallback (Bsdf::subsurface_as_diffuse).
 inline PathState camera_path_state(const Vec3& origin, bool subsurface_walks = true) {
     PathState st;
     st.prev_p = origin;
     st.transparent_background = true;
     st.diffuse_ancestor = !subsurface_walks;
     return st;
-}
-// Path-space filtering's shared suffixes render the Subsurface lobes at z1 as their diffuse
-// fallback (their BSDF is re-evaluated for other pixels' connections).
-inline void subsurface_fallback(const Scene& scene, ShadingPoint& sp) {
-    if (scene.has_subsurface()) sp.bsdf.subsurface_as_diffuse();
 }
 // Whether the ray (found: it hit `hit`) ends the camera path as a hole in the film: it escaped to
 // the World with Film Transparent, or it met a holdout object. The path's mean throughput (Cycles'

@@ -175,16 +175,6 @@ inline PathState suffix_state(const ShadingPoint& sp, const PathState& prefix, c
     advance_ray_type(st1, sp.bsdf, bs);
     return st1;
 }
-// The state of the rest of the suffix after z1's BSDF sample bs1 (st1: the first segment's).
-inline PathState tail_state(const PathState& st1, const ShadingPoint& sp1, const BsdfSample& bs1) {
-    PathState st2 = st1;
-    ++st2.depth;
-    st2.prev_delta = bs1.delta, st2.prev_pdf = bs1.pdf, st2.prev_p = sp1.hit.p;
-    st2.light_pdf_scale = 1.0f;
-    st2.transparent_background = false;
-    advance_ray_type(st2, sp1.bsdf, bs1);
-    return st2;
-}
 
 }  // namespace psf_detail
 }  // namespace smis

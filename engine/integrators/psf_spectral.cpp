@@ -49,6 +49,14 @@ uint8_t spectral_class(const SpectralPath& p) {
     return ones ? kSharedClass : conditioning_only ? kSharedClass + 1 : kPrivateClass;
 }
 
+// The factor clamping scales a contribution by (path_tracing.h, clamp_contribution), given its RGB.
+float clamp_scale(const RenderSettings& settings, const Color& c, bool direct) {
+    const float limit = direct ? settings.clamp_direct : settings.clamp_indirect;
+    if (!(limit > 0.0f)) return 1.0f;
+    const float sum = std::fabs(c.x) + std::fabs(c.y) + std::fabs(c.z);
+    return sum > 3.0f * limit ? 3.0f * limit / sum : 1.0f;
+}
+
 }  // namespace
 
 struct PsfSpectrum::Impl {
@@ -98,13 +106,6 @@ struct PsfSpectrum::Impl {
             if (w[i] != 0.0f) sum += response[i] * (w[i] * v[i]);
         return sum;
     }
-    // The factor clamping scales a contribution by (path_tracing.h, clamp_contribution), given its RGB.
-    static float clamp_scale(const RenderSettings& settings, const Color& c, bool direct) {
-        const float limit = direct ? settings.clamp_direct : settings.clamp_indirect;
-        if (!(limit > 0.0f)) return 1.0f;
-        const float sum = std::fabs(c.x) + std::fabs(c.y) + std::fabs(c.z);
-        return sum > 3.0f * limit ? 3.0f * limit / sum : 1.0f;
-    }
 
     template <bool kMedia>
     SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
@@ -146,6 +147,184 @@ Color continue_privately(const SpectralScene& spectral, const Scene& scene, cons
                                                                  counters, SpectralThroughput(spectral, p));
 }
 
+namespace {
+
+// What the suffix's loop leaves beside its SuffixSample (see SpectralSuffix).
+struct SpectralSuffixParts {
+    SuffixSample out;
+    float seg_tr[kMaxWavelengths];  // the segment x1 -> z1's transmittance per wavelength (media)
+    bool z1_sampled = false;        // z1 took a valid BSDF sample bs1
+    bool tail_traced = false;       // and the path went on from it
+    BsdfSample bs1;
+    float f1[kMaxWavelengths];      // z1's BSDF towards bs1 (a non-Dirac bs1)
+    float L_in[kMaxWavelengths];    // the radiance the rest of the path brought back along bs1, at unit throughput
+};
+
+// The suffix's policy for the path loop (path_loop.h), psf_rgb.cpp's RgbSuffix at the iteration's
+// wavelengths: the loop starts with the ray of x1's BSDF sample, its first shaded vertex is z1.
+//   x1 -> z1: the emission found (clamped as one of own_samples samples) and, in media, the single
+//     scattering go to the pixel's own part, in RGB, under path `segment` (x1's share of the
+//     sample's throughput); the segment's transmittance per wavelength is kept apart (seg_tr).
+//   z1: its light sample per wavelength into L_out (and its estimator into nee, for the unbiased
+//     gather), clamped as this pixel's path would be; its BSDF sample is kept (parts).
+//   after z1: the rest of the path at unit throughput (path tail, its emission per wavelength into
+//     L_in through SpectralPath::out), clamped and stopped by Russian roulette under the whole
+//     path's throughput, as the spectral path tracer would.
+class SpectralSuffix {
+public:
+    static constexpr bool kResampledLights = false;
+    static constexpr bool kSubsurfaceWalks = false;  // the suffix starts with the diffuse ancestor set
+    static constexpr bool kEndsAtFirstVertex = false;
+    // w: the whole path's throughput up to z1 per wavelength; eta1: the radiance scaling of x1's
+    // sample; L_out, nee: the record's per-wavelength storage (nee may be null).
+    SpectralSuffix(const SpectralScene& spectral, SpectralPath& segment, SpectralPath& tail, SpectralSuffixParts* parts,
+                   const float* w, int own_samples, float eta1, float* L_out, float* nee)
+        : spectral_(spectral), segment_(spectral, segment), tail_(spectral, tail), tail_path_(tail), parts_(parts),
+          w_(w), L_out_(L_out), nee_(nee), own_samples_(own_samples), eta1_(eta1) {
+        tail.out = parts->L_in;
+    }
+
+    template <class Clamp>
+    void emission(Color&, Clamp&&, const Scene& scene, const RenderSettings& settings, const Ray& ray, bool found,
+                  const SurfaceHit& hit, const PathState& state, const RayMedia* media, const ShaderRay* sray) {
+        if (!on_segment()) {
+            return into_tail(settings, state.depth <= 1, [&](Color& unused) {
+                tail_.emission(unused, unclamped, scene, settings, ray, found, hit, state, media, sray);
+            });
+        }
+        auto share = [&](const Color& c, bool) { return clamp_sample_share(settings, c, own_samples_, state.depth <= 1); };
+        segment_.emission(parts_->out.fixed, share, scene, settings, ray, found, hit, state, media, nullptr);
+    }
+    void scattering(Color&, const Scene& scene, const Ray& ray, const RayMedia& media, Rng& rng,
+                    LocalCounters& counters, bool skip_plane_lights) {
+        Color unused(0.0f);
+        // The single scattering along x1 -> z1 is this pixel's alone (path_space_filtering.cpp).
+        if (on_segment()) segment_.scattering(parts_->out.fixed, scene, ray, media, rng, counters, skip_plane_lights);
+        else tail_.scattering(unused, scene, ray, media, rng, counters, skip_plane_lights);
+    }
+    // The segment's transmittance is kept apart, folded into L_out after the loop (what arrives at x1).
+    void attenuate(const RayMedia& media) {
+        if (on_segment()) segment_.transmittances(media, kInf, parts_->seg_tr);
+        else tail_.attenuate(media);
+    }
+    const Color& transparency_beta() const { return segment_.transparency_beta(); }
+    bool is_black() const { return !on_segment() && tail_.is_black(); }
+    void prepare(ShadingPoint& sp) {
+        tail_.prepare(sp);
+        if (++vertex_ != 1) return;
+        parts_->out.found_z1(sp.hit);
+        z1_material_ = &spectral_.material(sp.hit.material);
+    }
+    // z1's light sample per wavelength: Le T w_light / pdf times the path's wavelength weight (the
+    // mixture of the prefix: x1 and z1 are non-Dirac here, r unchanged), kept as an estimator and
+    // clamped as this pixel's path would be (neighbours reuse it under their own throughput).
+    template <class Clamp>
+    void direct(Color&, Clamp&&, const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
+                LocalCounters& counters, const PathState& state) {
+        if (!at_z1()) {
+            return into_tail(settings, state.depth == 0, [&](Color& unused) {
+                tail_.direct(unused, unclamped, scene, settings, sp, rng, counters, state);
+            });
+        }
+        bool shadowed = false;
+        const DirectSample ds = sample_direct_through(
+            scene, settings, sp, rng, counters, state.medium, 1, 1, [&](const ShadowRay& shadow, int32_t medium) {
+                shadowed = true;
+                return tail_.shadow_transmittances(scene, shadow.o, shadow.d, shadow.tmax, medium) ? Color(1.0f)
+                                                                                                    : Color(0.0f);
+            });
+        if (!ds.valid) return;
+        const SpectralPath& p = tail_path_;  // the prefix's wavelengths and mixture, as z1 has not scattered yet
+        const int n = p.n;
+        const float lum = luminance(ds.weighted);
+        const EmitterSpectrum& e = spectral_.emitter(ds.light);
+        float nee[kMaxWavelengths], f[kMaxWavelengths], v[kMaxWavelengths];
+        for (int i = 0; i < n; ++i) nee[i] = lum * e(p.ws.lambda[i]) * (shadowed ? tail_.transmittance(i) : 1.0f) * p.inv_mix;
+        parts_->out.nee_dir = ds.wi;
+        if (nee_) std::copy(nee, nee + n, nee_);
+        if (ds.hidden ? eval_spectral(lit_lobes(sp, ds), *z1_material_, p, ds.wi, f)
+                      : eval_spectral(sp, *z1_material_, p, ds.wi, f)) {
+            Color rgb(0.0f);  // the whole path's contribution: sum_i response_i w_i v_i
+            for (int i = 0; i < n; ++i) {
+                v[i] = f[i] * nee[i];
+                if (w_[i] != 0.0f) rgb += p.response[i] * (w_[i] * v[i]);
+            }
+            const float scale = clamp_scale(settings, rgb, false);
+            for (int i = 0; i < n; ++i) L_out_[i] += v[i] * scale;
+        }
+    }
+    // At z1 the rest of the path starts at unit throughput (a Dirac lobe's weights go into it);
+    // Russian roulette after z1 sees the whole path's throughput, as in the spectral path tracer.
+    bool scatter(const ShadingPoint& sp, const BsdfSample& bs) {
+        if (!at_z1()) {
+            if (!tail_.scatter(sp, bs)) return false;
+            if (bs.transmission) tail_eta_ *= sqr(bs.eta);
+            return true;
+        }
+        SpectralPath& tail = tail_path_;
+        const int n = tail.n;
+        parts_->z1_sampled = true;
+        parts_->bs1 = bs;
+        float* f = parts_->f1;
+        bool alive = true;
+        if (bs.delta) alive = delta_event(sp, *z1_material_, bs, tail);
+        else if (!eval_spectral(sp, *z1_material_, tail, bs.wi, f)) std::fill(f, f + n, 0.0f);
+        if (!alive) return false;
+        const float eta2 = eta1_ * (bs.transmission ? sqr(bs.eta) : 1.0f);
+        float whole = 0.0f;
+        for (int i = 0; i < n; ++i) {
+            clamp_w_[i] = w_[i] * (bs.delta ? 1.0f : f[i] / bs.pdf);
+            whole = std::max(whole, clamp_w_[i]);
+        }
+        rr_scale_ = whole * eta2;
+        parts_->tail_traced = true;
+        return true;
+    }
+    void after_scatter(const PathState& state, const BsdfSample& bs) { tail_.after_scatter(state, bs); }
+    bool roulette(int depth, float, Rng& rng) { return at_z1() || tail_.roulette(depth, tail_eta_ * rr_scale_, rng); }
+    void finish(LocalCounters& counters) const {
+        if (parts_->tail_traced) tail_.finish(counters);
+    }
+
+private:
+    static Color unclamped(const Color& c, bool) { return c; }
+    // One of the tail's estimates (its emission along a ray, or a light sample), added by `add` to
+    // L_in, clamped as the whole path's contribution (clamp_w_ times it, as RGB): RgbSuffix clamps it
+    // under the whole path's clamp_beta, the spectral path tracer under the path's throughput.
+    template <class Add>
+    void into_tail(const RenderSettings& settings, bool direct, Add&& add) {
+        Color unused(0.0f);
+        const bool clamps = (direct ? settings.clamp_direct : settings.clamp_indirect) > 0.0f;
+        SpectralPath& tail = tail_path_;
+        float c[kMaxWavelengths];
+        if (clamps) std::fill(c, c + tail.n, 0.0f), tail.out = c;
+        add(unused);  // one call site: the tail's emission and light sampling are inlined once
+        if (!clamps) return;
+        tail.out = parts_->L_in;
+        Color rgb(0.0f);
+        for (int i = 0; i < tail.n; ++i)
+            if (clamp_w_[i] != 0.0f) rgb += tail.response[i] * (clamp_w_[i] * c[i]);
+        const float scale = clamp_scale(settings, rgb, direct);
+        for (int i = 0; i < tail.n; ++i) parts_->L_in[i] += c[i] * scale;
+    }
+    bool on_segment() const { return vertex_ == 0; }
+    bool at_z1() const { return vertex_ == 1; }
+    const SpectralScene& spectral_;
+    SpectralThroughput segment_, tail_;
+    SpectralPath& tail_path_;
+    SpectralSuffixParts* parts_;
+    const SpectralMaterial* z1_material_ = nullptr;
+    const float* w_;
+    float clamp_w_[kMaxWavelengths];  // the whole path's throughput up to z1's sample (set there)
+    float* L_out_;
+    float* nee_;
+    int vertex_ = 0;  // the vertices shaded so far (z1 is the first)
+    int own_samples_;
+    float eta1_, tail_eta_ = 1.0f, rr_scale_ = 1.0f;
+};
+
+}  // namespace
+
 // trace_suffix of psf_rgb.cpp at the iteration's wavelengths: the suffix's per-pixel
 // part (RGB) into the result's `fixed`, its radiance per wavelength into L_out_k, z1's estimators into
 // nee_k and next_k and the segment's transmittance into tr_k (those three when given).
@@ -155,15 +334,12 @@ SuffixSample PsfSpectrum::Impl::trace_suffix(const Scene& scene, const RenderSet
                                               const BsdfSample& bs, int light_samples, int own_samples,
                                               bool dirac_z1_per_pixel, Rng& rng, LocalCounters& counters,
                                               float* L_out_k, float* nee_k, float* next_k, float* tr_k) const {
-    SuffixSample out;
-    float seg_tr[kMaxWavelengths];
     std::fill(L_out_k, L_out_k + n, 0.0f);
-    std::fill(seg_tr, seg_tr + n, 1.0f);
     if (nee_k) std::fill(nee_k, nee_k + n, 0.0f), std::fill(next_k, next_k + n, 0.0f);
     if (tr_k) std::fill(tr_k, tr_k + n, 1.0f);
     if (!bs.valid()) {
         ++counters.samples_rejected;
-        return out;
+        return SuffixSample{};
     }
     PathState st1 = suffix_state(sp, prefix, bs, light_samples, own_samples);
     const SpectralMaterial& sm = spectral.material(sp.hit.material);
@@ -173,6 +349,7 @@ SuffixSample PsfSpectrum::Impl::trace_suffix(const Scene& scene, const RenderSet
     if (bs.delta) {  // see trace_suffix in psf_rgb.cpp: the pixel keeps it
         st1.diffuse_ancestor = prefix.diffuse_ancestor;
         if constexpr (kMedia) st1.medium = prefix.medium;
+        SuffixSample out;
         out.fixed = continue_privately<kMedia>(spectral, scene, settings, sp, bs, st1, p1, rng, counters);
         return out;
     }
@@ -185,98 +362,36 @@ SuffixSample PsfSpectrum::Impl::trace_suffix(const Scene& scene, const RenderSet
         w[i] = p.beta[i] * f[i] / bs.pdf;
         p1.beta[i] = w[i] / float(own_samples);
     }
-    SpectralThroughput segment(spectral, p1);
-    auto share = [&](const Color& c, bool) { return clamp_sample_share(settings, c, own_samples, st1.depth <= 1); };
-    SurfaceHit h1;
-    bool found1;
-    if constexpr (kMedia) {
-        // The single scattering along x1 -> z1 is this pixel's alone (see path_space_filtering.cpp).
-        RayMedia media;
-        found1 = intersect_through(scene, r1, st1.medium, &h1, &media);
-        segment.emission(out.fixed, share, scene, settings, r1, found1, h1, st1, &media, nullptr);
-        if (st1.depth <= settings.max_bounces)
-            segment.scattering(out.fixed, scene, r1, media, rng, counters, false);
-        segment.transmittances(media, kInf, seg_tr);
-        st1.medium = media.end_medium;
-    } else {
-        found1 = scene.intersect(r1, &h1);
-        segment.emission(out.fixed, share, scene, settings, r1, found1, h1, st1, nullptr, nullptr);
-    }
-    if (!found1 || beyond_bounce_limits(settings, st1)) return out;
-
-    ShadingPoint sp1 = make_shading_point(scene, h1, r1.d);
-    subsurface_fallback(scene, sp1);
-    light_path_lobes(settings, st1, sp1);
-    if (sp1.bsdf.empty()) return out;
-    const SpectralMaterial& sm1 = spectral.material(h1.material);
-    if (sm1.dispersive) sp1.bsdf = dispersed_bsdf(sp1, sm1, p.lambda_c());
-    // z1's light sample, per wavelength: Le T w_light / pdf times the path's wavelength weight (the
-    // mixture of the prefix: x1 and z1 are non-Dirac here, r unchanged).
-    SpectralPath at_z1;
-    continue_from(p, at_z1, nullptr);
-    SpectralThroughput z1(spectral, at_z1);
-    bool shadowed = false;
-    DirectSample ds1 = sample_direct_through(
-        scene, settings, sp1, rng, counters, st1.medium, 1, 1, [&](const ShadowRay& shadow, int32_t medium) {
-            shadowed = true;
-            return z1.shadow_transmittances(scene, shadow.o, shadow.d, shadow.tmax, medium) ? Color(1.0f) : Color(0.0f);
-        });
-    float v[kMaxWavelengths];
-    if (ds1.valid) {
-        const float lum = luminance(ds1.weighted);
-        const EmitterSpectrum& e = spectral.emitter(ds1.light);
-        float nee[kMaxWavelengths];
-        for (int i = 0; i < n; ++i) nee[i] = lum * e(set.lambda[i]) * (shadowed ? z1.transmittance(i) : 1.0f) * p.inv_mix;
-        out.nee_dir = ds1.wi;
-        if (nee_k) std::copy(nee, nee + n, nee_k);
-        if (ds1.hidden ? eval_spectral(lit_lobes(sp1, ds1), sm1, at_z1, ds1.wi, f) : eval_spectral(sp1, sm1, at_z1, ds1.wi, f)) {
-            for (int i = 0; i < n; ++i) v[i] = f[i] * nee[i];
-            // Clamped as this pixel's path would be (neighbours reuse it under their own throughput).
-            const float scale = clamp_scale(settings, rgb(w, v), false);
-            for (int i = 0; i < n; ++i) L_out_k[i] += v[i] * scale;
-        }
-    }
-    BsdfSample bs1 = sample_bsdf(sp1, rng);
-    if (bs1.valid()) {
-        PathState st2 = tail_state(st1, sp1, bs1);
-        if constexpr (kMedia) st2.medium = medium_towards(scene, sp1, bs1.wi, st1.medium);
-        SpectralPath tail;
-        continue_from(p, tail, nullptr);
-        bool alive = true;
-        if (bs1.delta) alive = delta_event(sp1, sm1, bs1, tail);
-        else if (!eval_spectral(sp1, sm1, tail, bs1.wi, f)) std::fill(f, f + n, 0.0f);
-        float L_in[kMaxWavelengths];
-        std::fill(L_in, L_in + n, 0.0f);
-        if (alive) {
-            // Russian roulette in the suffix sees the whole path's throughput, as in PATH.
-            const float eta2 = (bs.transmission ? sqr(bs.eta) : 1.0f) * (bs1.transmission ? sqr(bs1.eta) : 1.0f);
-            float whole = 0.0f;
-            for (int i = 0; i < n; ++i) whole = std::max(whole, w[i] * (bs1.delta ? 1.0f : f[i] / bs1.pdf));
-            st2.rr_scale = whole * eta2;
-            tail.out = L_in;
-            trace_path_loop<SpectralThroughput, kMedia, true>(scene, settings, bounce_ray(sp1, bs1, st2), st2, rng,
-                                                              counters, SpectralThroughput(spectral, tail));
-        }
+    SpectralSuffixParts parts;
+    std::fill(parts.seg_tr, parts.seg_tr + n, 1.0f);
+    std::fill(parts.L_in, parts.L_in + n, 0.0f);
+    SpectralPath tail;
+    continue_from(p, tail, nullptr);
+    trace_path_loop<SpectralSuffix, kMedia, true>(
+        scene, settings, r1, st1, rng, counters,
+        SpectralSuffix(spectral, p1, tail, &parts, w, own_samples, bs.transmission ? sqr(bs.eta) : 1.0f, L_out_k, nee_k));
+    SuffixSample& out = parts.out;
+    if (!out.has_suffix) return out;
+    if (parts.z1_sampled) {
+        const BsdfSample& bs1 = parts.bs1;
+        float v[kMaxWavelengths];
         out.next_dir = bs1.wi;
         for (int i = 0; i < n; ++i) {
-            if (next_k) next_k[i] = bs1.delta ? 0.0f : L_in[i] / bs1.pdf;
-            v[i] = bs1.delta ? L_in[i] : f[i] * L_in[i] / bs1.pdf;
+            if (next_k) next_k[i] = bs1.delta ? 0.0f : parts.L_in[i] / bs1.pdf;
+            v[i] = bs1.delta ? parts.L_in[i] : parts.f1[i] * parts.L_in[i] / bs1.pdf;
         }
         if (bs1.delta && dirac_z1_per_pixel) {
             // The Dirac lobe at z1 stays with its pixel (psf_rgb.cpp), as it arrives at x1.
-            for (int i = 0; i < n; ++i) v[i] *= seg_tr[i];
+            for (int i = 0; i < n; ++i) v[i] *= parts.seg_tr[i];
             out.fixed += rgb(p1.beta, v);
         } else {
             for (int i = 0; i < n; ++i) L_out_k[i] += v[i];
         }
-    } else {
-        ++counters.samples_rejected;
     }
     if constexpr (kMedia) {
-        for (int i = 0; i < n; ++i) L_out_k[i] *= seg_tr[i];
-        if (tr_k) std::copy(seg_tr, seg_tr + n, tr_k);
+        for (int i = 0; i < n; ++i) L_out_k[i] *= parts.seg_tr[i];
+        if (tr_k) std::copy(parts.seg_tr, parts.seg_tr + n, tr_k);
     }
-    out.found_z1(h1);
     return out;
 }
 

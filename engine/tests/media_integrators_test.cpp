@@ -55,13 +55,7 @@ std::shared_ptr<Scene> fog_room(int w, int h) {
     const int32_t card_tris[] = {0, 1, 2, 0, 2, 3};
     s->add_instance(s->add_mesh(card, 4, card_tris, 2, nullptr, nullptr, {green}), Transform());
     add_square_light(*s, 0.6f, 60.0f, {0.0f, 0.0f, 1.98f});
-    LightDesc lamp;
-    lamp.type = "POINT";
-    lamp.power = 6.0f;
-    lamp.radius = 0.05f;
-    lamp.visible_to_camera = false;  // a few pixels' random coverage would dominate their variance
-    lamp.to_world.m[0][3] = 0.5f, lamp.to_world.m[1][3] = 0.3f, lamp.to_world.m[2][3] = 0.7f;
-    s->add_light(lamp);
+    s->add_light(point_light(6.0f, 0.05f, {0.5f, 0.3f, 0.7f}).hidden_from_camera());
     s->set_camera(camera_along_y({0.0f, -2.9f, 1.0f}, w, h, 22.0f));
     s->commit();
     return s;

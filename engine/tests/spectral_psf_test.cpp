@@ -18,15 +18,21 @@ using namespace smis::testing;
 
 namespace {
 
+// The closed room of this file's scenes: white, with an orange left wall.
+std::shared_ptr<Scene> white_room_orange_left() {
+    auto s = std::make_shared<Scene>();
+    const uint32_t white = s->add_material(diffuse(Color(0.7f)));
+    const uint32_t orange = s->add_material(diffuse(Color(0.75f, 0.3f, 0.08f)));
+    add_room(*s, white, white, orange);
+    return s;
+}
+
 // psf_test's room (media_integrators_test's fog room) made spectral: an F10 square light under the
 // ceiling, a coloured left wall, measured gold, a mirror wall, a dispersive (N-SF11) glass block
 // holding a coloured medium, fog (a pass-through box) in the lower part with a D65 lamp in it.
 // Closed, so that the indirect light path-space filtering reuses is a large part of the image.
 std::shared_ptr<Scene> spectral_fog_scene(int w, int h) {
-    auto s = std::make_shared<Scene>();
-    const uint32_t white = s->add_material(diffuse(Color(0.7f)));
-    const uint32_t orange = s->add_material(diffuse(Color(0.75f, 0.3f, 0.08f)));
-    add_room(*s, white, white, orange);
+    auto s = white_room_orange_left();
     add_box(*s, {0.98f, -1.0f, 0.0f}, {1.0f, 1.0f, 2.0f}, s->add_material(glossy(Color(0.9f), 0.0f)));
     Material gold = glossy(Color(1.0f), 0.3f);
     gold.spectral.metal = "Au";
@@ -45,23 +51,8 @@ std::shared_ptr<Scene> spectral_fog_scene(int w, int h) {
     boundary.pass_through = true;
     boundary.medium = s->add_medium(fog);
     add_box(*s, {-0.95f, -0.95f, 0.02f}, {0.95f, 0.95f, 0.9f}, s->add_material(boundary));
-    LightDesc area;
-    area.type = "AREA";
-    area.shape = "SQUARE";
-    area.size = 0.6f;
-    area.power = 60.0f;
-    area.spectrum = "F10";
-    area.visible_to_camera = false;  // its randomly covered edge pixels would dominate the noise
-    area.to_world.m[2][3] = 1.98f;
-    s->add_light(area);
-    LightDesc lamp;
-    lamp.type = "POINT";
-    lamp.power = 5.0f;
-    lamp.radius = 0.05f;
-    lamp.spectrum = "D65";
-    lamp.visible_to_camera = false;
-    lamp.to_world.m[0][3] = 0.5f, lamp.to_world.m[1][3] = 0.4f, lamp.to_world.m[2][3] = 0.6f;
-    s->add_light(lamp);
+    s->add_light(area_light(0.6f, 60.0f, {0.0f, 0.0f, 1.98f}).spectrum("F10").hidden_from_camera());
+    s->add_light(point_light(5.0f, 0.05f, {0.5f, 0.4f, 0.6f}).spectrum("D65").hidden_from_camera());
     s->set_camera(camera_along_y({0.0f, -2.9f, 1.0f}, w, h, 22.0f));
     s->commit();
     return s;
@@ -108,4 +99,57 @@ TEST(SpectralPsf, EveryModeAndWeightingRendersFinite) {
             if (std::string(mode) != "UNIFORM" && std::string(mode) != "SPECTRAL_IS")
                 EXPECT_GT(channel_mean(img, 1).mean(), 0.0) << integrator << " " << mode;
         }
+}
+
+// Clamping (Cycles' Clamp Indirect) limits each estimate a path adds by its whole throughput times
+// the radiance, as RGB. PSF_PATH shares nothing, so clamped or not it is the spectral path tracer
+// pixel for pixel in expectation: its suffix after z1 (traced at unit throughput) must be clamped
+// under the whole path's throughput, as psf_rgb.cpp's suffix is.
+TEST(SpectralPsf, PathClampsItsSuffixAsTheSpectralPathTracer) {
+    auto s = small_room(12, 12);
+    RenderSettings st = settings("PATH", "HERO");
+    st.clamp_indirect = 0.02f;
+    PixelStats ref = across_renders(s, st, 16, 64, 7000, true);
+    RenderSettings unclamped = st;
+    unclamped.clamp_indirect = 0.0f;
+    double z = 0.0;  // the clamp changes the image: the test can fail
+    EXPECT_LT(smallest_channel_p_value(across_renders(s, unclamped, 16, 64, 7100, true), ref, &z), 1e-6) << z;
+    st.integrator = IntegratorKind::PsfPath;
+    smis::testing::expect_agreement(across_renders(s, st, 16, 64, 8000, true), ref, "PSF_PATH clamped", "PATH");
+}
+
+// A room seen through glass: a dispersive (N-SF11) pane beside a plain one, between the camera and
+// the lit walls, so that most camera paths pass glass before x1. The dispersive refractions keep the
+// conditioning wavelength alone (r = 1 there, 0 elsewhere) and its reflections weight each
+// wavelength by F(l_j) / F(l_c) (a prefix no other shares), while the plain pane's prefixes, with as
+// many Dirac bounces, reach the same walls with r = 1: only psf_spectral.cpp's spectral_class keeps
+// them apart.
+namespace {
+std::shared_ptr<Scene> behind_dispersive_glass(int w, int h) {
+    auto s = white_room_orange_left();
+    add_box(*s, {0.2f, 0.2f, 0.0f}, {0.7f, 0.7f, 0.8f}, s->add_material(diffuse(Color(0.2f, 0.5f, 0.7f))));
+    Material glass = smooth_glass(1.5f);
+    const uint32_t plain = s->add_material(glass);
+    glass.spectral.dispersion = "N-SF11";
+    const uint32_t dispersive = s->add_material(glass);
+    add_box(*s, {-0.9f, -0.9f, 0.0f}, {0.0f, -0.85f, 1.5f}, dispersive);
+    add_box(*s, {0.0f, -0.9f, 0.0f}, {0.9f, -0.85f, 1.5f}, plain);
+    s->add_light(area_light(0.6f, 60.0f, {0.0f, 0.0f, 1.98f}).spectrum("F10").hidden_from_camera());
+    s->set_camera(camera_along_y({0.0f, -2.9f, 1.0f}, w, h, 22.0f));
+    s->commit();
+    return s;
+}
+}  // namespace
+
+// The unbiased weighting shares suffixes only within a spectral class: through the glass it still
+// converges to the spectral path tracer of the same mode.
+TEST(SpectralPsf, UnbiasedBehindDispersiveGlassConvergesToSpectralPath) {
+    auto s = behind_dispersive_glass(12, 12);
+    for (const char* mode : {"HERO", "SMIS"}) {
+        PixelStats ref = across_renders(s, settings("PATH", mode), 16, 64, 7000, true);
+        EXPECT_GT(ref.image.mean(), 0.02);  // lit: the test can fail
+        const std::string label = std::string("PSF_SMIS_UNBIASED ") + mode;
+        smis::testing::expect_agreement(across_renders(s, settings("PSF_SMIS_UNBIASED", mode), 16, 32, 8000, true),
+                                        ref, label.c_str(), "PATH");
+    }
 }

@@ -36,19 +36,8 @@ inline std::shared_ptr<Scene> subsurface_scene(const Color& albedo, const Color&
                {-0.5f, 0.0f, 0.45f});
     add_box(*s, {0.15f, -0.04f, 0.0f}, {0.9f, 0.04f, 0.8f},
             s->add_material(subsurface_material(albedo, radius * 0.5f, 0.0f, false, SubsurfaceMethod::ChristensenBurley)));
-    LightDesc area;
-    area.type = "AREA";
-    area.size = 1.5f;
-    area.power = 60.0f;
-    area.visible_to_camera = false;
-    area.to_world.m[2][3] = 2.2f;
-    s->add_light(area);
-    LightDesc point;
-    point.type = "POINT";
-    point.power = 30.0f;
-    point.radius = 0.1f;
-    point.to_world.m[0][3] = 0.5f, point.to_world.m[1][3] = 0.3f, point.to_world.m[2][3] = 0.4f;
-    s->add_light(point);
+    s->add_light(area_light(1.5f, 60.0f, {0.0f, 0.0f, 2.2f}).hidden_from_camera());
+    s->add_light(point_light(30.0f, 0.1f, {0.5f, 0.3f, 0.4f}));
     s->set_camera(camera_along_y({0.0f, -3.2f, 0.6f}, w, h, 30.0f));
     s->commit();
     return s;

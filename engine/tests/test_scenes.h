@@ -199,16 +199,42 @@ inline Material smooth_glass(float eta) {
     return m;
 }
 
-// A square area light of side `size`, centred at `at`, facing down (-Z, as Blender's default).
-inline void add_square_light(Scene& s, float size, float power, const Vec3& at) {
-    LightDesc light;
-    light.type = "AREA";
-    light.shape = "SQUARE";
-    light.size = size;
-    light.power = power;
-    light.to_world.m[0][3] = at.x, light.to_world.m[1][3] = at.y, light.to_world.m[2][3] = at.z;
-    s.add_light(light);
+// The test scenes' lights, each built in one expression, e.g.
+//   s->add_light(point_light(5.0f, 0.05f, {0.5f, 0.4f, 0.6f}).spectrum("D65").hidden_from_camera());
+struct TestLight {
+    LightDesc desc;
+    TestLight& spectrum(const char* name) {
+        desc.spectrum = name;
+        return *this;
+    }
+    // Hidden from camera rays: a light's randomly covered edge pixels would dominate a test's noise.
+    TestLight& hidden_from_camera() {
+        desc.visible_to_camera = false;
+        return *this;
+    }
+    operator const LightDesc&() const { return desc; }
+};
+inline TestLight light_at(const char* type, float power, const Vec3& at) {
+    TestLight light;
+    light.desc.type = type;
+    light.desc.power = power;
+    light.desc.to_world.m[0][3] = at.x, light.desc.to_world.m[1][3] = at.y, light.desc.to_world.m[2][3] = at.z;
+    return light;
 }
+// A square area light of side `size`, centred at `at`, facing down (-Z, as Blender's default).
+inline TestLight area_light(float size, float power, const Vec3& at) {
+    TestLight light = light_at("AREA", power, at);
+    light.desc.shape = "SQUARE";
+    light.desc.size = size;
+    return light;
+}
+// A point light (a sphere of `radius`) at `at`.
+inline TestLight point_light(float power, float radius, const Vec3& at) {
+    TestLight light = light_at("POINT", power, at);
+    light.desc.radius = radius;
+    return light;
+}
+inline void add_square_light(Scene& s, float size, float power, const Vec3& at) { s.add_light(area_light(size, power, at)); }
 
 // A closed room, interior x, y in [-1, 1], z in [0, 2], of thin boxes: `floor`, the `left` wall, and
 // `walls` for the rest (the front one behind a camera at y = -2.9).
@@ -310,20 +336,8 @@ inline std::shared_ptr<Scene> foggy_mirror_and_glass(const Medium& fog, const Me
     Material glass = smooth_glass(1.5f);
     glass.medium = s->add_medium(inside_glass);
     add_box(*s, {0.2f, -0.5f, 0.0f}, {0.8f, 0.1f, 0.7f}, s->add_material(glass));
-    LightDesc area;
-    area.type = "AREA";
-    area.size = 1.5f;
-    area.power = 60.0f;
-    area.visible_to_camera = false;  // its randomly covered edge pixels would dominate the noise
-    area.to_world.m[2][3] = 2.2f;
-    s->add_light(area);
-    LightDesc point;
-    point.type = "POINT";
-    point.power = 15.0f;
-    point.radius = 0.15f;
-    if (spectral_light) point.spectrum = "D65";
-    point.to_world.m[0][3] = -0.7f, point.to_world.m[1][3] = -0.6f, point.to_world.m[2][3] = 0.9f;
-    s->add_light(point);
+    s->add_light(area_light(1.5f, 60.0f, {0.0f, 0.0f, 2.2f}).hidden_from_camera());
+    s->add_light(point_light(15.0f, 0.15f, {-0.7f, -0.6f, 0.9f}).spectrum(spectral_light ? "D65" : "RGB"));
     s->set_camera(camera_along_y({0.0f, -3.2f, 0.6f}, w, h, 30.0f));
     s->commit();
     return s;
