@@ -226,6 +226,16 @@ SETTINGS = [
                 "(lobes/principled_hair.h, ShaderRay::path_key) and its Hair BSDF sampler inconsistent with its "
                 "eval (lobes/hair.h, kCyclesSampler): Cycles' look, biased; off by default.",
             panel="light_paths"),
+    Setting("multiscatter_cycles_walk", "bool", False, "Cycles Multiscatter Evaluation",
+            "Evaluate the Glossy and Anisotropic BSDFs' Multiscatter GGX as Cycles 3.4 does: light samples by its "
+            "stochastic random walk from the shallower direction (tinting each further bounce twice), BSDF samples "
+            "by its walk from the view, weighted by its approximate density. Cycles' estimator is inconsistent, so "
+            "its image depends on the lighting (a sun-lit anisotropic sphere up to 5% darker than the walk's "
+            "BSDF); this matches it, at the cost of a walk per evaluation. Off: one consistent BSDF (tabulated "
+            "walk), deterministic and unbiased",
+            why="Cycles' mf_eval / mf_sample / mf_pdf (lobes/multiscatter_walk.h): Cycles' look, inconsistent; "
+                "off by default.",
+            panel="light_paths"),
     Setting("mis_heuristic", MIS_HEURISTIC, "POWER", "MIS Heuristic",
             "How multiple importance sampling weights the sampling techniques", field="mis", panel="light_paths"),
     # Cycles' Light Paths > Max Bounces per type, Clamping and Caustics. Unlike Cycles' defaults (diffuse

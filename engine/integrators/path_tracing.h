@@ -170,7 +170,8 @@ inline bool uses_light_path_rules(const Scene& scene, const RenderSettings& s) {
     const int limit = std::min({s.max_diffuse_bounces, s.max_glossy_bounces, s.max_transmission_bounces,
                                 s.max_transparent_bounces});
     return scene.has_ray_visibility() || scene.has_subsurface() || limit < s.max_bounces || s.clamp_direct > 0.0f ||
-           s.clamp_indirect > 0.0f || !s.caustics_reflective || !s.caustics_refractive || s.filter_glossy > 0.0f;
+           s.clamp_indirect > 0.0f || !s.caustics_reflective || !s.caustics_refractive || s.filter_glossy > 0.0f ||
+           s.multiscatter_cycles_walk;
 }
 // Cycles' Clamp Direct / Clamp Indirect (0 = off): a contribution whose mean |RGB| exceeds the
 // limit is scaled down to it (Cycles compares the sum with 3 x the setting). Direct: light samples
@@ -278,10 +279,19 @@ inline void blur_glossy_lobes(const RenderSettings& s, const PathState& st, Shad
     const float alpha = 0.5f * std::sqrt(1.0f - blur_pdf);
     sp.bsdf.change_lobes([alpha](Lobe& lobe) { blur_lobe(lobe, alpha); });
 }
-// Both Light Paths rules that change a vertex's lobes: the caustics toggles and Filter Glossy.
+// The setting multiscatter_cycles_walk: the Glossy and Anisotropic BSDFs' Multiscatter GGX as Cycles
+// estimates it, one lobe in place of the consistent pair (lobes/multiscatter_walk.h).
+inline void cycles_multiscatter_lobes(const RenderSettings& s, ShadingPoint& sp) {
+    if (!s.multiscatter_cycles_walk) return;
+    sp.bsdf = sp.bsdf.only([](const Lobe& l) { return !replaced_by_cycles_walk(l); });
+    sp.bsdf.change_lobes([](Lobe& l) { to_cycles_walk(l); });
+}
+// The Light Paths rules that change a vertex's lobes: the caustics toggles, Filter Glossy, and
+// Cycles' multiscatter estimator on request.
 inline void light_path_lobes(const RenderSettings& s, const PathState& st, ShadingPoint& sp) {
     drop_caustic_lobes(s, st, sp);
     blur_glossy_lobes(s, st, sp);
+    cycles_multiscatter_lobes(s, sp);
 }
 // With media (Scene::has_media()), `medium` is the medium the path arrived in and the shadow ray
 // carries transmittance; without, it is ignored and the shadow ray is a plain occlusion test.

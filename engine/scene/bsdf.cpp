@@ -104,7 +104,11 @@ LobeTerms lobe_terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
 }
 
 float lobe_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
-    return visit_lobe(lobe.kind, [&](auto k) { return lobe_eval_pdf_of<decltype(k)>(lobe, wo, wi).pdf; });
+    return visit_lobe(lobe.kind, [&](auto k) {
+        using L = decltype(k);
+        if constexpr (L::kColourEval) return L::pdf(lobe, wo, wi);  // without its eval (a random walk)
+        else return lobe_eval_pdf_of<L>(lobe, wo, wi).pdf;
+    });
 }
 
 BsdfSample lobe_sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event) {

@@ -8,13 +8,16 @@
 // The same walk runs on the anisotropic microsurface (alpha_x, alpha_y: Anisotropic, walk(wi, ax, ay)),
 // tabulated by scene/tools/ggx_aniso_gen.cpp for lobes/multiscatter_aniso_ggx.h.
 //
-// The engine does not walk at render time: scene/tools/ggx_multiple_gen.cpp tabulates where the walks
-// of more than one bounce leave (lobes/multiscatter_ggx.h evaluates that table), and the tests compare
-// the table with fresh walks. glass_walk() is the dielectric walk of Cycles' multiscatter glass
+// By default the engine does not walk at render time: scene/tools/ggx_multiple_gen.cpp tabulates where
+// the walks of more than one bounce leave (lobes/multiscatter_ggx.h evaluates that table), and the tests
+// compare the table with fresh walks. Only the setting multiscatter_cycles_walk walks per sample and per
+// evaluation, as Cycles does (cycles_eval, cycles_pdf below; lobes/multiscatter_walk.h). glass_walk() is the dielectric walk of Cycles' multiscatter glass
 // (mf_sample with the glass phase function), tabulated by scene/tools/ggx_glass_gen.cpp for
 // lobes/glass_multiple.h.
 #pragma once
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "core/math.h"
 
@@ -217,6 +220,104 @@ GlassExit glass_walk(const Vec3& wi, float alpha, float eta, Rand&& rand, OnBoun
 template <class Rand>
 GlassExit glass_walk(const Vec3& wi, float alpha, float eta, Rand&& rand) {
     return glass_walk(wi, alpha, eta, rand, [](float, bool) {});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Cycles' own estimator of the glossy closure, for the setting multiscatter_cycles_walk
+// (lobes/multiscatter_walk.h): its light-sample evaluation (mf_eval) and its MIS density (mf_pdf).
+
+// The GGX normal distribution of the two microsurfaces, with Cycles' floor on the denominator
+// (bsdf_microfacet_multi.h's D_ggx, D_ggx_aniso).
+inline float distribution(const Vec3& wm, float alpha) {
+    float z2 = wm.z * wm.z, a2 = alpha * alpha;
+    float t = (1.0f - z2) + a2 * z2;
+    return a2 / std::max(kPi * t * t, 1e-7f);
+}
+inline float distribution(const Vec3& wm, float ax, float ay) {
+    float sx = -wm.x / ax, sy = -wm.y / ay;
+    float t = wm.z * wm.z + sx * sx + sy * sy;
+    return 1.0f / std::max(kPi * t * t * ax * ay, 1e-7f);
+}
+inline float distribution(const Vec3& wm, const Isotropic& s) { return distribution(wm, s.alpha); }
+inline float distribution(const Vec3& wm, const Anisotropic& s) { return distribution(wm, s.ax, s.ay); }
+
+// The density that a ray travelling along w (height CDF and Lambda of the walk) reflects towards
+// `out` at its next microfacet, before the shadowing of `out` (Heitz et al. 2016, eq. 32: D_w(wm) / (4 |w.wm|)
+// with the visible-normal density of the moving ray; Cycles' mf_eval_phase_glossy).
+template <class Surface>
+float phase_towards(const Vec3& w, float lam, const Vec3& out, const Surface& surface) {
+    if (w.z > 0.9999f) return 0.0f;
+    Vec3 wh = normalize(out - w);
+    if (wh.z < 0.0f) return 0.0f;
+    float projected_area = w.z < -0.9999f ? 1.0f : lam * w.z;
+    float cos_h = dot(-w, wh);
+    if (cos_h < 0.0f) return 0.0f;
+    return cos_h * 0.25f / std::max(projected_area * cos_h, 1e-7f) * distribution(wh, surface);
+}
+
+// Cycles' light-sample evaluation of its Multiscatter GGX glossy closure of colour c (mf_eval, glossy
+// phase function, no Fresnel): f(view, light) cos(light) per channel, without the closure's weight. A
+// stochastic estimate, rand() uniform in [0, 1) (Cycles: its shading point's LCG). As Cycles:
+//  * it walks from the shallower of the two directions (light and view swapped where the light is
+//    steeper), scaling the result by cos(light) / cos(view) there; the walk is not reciprocal, so
+//    where the view is the shallower this is the sampled walk's BSDF (Heitz et al. 2016, sec. 5: next-event
+//    estimation of the phase function towards the exit at every bounce after the first, times the
+//    exit's shadowing from the current height) and elsewhere it is not;
+//  * the single scattering (order 0) analytically: D G2 / (4 cos_start), G2 height-correlated;
+//  * each further bounce's term is the phase times the throughput, times the throughput again
+//    (Cycles' `phase = ... * throughput; eval += throughput * phase * G1`): c^(2k) after k bounces, where
+//    its sampled walk has c^k;
+//  * at most kMaxBounces heights, the last bounce not reflected.
+template <class Surface, class Rand>
+Color cycles_eval(Vec3 view, Vec3 light, const Surface& surface, const Color& c, Rand&& rand) {
+    const bool swapped = light.z < view.z;
+    if (swapped) std::swap(view, light);
+    if (view.z < 1e-5f || light.z < 1e-5f) return Color(0.0f);
+    const float lam_out = surface.lam(light);
+    State s;
+    s.dir = -view;
+    s.lam = surface.lam(s.dir);
+    const float g2 = 1.0f / (1.0f - (s.lam + 1.0f) + lam_out);  // 1 / (1 + Lambda(view) + Lambda(light))
+    Color eval(g2 * 0.25f / view.z * distribution(normalize(view + light), surface));
+    Color throughput(1.0f);
+    for (int order = 0; order < kMaxBounces; ++order) {
+        if (!next_height(&s, rand())) break;
+        float uy = rand(), ux = rand();
+        Vec3 back = -s.dir;
+        Vec3 wm = surface.normal(back, ux, uy);
+        if (order > 0)
+            eval += throughput * throughput *
+                    (phase_towards(s.dir, s.lam, light, surface) * escape_probability(light, s.cdf, lam_out));
+        if (order + 1 < kMaxBounces) {
+            s.dir = wm * (2.0f * dot(back, wm)) - back;
+            s.lam = surface.lam(s.dir);
+            s.escape = escape_probability(s.dir, s.cdf, s.lam);
+            throughput *= c;
+        }
+    }
+    if (swapped) eval *= view.z / light.z;  // view and light are swapped here: cos(light) / cos(view)
+    return eval;
+}
+
+// Cycles' fit of the single-scattering GGX albedo at alpha r (mf_ggx_albedo): the share of its MIS
+// density given to the single scattering.
+inline float cycles_single_albedo(float r) {
+    float a = 0.806495f * std::exp(-1.98712f * r * r) + 0.199531f;
+    a -= ((((((1.76741f * r - 8.43891f) * r + 15.784f) * r - 14.398f) * r + 6.45221f) * r - 1.19722f) * r +
+          0.027803f) * r + 0.00568739f;
+    return clampf(a, 0.0f, 1.0f);
+}
+
+// Cycles' MIS density of the closure (mf_ggx_pdf, mf_ggx_aniso_pdf): not the density its walk samples,
+// an approximation, the single scattering's visible-normal density weighted by the fitted albedo and
+// a cosine lobe for the rest.
+template <class Surface>
+float cycles_pdf(const Vec3& view, const Vec3& light, const Surface& surface, float fit_alpha) {
+    if (!(view.z > 0.0f) || !(light.z > 0.0f)) return 0.0f;
+    float d = distribution(normalize(view + light), surface);
+    float single = 0.25f * d / std::max((1.0f + surface.lam(view)) * view.z, 1e-7f);
+    float a = cycles_single_albedo(fit_alpha);
+    return a * single + (1.0f - a) * light.z * kInvPi;
 }
 
 }  // namespace smis::ggx_walk

@@ -50,6 +50,7 @@ inline bool lobe_is_caustic(const Lobe& lobe, bool reflective_off, bool refracti
         case LobeKind::AshikhminShirley:
         case LobeKind::MultiAnisoGgx:
         case LobeKind::AnisoGgxMultiple:
+        case LobeKind::MultiGgxWalk:
         case LobeKind::Clearcoat: return reflective_off;
         case LobeKind::Refraction: return refractive_off;
         case LobeKind::Dielectric:
@@ -88,6 +89,7 @@ inline void blur_lobe(Lobe& lobe, float alpha) {
         case LobeKind::AshikhminShirley:
         case LobeKind::MultiAnisoGgx:
         case LobeKind::AnisoGgxMultiple:  // keeps its energy, as GgxMultiple
+        case LobeKind::MultiGgxWalk:      // Cycles re-walks at the new alphas
         case LobeKind::PrincipledGlass:  // alpha_y: its refraction's alpha
             lobe.alpha = std::max(lobe.alpha, alpha);
             lobe.alpha_y = std::max(lobe.alpha_y, alpha);

@@ -764,6 +764,7 @@ void principled_hair_closure(const ShaderOp& op, const float* r, ShaderResult* o
 // colour of Cycles' further bounces; none where there is next to none (smooth, or nearly).
 void multiscatter_ggx(const Color& c, float w, float roughness, uint8_t index, ShaderResult* out) {
     Lobe single = make_lobe(LobeKind::MultiGgx, FresnelMode::None, c * w, roughness, 1.5f, index), multiple;
+    mark_cycles_walkable(&single, c);
     push_lobe(out, single);
     if (multiple_scattering_lobe(single, c, &multiple)) push_lobe(out, multiple);
 }
@@ -772,9 +773,10 @@ void multiscatter_ggx(const Color& c, float w, float roughness, uint8_t index, S
 // scattering, about the Tangent register `tangent` turned by `rotation`: the multiple scattering in the
 // next lobe; at alpha_x = alpha_y (Anisotropy 0) the isotropic pair, as Cycles walks the isotropic
 // microsurface there.
-void multiscatter_aniso_ggx(const Lobe& single, const Color& c, const float* r, uint16_t tangent, float rotation,
+void multiscatter_aniso_ggx(Lobe single, const Color& c, const float* r, uint16_t tangent, float rotation,
                             ShaderResult* out) {
     Lobe multiple;
+    mark_cycles_walkable(&single, c);
     if (single.alpha == single.alpha_y) {
         Lobe iso = single;
         iso.kind = LobeKind::MultiGgx;

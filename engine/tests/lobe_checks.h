@@ -24,6 +24,15 @@ namespace smis::lobe_checks {
 
 inline Point2 rand2(Rng& rng) { return {rng.next_float(), rng.next_float()}; }
 
+// Cycles' alpha_x, alpha_y of the Anisotropic BSDF (svm/closure.h), clamped to [1e-4, 1] as its
+// multiscatter setup does.
+inline std::pair<float, float> cycles_alphas(float roughness, float anisotropy) {
+    float alpha = roughness * roughness;
+    float ax = anisotropy < 0.0f ? alpha / (1.0f + anisotropy) : alpha * (1.0f - anisotropy);
+    float ay = anisotropy < 0.0f ? alpha * (1.0f + anisotropy) : alpha / (1.0f - anisotropy);
+    return {clampf(ax, 1e-4f, 1.0f), clampf(ay, 1e-4f, 1.0f)};
+}
+
 // The direction of polar cosine cos_theta and azimuth phi.
 inline Vec3 dir_from_cos(float cos_theta, float phi) {
     float s = safe_sqrt(1.0f - cos_theta * cos_theta);

@@ -32,21 +32,13 @@
 using namespace smis;
 namespace st = smis::stats;
 using lobe_checks::Chi2Case;
+using lobe_checks::cycles_alphas;
 using lobe_checks::dir_from_cos;
 using lobe_checks::NamedLobe;
 using lobe_checks::rand2;
 using st::num;
 
 namespace {
-
-// Cycles' alpha_x, alpha_y of the Anisotropic BSDF (svm/closure.h), clamped to [1e-4, 1] as its
-// multiscatter setup does.
-std::pair<float, float> cycles_alphas(float roughness, float anisotropy) {
-    float alpha = roughness * roughness;
-    float ax = anisotropy < 0.0f ? alpha / (1.0f + anisotropy) : alpha * (1.0f - anisotropy);
-    float ay = anisotropy < 0.0f ? alpha * (1.0f + anisotropy) : alpha / (1.0f - anisotropy);
-    return {clampf(ax, 1e-4f, 1.0f), clampf(ay, 1e-4f, 1.0f)};
-}
 
 struct Pair {
     Lobe single, multiple;

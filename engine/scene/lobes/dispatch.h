@@ -21,6 +21,7 @@
 #include "scene/lobes/multi_glass.h"
 #include "scene/lobes/multiscatter_aniso_ggx.h"
 #include "scene/lobes/multiscatter_ggx.h"
+#include "scene/lobes/multiscatter_walk.h"
 #include "scene/lobes/oren_nayar.h"
 #include "scene/lobes/principled_diffuse.h"
 #include "scene/lobes/principled_glass.h"
@@ -49,7 +50,7 @@ using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, C
                                   PrincipledPartLobe, HairReflectionLobe, HairTransmissionLobe, PrincipledHairRLobe,
                                   PrincipledHairTTLobe, PrincipledHairTRTLobe, PrincipledHairTRRTLobe, MultiGlassLobe,
                                   GlassMultipleLobe, AshikhminShirleyLobe, MultiAnisoGgxLobe,
-                                  AnisoGgxMultipleLobe>;
+                                  AnisoGgxMultipleLobe, MultiGgxWalkLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -116,6 +117,7 @@ template <bool kGated = true, class F>
         case AshikhminShirleyLobe::kKind: return call_kind<AshikhminShirleyLobe, kGated>(f);
         case MultiAnisoGgxLobe::kKind: return call_kind<MultiAnisoGgxLobe, kGated>(f);
         case AnisoGgxMultipleLobe::kKind: return call_kind<AnisoGgxMultipleLobe, kGated>(f);
+        case MultiGgxWalkLobe::kKind: return call_kind<MultiGgxWalkLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate

@@ -23,6 +23,8 @@
 //   kBackfaceInvertsEta               its IOR is inverted when the hit is on the back face (glass)
 //   kOwnTangent                       an anisotropic lobe about its own tangent (to_lobe_tangent)
 //   kTinted                           eval = weight * fresnel(cos_d) * geom (else weight * geom)
+//   kColourEval                       eval and pdf from eval_pdf(lobe, wo, wi) and pdf(lobe, wo, wi), not
+//                                     from terms() (a colour no product weight x Fresnel x geom gives)
 //   is_delta(lobe)                    a Dirac lobe (no eval/pdf)
 //   terms(lobe, wo, wi)               eval and pdf, factored (LobeTerms)
 //   fresnel(lobe, cos_d)              the RGB Fresnel factor on top of terms().geom (kTinted lobes)
@@ -72,6 +74,7 @@ enum class LobeKind : uint8_t {
     AshikhminShirley,  // Glossy / Anisotropic BSDF with the Ashikhmin-Shirley distribution (lobes/ashikhmin_shirley.h)
     MultiAnisoGgx,     // anisotropic Multiscatter GGX, its single scattering (lobes/multiscatter_aniso_ggx.h)
     AnisoGgxMultiple,  // anisotropic Multiscatter GGX, its multiple scattering (lobes/multiscatter_aniso_ggx.h)
+    MultiGgxWalk,      // Multiscatter GGX as Cycles estimates it, on request (lobes/multiscatter_walk.h)
     Count
 };
 
@@ -287,6 +290,7 @@ inline LobeTerms lobe_terms_of(const Lobe& lobe, const Vec3& wo, const Vec3& wi)
 // eval and pdf of lobe kind L from its factored terms: weight * Fresnel * geom.
 template <class L>
 inline EvalPdf lobe_eval_pdf_of(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+    if constexpr (L::kColourEval) return lobe_detail::finite_or_zero(L::eval_pdf(lobe, wo, wi));
     LobeTerms t = lobe_terms_of<L>(lobe, wo, wi);
     EvalPdf r;
     r.pdf = t.pdf;
@@ -328,6 +332,7 @@ struct LobeDefaults {
     static constexpr bool kDispersive = false;
     static constexpr bool kBackfaceInvertsEta = false;
     static constexpr bool kOwnTangent = false;  // kind_colour is its tangent in the frame (to_lobe_tangent)
+    static constexpr bool kColourEval = false;  // eval_pdf() and pdf() instead of terms() (lobe.h's list)
     static Color fresnel(const Lobe&, float) { return Color(1.0f); }
     // No wo-only shortcut: fixed_wo_pdf evaluates the lobe (out of line, so that the loops over the
     // lobes inline only the shortcuts).
