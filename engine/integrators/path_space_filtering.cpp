@@ -41,6 +41,7 @@
 #include "integrators/psf_records.h"
 #include "integrators/psf_rgb.h"
 #include "integrators/psf_spectral.h"
+#include "integrators/psf_weighting.h"
 #include "integrators/tiles.h"
 
 namespace smis {
@@ -90,15 +91,6 @@ constexpr float kGroupReach = 1.0f;
 // other depths mostly see other parts of the scene anyway). Making the budget independent of the
 // prefix instead would change what is integrated: PATH bounds the whole path's length.
 
-// How far the own suffix's weight w in its pixel's estimate, among n gathered techniques, is from
-// an even share: 0 at w = 1/n (the filter shares the pixel's suffix as well as it can), 1 at w = 1
-// (it shares nothing). The extra paths are proportional to it.
-float excess_weight(float w, size_t n) {
-    if (n <= 1) return 1.0f;
-    const float even = 1.0f / float(n);
-    return std::clamp((w - even) / (1.0f - even), 0.0f, 1.0f);
-}
-
 // Per-thread scratch of the gather. Reached through a function that is not inlined: a thread_local
 // used in the hot loops costs a TLS lookup per use in a shared library (the compiler recomputes its
 // address rather than keeping it in a register).
@@ -139,6 +131,16 @@ PathSpaceFilteringIntegrator::PathSpaceFilteringIntegrator(PsfWeighting weightin
 PathSpaceFilteringIntegrator::~PathSpaceFilteringIntegrator() = default;
 
 void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
+    switch (weighting_) {
+        case PsfWeighting::Path: return iterate<PsfPathWeighting>(ctx, s);
+        case PsfWeighting::Keller: return iterate<PsfKellerWeighting>(ctx, s);
+        case PsfWeighting::Smis: return iterate<PsfSmisWeighting>(ctx, s);
+        case PsfWeighting::SmisUnbiased: return iterate<PsfSmisExactWeighting>(ctx, s);
+    }
+}
+
+template <class W>
+void PathSpaceFilteringIntegrator::iterate(RenderContext& ctx, uint32_t s) {
     const Scene& scene = ctx.scene;
     const RenderSettings& settings = ctx.settings;
     const int w = ctx.film.width(), h = ctx.film.height();
@@ -186,7 +188,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
 
     // Stage 1: one full path per pixel, and the pixel's extra paths (spectral: at the iteration's
     // wavelengths, psf_spectral.h).
-    if (spectrum_) spectrum_->begin_iteration(settings, s, pixels, weighting_ == PsfWeighting::SmisUnbiased, media);
+    if (spectrum_) spectrum_->begin_iteration(settings, s, pixels, W::kExact, media);
     const bool extra_strata =
         kWithStratified && settings.sampling_pattern == SamplingPattern::Stratified && (settings.psf_light_samples > 1 || max_extra > 0);
     auto t0 = StageClock::now();
@@ -204,7 +206,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         RecordAttribs* record_attribs = attribs.empty() ? nullptr : &attribs[k];
         const PixelStrata* record_strata = extra_strata ? &strata : nullptr;
         PrivateSuffix* record_extras = b.extras.data() + b.extra_offset[k];
-        const bool dirac_z1_per_pixel = weighting_ == PsfWeighting::SmisUnbiased;
+        constexpr bool dirac_z1_per_pixel = W::kExact;
         records[k] = spectrum_ ? spectrum_->trace_record(media, k, scene, settings, ray, rng, local, scene.camera(),
                                                          record_attribs, &models[k], record_strata, extra,
                                                          record_extras, dirac_z1_per_pixel, media ? &record_media[k] : nullptr)
@@ -238,7 +240,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
 
     t0 = StageClock::now();
     HashGrid& grid = buffers_->grid;
-    if (weighting_ != PsfWeighting::Path && !stored.empty()) {
+    if (W::kGathers && !stored.empty()) {
         // Cells the size of the typical radius: a query visits 2-3 cells per axis (measured faster
         // than half-radius cells, whose 4-5 per axis cost more in lookups than they save in points).
         std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
@@ -272,8 +274,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     std::atomic<uint64_t> gathered{0}, accepted{0}, groups{0}, grouped_pixels{0}, visibility_rays_total{0};
     const int max_n = std::max(1, settings.psf_max_neighbors);
     const int block = psf_block_side(settings.psf_block_size);
-    const bool exact = weighting_ == PsfWeighting::SmisUnbiased;
-    const bool keller = weighting_ == PsfWeighting::Keller;
+    constexpr bool exact = W::kExact;
     const int window_x0 = scene.camera().window_x0(), window_y0 = scene.camera().window_y0();
     auto general_bsdf = [&](uint32_t j) {  // a technique's BSDF (for the General kind and the exact variant)
         const PathRecord& t = records[j];
@@ -363,10 +364,10 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         // The set's densities, every technique counted once.
         std::vector<BsdfTechnique>& techniques = scratch.techniques;
         DensitySum& density_sum = scratch.density_sum;
-        if (exact) {
+        if constexpr (exact) {
             techniques.clear();
             for (uint32_t j : nb) techniques.push_back(technique(j));
-        } else if (!keller) {
+        } else if constexpr (!W::kOwnDensityPerSample) {
             density_sum.reset();
             for (uint32_t j : nb) {
                 if (models[j].kind == TechniqueDensity::General)
@@ -377,7 +378,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         }
         // p(z | technique nb[jj]).
         auto density = [&](size_t jj, const Vec3& z, const Vec3& z_ng) {
-            if (exact) return techniques[jj].area_density(z, z_ng);
+            if constexpr (exact) return techniques[jj].area_density(z, z_ng);
             const uint32_t j = nb[jj];
             return models[j].kind == TechniqueDensity::General ? technique(j).area_density(z, z_ng)
                                                                : models[j].area_density(z, z_ng);
@@ -420,7 +421,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             return tr;
         };
         auto shared_denominator = [&](const Vec3& z, const Vec3& z_ng, size_t sampled_by, int8_t* visible) {
-            if (!exact) return density_sum(z, z_ng);
+            if constexpr (!exact) return density_sum(z, z_ng);
             const Vec3& sampler = records[nb[sampled_by]].p;
             float denom = 0.0f;
             for (size_t jj = 0; jj < nb.size(); ++jj) {
@@ -437,7 +438,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             }
             return denom;
         };
-        // Per sample, what does not depend on the pixel: eq. (17)'s shared denominator, or for Keller
+        // Per sample, what does not depend on the pixel: eq. (17)'s shared denominator, or (Keller)
         // the sample's own density.
         std::vector<float>& per_sample = scratch.per_sample;
         per_sample.assign(nb.size(), 0.0f);
@@ -447,9 +448,11 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         for (size_t ii = 0; ii < nb.size(); ++ii) {
             const PathRecord& smp = records[nb[ii]];
             if (!smp.has_suffix) continue;
-            per_sample[ii] = keller ? density(ii, smp.z, smp.z_ng)
-                                    : shared_denominator(smp.z, smp.z_ng, ii,
-                                                         exact ? visible.data() + ii * size_t(n_members) : nullptr);
+            if constexpr (W::kOwnDensityPerSample)
+                per_sample[ii] = density(ii, smp.z, smp.z_ng);
+            else
+                per_sample[ii] = shared_denominator(smp.z, smp.z_ng, ii,
+                                                    exact ? visible.data() + ii * size_t(n_members) : nullptr);
         }
         groups += 1;
         grouped_pixels += uint64_t(n_members);
@@ -461,19 +464,10 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             const PrivateSuffix* private_suffixes = b.extras.data() + b.extra_offset[k];
             const Bsdf own = bsdf_at(scene, q.material, q.ns, q.ng, q.backfacing, x1_attr(k), q.wo);
             gathered += nb.size();
-            Color sum(0.0f);
-            float own_weight = -1.0f;
-            uint32_t n_accepted = 0;
+            typename W::Pixel estimate(extra);
             for (size_t ii = 0; ii < nb.size(); ++ii) {
                 const PathRecord& smp = records[nb[ii]];
-                if (keller) {
-                    // Keller et al. 2014: binary similarity of the prefix endpoints (same material,
-                    // normals within psf_keller_normal_cos, near the query's tangent plane).
-                    bool similar = smp.material == q.material && dot(smp.ns, q.ns) >= settings.psf_keller_normal_cos &&
-                                   std::fabs(dot(smp.p - q.p, q.ng)) <= settings.psf_keller_plane * q.radius;
-                    if (!similar) continue;
-                    ++n_accepted;
-                }
+                if (!estimate.take(q, smp, settings)) continue;
                 if (!(per_sample[ii] > 0.0f)) continue;  // no suffix, or no density to divide by
                 // Connection f_1(ybar_j, zbar_i) in the area measure at z1.
                 const Connection c = connect(q.p, smp.z, smp.z_ng);
@@ -492,7 +486,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                     if (is_black(f)) continue;
                     L_z = smp.L_out;
                 }
-                if (exact) {
+                if constexpr (exact) {
                     // Visibility and z1's scattering for the new direction (§4.2). The own sample was
                     // reached by a ray; the others' visibility was traced for the denominator, unless
                     // this technique had no density there (then it is traced here).
@@ -532,52 +526,30 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 Color contribution;
                 if constexpr (kSpectral) contribution = spectrum_->combine(k, f_s, L_own, tr) * c.g;
                 else contribution = f * L_z * c.g;
-                if (keller) {  // Keller's estimator divides by the sample's own density only
-                    sum += contribution / per_sample[ii];
-                    continue;
-                }
-                // Eq. (17): the balance heuristic normalised over the sampled techniques, the pixel's
-                // own technique counted once more per extra sample. (Past the visibility test above,
-                // the unbiased variant's own term needs no test of its own.)
-                const bool own_sample = ii == size_t(jj);
-                const float p_own = extra > 0 || own_sample ? density(size_t(jj), smp.z, smp.z_ng) : 0.0f;
-                float denom = extra > 0 ? per_sample[ii] + float(extra) * p_own : per_sample[ii];
-                if (!(denom > 0.0f)) continue;
-                sum += contribution / denom;
-                if (own_sample)  // the own suffix's weight, its density counted once
-                    own_weight = excess_weight(std::min(1.0f, p_own / per_sample[ii]), nb.size());
+                // (Past the visibility test above, the unbiased variant's own term needs no test of its own.)
+                estimate.add_shared(contribution, per_sample[ii], ii == size_t(jj), nb.size(),
+                                    [&] { return density(size_t(jj), smp.z, smp.z_ng); });
             }
-            if (keller && q.has_suffix && n_accepted > 0)
-                own_weight = excess_weight(1.0f / float(n_accepted), nb.size());  // Keller's weights: 1 / accepted
-            const uint32_t shared_accepted = n_accepted;
+            estimate.end_shared(q.has_suffix, nb.size());
             // The private extra suffixes, sampled by the own technique.
             for (int m = 0; m < extra; ++m) {
                 const PrivateSuffix& ps = private_suffixes[m];
-                if (keller) {
-                    ++n_accepted;  // every own sample is similar to its pixel
-                    float p_own = is_black(ps.contribution) ? 0.0f : density(size_t(jj), ps.z, ps.z_ng);
-                    if (p_own > 0.0f) sum += ps.contribution / p_own;
-                    continue;
-                }
-                if (is_black(ps.contribution)) continue;
-                float denom = shared_denominator(ps.z, ps.z_ng, size_t(jj), nullptr) +
-                              float(extra) * density(size_t(jj), ps.z, ps.z_ng);
-                if (denom > 0.0f) sum += ps.contribution / denom;
+                estimate.add_private(ps.contribution, [&] { return density(size_t(jj), ps.z, ps.z_ng); },
+                                     [&] { return shared_denominator(ps.z, ps.z_ng, size_t(jj), nullptr); });
             }
-            float reused = float(nb.size() - 1);  // other paths' suffixes combined here: the diagnostic pass
-            if (keller) {
-                accepted += n_accepted;
-                if (n_accepted > 0) sum = sum / float(n_accepted);
-                reused = shared_accepted > 0 ? float(shared_accepted - 1) : 0.0f;
-            }
-            finish(mx[jj], my[jj], k, q.fixed + q.beta * sum, reused, own_weight, local);
+            if constexpr (W::kOwnDensityPerSample) accepted += estimate.accepted();
+            // reused: other paths' suffixes combined here (the diagnostic pass)
+            finish(mx[jj], my[jj], k, q.fixed + q.beta * estimate.estimate(), estimate.reused(nb.size()),
+                   estimate.own_weight(), local);
         }
         visibility_rays_total += visibility_rays;
     };
 
     auto gather = [&](const uint32_t* members, const int* mx, const int* my, int n_members, LocalCounters& local) {
-        if (spectrum_) gather_group(std::true_type{}, members, mx, my, n_members, local);
-        else gather_group(std::false_type{}, members, mx, my, n_members, local);
+        if constexpr (W::kGathers) {
+            if (spectrum_) gather_group(std::true_type{}, members, mx, my, n_members, local);
+            else gather_group(std::false_type{}, members, mx, my, n_members, local);
+        }
     };
     const uint64_t grid_hash = mix64((uint64_t(s) << 32) ^ uint64_t(settings.seed) ^ 0x6a09e667f3bcc909ull);
     const int offset_x = int(grid_hash % uint64_t(block)), offset_y = int((grid_hash >> 32) % uint64_t(block));
@@ -602,7 +574,7 @@ void PathSpaceFilteringIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 const PathRecord& q = records[k];
                 if (!q.has_vertex) {
                     finish(px, py, k, q.fixed, 0.0f, -1.0f, local);
-                } else if (weighting_ == PsfWeighting::Path || private_class(q.technique_class)) {
+                } else if (!W::kGathers || private_class(q.technique_class)) {
                     const Color own = spectrum_ ? path_estimate(std::true_type{}, k) : path_estimate(std::false_type{}, k);
                     finish(px, py, k, q.fixed + own, 0.0f, 1.0f, local);  // nothing is shared
                 } else if (!anchor || (n_members < max_n && q.technique_class == anchor->technique_class &&

@@ -29,6 +29,9 @@ public:
 
 private:
     void iteration(RenderContext& ctx, uint32_t s) override;
+    // The iteration with the weighting as a type (psf_weighting.h).
+    template <class W>
+    void iterate(RenderContext& ctx, uint32_t s);
     PsfWeighting weighting_;
     std::unique_ptr<PsfSpectrum> spectrum_;
     // Records, technique models and the grid, kept across iterations (path_space_filtering.cpp).
