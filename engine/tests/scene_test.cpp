@@ -194,7 +194,9 @@ TEST(Scene, CameraRaysSkipTheBvhOnlyWhenTheyMissTheSceneBox) {
             SurfaceHit h1, h2;
             const bool f1 = s.intersect(camera_ray, &h1), f2 = s.intersect(any_ray, &h2);
             ASSERT_EQ(f1, f2) << "case " << c.cam_z << " ray " << i;
-            if (f1) EXPECT_EQ(h1.t, h2.t);
+            if (f1) {
+                EXPECT_EQ(h1.t, h2.t);
+            }
             (f1 ? hits : misses)++;
         }
         EXPECT_GT(hits, 2000) << c.cam_z;

@@ -96,8 +96,9 @@ TEST(SpectralPsf, EveryModeAndWeightingRendersFinite) {
             auto img = render(s, st);
             for (float v : img) ASSERT_TRUE(std::isfinite(v)) << integrator << " " << mode;
             // One wavelength per path takes the observer's negative lobes: lit means positive only with several.
-            if (std::string(mode) != "UNIFORM" && std::string(mode) != "SPECTRAL_IS")
+            if (std::string(mode) != "UNIFORM" && std::string(mode) != "SPECTRAL_IS") {
                 EXPECT_GT(channel_mean(img, 1).mean(), 0.0) << integrator << " " << mode;
+            }
         }
 }
 
