@@ -12,9 +12,11 @@ scattering), BOX 1 px filter, no denoising, no clamping:
                      plane count), PLANE_COUNT planes per iteration and the integrator's own number
                      of path samples per plane set (plane_surface_samples 0)
   CYCLES             Blender 3.4's Cycles with volume bounces 0 (scenes/cycles_settings.py)
-1. Reference per scene: our PATH with time-limited halves (REF_SECONDS each, seeds 1001/1002),
-   averaged, cached in bench/references/<scene>_512x384_ref.{exr,json,png} with its own noise
-   estimated from the halves (the floor under every metric). Our PATH matches Cycles within about
+1. Reference per scene: two halves averaged, cached in bench/references/<scene>_512x384_ref.{exr,json,png}
+   with its own noise estimated from the halves (the floor under every metric). With --ref-spp N
+   one half is our PATH and the other Cycles, N samples each (seeds 1001/1002; independent of the
+   machine's load), and the halves' mean ratio is recorded; without, two time-limited halves of our
+   PATH (REF_SECONDS each). Our PATH matches Cycles within about
    1% in the means on these scenes (the accuracy test for volume_planes, and the previews of
    the new scenes), so one reference serves both engines.
 2. Equal time: for each budget and seed the three estimators one after the other (interleaved, so
@@ -62,6 +64,7 @@ ORDER_ITERATIONS = 3
 BUDGETS, QUICK_BUDGETS = [5.0, 15.0, 60.0], [5.0, 15.0]
 SEEDS = [1, 2, 3]
 REF_SECONDS, REF_SEEDS = 90.0, (1001, 1002)
+REF_TIMEOUT = 6 * 3600  # a long reference on a loaded machine
 RESOLUTION = {"resolution_x": WIDTH, "resolution_y": HEIGHT, "resolution_percentage": 100}
 RESOLUTION_PRELUDE = ["scene.render.%s = %d" % kv for kv in RESOLUTION.items()]
 REF_DIR = os.path.join(HERE, "references")
@@ -75,34 +78,55 @@ def log(msg):
 
 def smis(blend, settings, seed, budget=0.0, samples=1 << 20):
     return render_smis(blend, dict(COMMON, **settings, seed=seed, time_limit=float(budget), samples=samples),
-                       render=RESOLUTION, timeout=3600)
+                       render=RESOLUTION, timeout=REF_TIMEOUT)
 
 
-def reference(name, force, seconds):
-    """(image, record) of the cached or freshly rendered reference of `name`."""
+def reference(name, force, seconds, half_spp=0):
+    """(image, record) of the cached or freshly rendered reference of `name`.
+
+    With half_spp: one half is our PATH, the other Cycles, half_spp samples each (a sample count, so
+    the machine's load does not change the reference's noise); their mean is the reference, so a
+    systematic difference between the engines is split between them instead of favouring one, and
+    the half-vs-half error (noise plus that difference) is recorded. Without: two time-limited
+    halves of our PATH."""
     stem = os.path.join(REF_DIR, "%s_%dx%d_ref" % (name, WIDTH, HEIGHT))
     settings = dict(COMMON, volume_estimator="PATH")
+    engines = ["SMIS", "CYCLES"] if half_spp else ["SMIS", "SMIS"]
     if not force and os.path.exists(stem + ".exr") and os.path.exists(stem + ".json"):
         with open(stem + ".json") as f:
             rec = json.load(f)
-        if rec.get("settings") == settings and rec.get("half_seconds") == seconds:
+        same = rec.get("settings") == settings and rec.get("engines", ["SMIS", "SMIS"]) == engines
+        same = same and (rec.get("half_spp") == half_spp if half_spp else rec.get("half_seconds") == seconds)
+        if same:
             log("%s: cached reference (%d spp)" % (name, rec["spp"]))
             return M.load_exr(stem + ".exr"), rec
     halves, runs = [], []
-    for seed in REF_SEEDS:
-        run = smis(scene_blend(name), {"volume_estimator": "PATH"}, seed, budget=seconds)
+    for engine, seed in zip(engines, REF_SEEDS):
+        if engine == "CYCLES":
+            run = render(name, "CYCLES", seed, samples=half_spp)
+        elif half_spp:
+            run = smis(scene_blend(name), {"volume_estimator": "PATH"}, seed, samples=half_spp)
+        else:
+            run = smis(scene_blend(name), {"volume_estimator": "PATH"}, seed, budget=seconds)
+        spp = run.samples_done
         halves.append(run.image.astype(np.float64))
-        runs.append({"seed": seed, "spp": run.samples_done, "seconds": run.seconds, "load1": os.getloadavg()[0]})
+        runs.append({"engine": engine, "seed": seed, "spp": spp, "seconds": run.seconds,
+                     "load1": os.getloadavg()[0]})
         remove(run)
-        log("%s: reference half seed %d: %d spp in %.1f s" % (name, seed, run.samples_done, run.seconds))
+        log("%s: reference half %s seed %d: %d spp in %.1f s" % (name, engine, seed, spp, run.seconds))
     a, b = halves
     ref = 0.5 * (a + b)
     ref[..., 3] = 1.0
     half_vs_half = M.metrics(a, b)
-    rec = {"scene": name, "resolution": [WIDTH, HEIGHT], "settings": settings, "half_seconds": seconds,
+    # The engines' means, channel by channel over the image: a difference here is bias, not noise.
+    mean_ratio = (a[..., :3].mean(axis=(0, 1)) / np.maximum(b[..., :3].mean(axis=(0, 1)), 1e-12)).tolist()
+    rec = {"scene": name, "resolution": [WIDTH, HEIGHT], "settings": settings, "engines": engines,
+           "half_seconds": None if half_spp else seconds, "half_spp": half_spp,
            "spp": sum(r["spp"] for r in runs), "halves": runs,
            "render_seconds": sum(r["seconds"] for r in runs), "half_vs_half": half_vs_half,
-           # independent halves: E|a-b|^2 = 2 var(half), var(mean) = var(half) / 2
+           "half_mean_ratio_rgb": mean_ratio,
+           # independent halves: E|a-b|^2 = 2 var(half) (+ the engines' difference squared),
+           # var(mean) = var(half) / 2
            "estimated_noise": {"mse": half_vs_half["mse"] / 4.0, "relmse": half_vs_half["relmse"] / 4.0,
                                "relmse_eps": half_vs_half["relmse_eps"]},
            "created": datetime.datetime.now().isoformat(timespec="seconds"), "engine": engine_version()}
@@ -117,7 +141,7 @@ def render(name, estimator, seed, budget=0.0, samples=1 << 20):
     blend = scene_blend(name)
     if estimator == "CYCLES":
         run = render_cycles(blend, samples=samples, seed=seed, time_limit=float(budget), max_bounces=1,
-                            prelude=RESOLUTION_PRELUDE, timeout=3600)
+                            prelude=RESOLUTION_PRELUDE, timeout=REF_TIMEOUT)
         found = _CYCLES_SAMPLE.findall(run.output)
         run.samples_done = max(int(d) for d, _ in found) if found else -1
         return run
@@ -183,8 +207,8 @@ def plot(path, name, rows, ref_rec):
 def summary(path, rows, refs, args, load_start):
     means = mean_rows(rows)
     lines = ["# Single scattering at equal time, %dx%d%s" % (WIDTH, HEIGHT, " (quick run)" if args.quick else ""), "",
-             "Generated by `bench/single_scattering_equal_time.py%s` on %s (engine %s). Errors against our "
-             "PATH's reference (two time-limited halves, noise floor below), mean over seeds %s; relMSE eps %g. "
+             "Generated by `bench/single_scattering_equal_time.py%s` on %s (engine %s). Errors against each "
+             "scene's reference (below: its halves and their noise floor), mean over seeds %s; relMSE eps %g. "
              "Time is each engine's render time (`time_limit`; Cycles' includes its sync). PLANES_SMIS_EXACT: "
              "%d planes per iteration, path samples per plane set chosen by the integrator. Ratios are SMAPE / "
              "relMSE (relMSE x seconds, the inverse efficiency ratio, in brackets: a render that overran its "
@@ -198,8 +222,13 @@ def summary(path, rows, refs, args, load_start):
         if name not in refs:
             continue
         ref = refs[name]
-        lines += ["## %s" % name, "", "Reference: %d spp in %.0f s; noise floor relMSE %.3g."
-                  % (ref["spp"], ref["render_seconds"], ref["estimated_noise"]["relmse"]), "",
+        engines = ref.get("engines", ["SMIS", "SMIS"])
+        kind = ("half our PATH, half Cycles (%d spp each; the halves' mean RGB ratio ours / Cycles %s)"
+                % (ref["half_spp"], " ".join("%.4f" % r for r in ref["half_mean_ratio_rgb"]))
+                if engines == ["SMIS", "CYCLES"] else "two time-limited halves of our PATH")
+        lines += ["## %s" % name, "", "Reference: %d spp in %.0f s, %s; noise floor relMSE %.3g (from the "
+                  "halves' difference, so it includes any difference between them)."
+                  % (ref["spp"], ref["render_seconds"], kind, ref["estimated_noise"]["relmse"]), "",
                   "| budget | PATH SMAPE / relMSE (spp, s) | PLANES_SMIS_EXACT SMAPE / relMSE (iterations, s) | "
                   "CYCLES SMAPE / relMSE (spp, s) | PATH / CYCLES | PLANES / PATH | PLANES / CYCLES |",
                   "|---|---|---|---|---|---|---|"]
@@ -249,6 +278,10 @@ def main():
     ap.add_argument("--order-only", action="store_true", help="only the equal-plane-count ordering")
     ap.add_argument("--force-ref", action="store_true")
     ap.add_argument("--ref-seconds", type=float, default=REF_SECONDS, help="time limit of each reference half")
+    ap.add_argument("--ref-spp", type=int, default=0,
+                    help="samples of each reference half; halves are then our PATH and Cycles (0: two "
+                         "time-limited halves of our PATH)")
+    ap.add_argument("--ref-only", action="store_true", help="only render (or load) the references")
     ap.add_argument("--eps", type=float, default=M.EPS_RELMSE)
     ap.add_argument("--summarize", action="store_true", help="only rewrite the summary and plots from the JSON")
     ap.add_argument("--stem", default=None, help="results name (default single_scattering[_quick])")
@@ -276,7 +309,9 @@ def main():
     rows, refs = [], {}
     out_json = os.path.join(RESULTS, args.stem + ".json")
     for name in args.scenes:
-        ref, refs[name] = reference(name, args.force_ref, args.ref_seconds)
+        ref, refs[name] = reference(name, args.force_ref, args.ref_seconds, args.ref_spp)
+        if args.ref_only:
+            continue
         for budget in [] if args.order_only else args.budgets:
             for seed in args.seeds:
                 for est in ESTIMATORS:
