@@ -54,7 +54,6 @@ public:
     Color estimate() const { return sum_; }
     float reused(size_t set_size) const { return float(set_size - 1); }
     float own_weight() const { return own_weight_; }
-    uint32_t accepted() const { return 0; }
 
 private:
     int extra_;
