@@ -1,6 +1,7 @@
 #include "integrators/aux_passes.h"
 
 #include "integrators/path_tracing.h"
+#include "integrators/tiles.h"
 
 namespace smis {
 
@@ -45,11 +46,9 @@ AuxSample aux_at(const Scene& scene, const ShadingPoint& first, Rng& rng) {
     return a;
 }
 
-// A stream apart from the pixel sample's, so enabling passes leaves the image unchanged.
-Rng aux_rng(const RenderContext& ctx, int x, int y, uint32_t s) {
-    const Camera& cam = ctx.scene.camera();
-    return pixel_sample_rng(x + cam.window_x0(), y + cam.window_y0(), s, ctx.settings.seed ^ 0xa0c5a11eu);
-}
+// A stream apart from the pixel sample's, so enabling passes leaves the image unchanged; (px, py)
+// the pixel in the full frame.
+Rng aux_rng(uint32_t px, uint32_t py, uint32_t s, uint32_t seed) { return pixel_sample_rng(px, py, s, seed ^ 0xa0c5a11eu); }
 
 }  // namespace
 
@@ -66,22 +65,37 @@ AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng) {
     return aux_at(scene, make_shading_point(scene, hit, camera_ray.d), rng);
 }
 
-AuxSample first_hit_passes(const RenderContext& ctx, int x, int y, uint32_t s, const ShadingPoint& first) {
-    Rng rng = aux_rng(ctx, x, y, s);
-    return aux_at(ctx.scene, first, rng);
+FirstHitPasses::FirstHitPasses(const RenderContext& ctx, int x, int y, uint32_t s)
+    : px_(uint32_t(x + ctx.scene.camera().window_x0())), py_(uint32_t(y + ctx.scene.camera().window_y0())), s_(s),
+      seed_(ctx.settings.seed), shading_(ctx.settings.aux_shading) {}
+
+bool FirstHitPasses::at_camera_ray(const Scene& scene, bool found, const SurfaceHit& hit) {
+    if (shading_ && found) return true;
+    aux = AuxSample{};  // a camera ray that sees nothing: the background's passes
+    if (found) aux.depth = scene.camera().view_depth(hit.p);  // Blender's default Z pass alone
+    ready = true;
+    return false;
 }
 
-void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const Ray& camera_ray, float diagnostic,
-                    float camera_depth) {
+void FirstHitPasses::at_first_hit(const Scene& scene, const ShadingPoint& first) {
+    Rng rng = aux_rng(px_, py_, s_, seed_);
+    aux = aux_at(scene, first, rng);
+    ready = true;
+}
+
+void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const FirstHitPasses& recorded, float diagnostic) {
     if (!ctx.film.has_aux()) return;
-    AuxSample a;
-    if (ctx.settings.aux_shading) {
-        Rng rng = aux_rng(ctx, x, y, s);
-        a = first_hit_aux(ctx.scene, camera_ray, rng);
-    } else if (!std::isnan(camera_depth)) {
-        a.depth = camera_depth;  // Blender's default Z pass alone, from the path's own camera ray
-    } else {
-        a = first_hit_depth(ctx.scene, camera_ray);  // ...or its own ray, without shading
+    AuxSample a = recorded.aux;
+    if (!recorded.ready) {
+        Rng camera_rng;
+        const Ray ray = camera_ray(ctx, x, y, s, &camera_rng);
+        if (ctx.settings.aux_shading) {
+            const Camera& cam = ctx.scene.camera();
+            Rng rng = aux_rng(uint32_t(x + cam.window_x0()), uint32_t(y + cam.window_y0()), s, ctx.settings.seed);
+            a = first_hit_aux(ctx.scene, ray, rng);
+        } else {
+            a = first_hit_depth(ctx.scene, ray);
+        }
     }
     a.diagnostic = diagnostic;
     ctx.film.add_aux(x, y, a);
