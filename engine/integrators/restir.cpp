@@ -102,14 +102,15 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, const Ray& 
                                                            RestirPrefix(&px, &end));
     px.distance = end.distance;
     if (!end.reached) return;
-    // x1's reservoir; resampled: the vertex the next ray leaves from took it.
+    // x1's reservoir; resampled: the vertex the next ray leaves from took it (x1 itself, also when it
+    // is the exit of a Subsurface lobe alone; not the exit of a Subsurface lobe x1 samples below).
     st = end.state;
     st.first_vertex_ahead = false;
     px.r = ris_reservoir(scene, px.sp, settings.ris_candidates, settings.restir_visibility_reuse, rng, &px.eval,
                          st.medium);
     Color beta = px.beta;
     float eta_scale = end.eta_scale;
-    bool resampled = !end.subsurface_exit;
+    bool resampled = true;
     const ShadingPoint* from = &px.sp;
     ShadingPoint exit;
     BsdfSample bs = sample_bsdf(px.sp, rng);
