@@ -46,9 +46,11 @@ AuxSample aux_at(const Scene& scene, const ShadingPoint& first, Rng& rng) {
     return a;
 }
 
-// A stream apart from the pixel sample's, so enabling passes leaves the image unchanged; (px, py)
-// the pixel in the full frame.
-Rng aux_rng(uint32_t px, uint32_t py, uint32_t s, uint32_t seed) { return pixel_sample_rng(px, py, s, seed ^ 0xa0c5a11eu); }
+// A stream apart from the pixel sample's, so enabling passes leaves the image unchanged.
+Rng aux_rng(const RenderContext& ctx, int x, int y, uint32_t s) {
+    const Camera& cam = ctx.scene.camera();
+    return pixel_sample_rng(x + cam.window_x0(), y + cam.window_y0(), s, ctx.settings.seed ^ 0xa0c5a11eu);
+}
 
 }  // namespace
 
@@ -65,20 +67,8 @@ AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng) {
     return aux_at(scene, make_shading_point(scene, hit, camera_ray.d), rng);
 }
 
-FirstHitPasses::FirstHitPasses(const RenderContext& ctx, int x, int y, uint32_t s)
-    : px_(uint32_t(x + ctx.scene.camera().window_x0())), py_(uint32_t(y + ctx.scene.camera().window_y0())), s_(s),
-      seed_(ctx.settings.seed), shading_(ctx.settings.aux_shading) {}
-
-bool FirstHitPasses::at_camera_ray(const Scene& scene, bool found, const SurfaceHit& hit) {
-    if (shading_ && found) return true;
-    aux = AuxSample{};  // a camera ray that sees nothing: the background's passes
-    if (found) aux.depth = scene.camera().view_depth(hit.p);  // Blender's default Z pass alone
-    ready = true;
-    return false;
-}
-
 void FirstHitPasses::at_first_hit(const Scene& scene, const ShadingPoint& first) {
-    Rng rng = aux_rng(px_, py_, s_, seed_);
+    Rng rng = aux_rng(*ctx_, x_, y_, s_);
     aux = aux_at(scene, first, rng);
     ready = true;
 }
@@ -90,8 +80,7 @@ void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const FirstHit
         Rng camera_rng;
         const Ray ray = camera_ray(ctx, x, y, s, &camera_rng);
         if (ctx.settings.aux_shading) {
-            const Camera& cam = ctx.scene.camera();
-            Rng rng = aux_rng(uint32_t(x + cam.window_x0()), uint32_t(y + cam.window_y0()), s, ctx.settings.seed);
+            Rng rng = aux_rng(ctx, x, y, s);
             a = first_hit_aux(ctx.scene, ray, rng);
         } else {
             a = first_hit_depth(ctx.scene, ray);

@@ -28,17 +28,24 @@ AuxSample first_hit_depth(const Scene& scene, const Ray& camera_ray);
 class FirstHitPasses {
 public:
     FirstHitPasses() = default;  // records nothing until assigned one of a pixel sample
-    FirstHitPasses(const RenderContext& ctx, int x, int y, uint32_t s);
+    FirstHitPasses(const RenderContext& ctx, int x, int y, uint32_t s) : ctx_(&ctx), x_(x), y_(y), s_(s) {}
     // The camera ray found `hit` (found) or nothing. Returns whether the passes still need the
     // hit's shading point (at_first_hit); else they are recorded.
-    bool at_camera_ray(const Scene& scene, bool found, const SurfaceHit& hit);
+    bool at_camera_ray(const Scene& scene, bool found, const SurfaceHit& hit) {
+        if (found && ctx_->settings.aux_shading) return true;
+        aux = AuxSample{};  // a camera ray that sees nothing: the background's passes
+        if (found) aux.depth = scene.camera().view_depth(hit.p);  // Blender's default Z pass alone
+        ready = true;
+        return false;
+    }
     void at_first_hit(const Scene& scene, const ShadingPoint& first);
     AuxSample aux;
     bool ready = false;
 
 private:
-    uint32_t px_ = 0, py_ = 0, s_ = 0, seed_ = 0;
-    bool shading_ = false;  // Normal or Albedo (RenderSettings::aux_shading), else the depth alone
+    const RenderContext* ctx_ = nullptr;
+    int x_ = 0, y_ = 0;
+    uint32_t s_ = 0;
 };
 
 // Records sample `s` of window pixel (x, y) in the auxiliary passes when they are on: `recorded`'s
