@@ -54,8 +54,8 @@ class SMISViewLayerSettings(bpy.types.PropertyGroup):
     use_pass_albedo: BoolProperty(
         name="Albedo",
         description="Albedo of the first surface a camera ray sees, through perfect mirrors and "
-                    "smooth glass (Cycles' denoising albedo). Costs one extra camera ray per sample "
-                    "while any auxiliary pass is on",
+                    "smooth glass (Cycles' denoising albedo), recorded where the render's own camera "
+                    "paths meet their first hit",
         default=False,
     )
     use_pass_diagnostic: BoolProperty(

@@ -1,6 +1,7 @@
 #include "integrators/aux_passes.h"
 
 #include "integrators/path_tracing.h"
+#include "integrators/tiles.h"
 
 namespace smis {
 
@@ -66,22 +67,24 @@ AuxSample first_hit_aux(const Scene& scene, const Ray& camera_ray, Rng& rng) {
     return aux_at(scene, make_shading_point(scene, hit, camera_ray.d), rng);
 }
 
-AuxSample first_hit_passes(const RenderContext& ctx, int x, int y, uint32_t s, const ShadingPoint& first) {
-    Rng rng = aux_rng(ctx, x, y, s);
-    return aux_at(ctx.scene, first, rng);
+void FirstHitPasses::at_first_hit(const Scene& scene, const ShadingPoint& first) {
+    Rng rng = aux_rng(*ctx_, x_, y_, s_);
+    aux = aux_at(scene, first, rng);
+    ready = true;
 }
 
-void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const Ray& camera_ray, float diagnostic,
-                    float camera_depth) {
+void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const FirstHitPasses& recorded, float diagnostic) {
     if (!ctx.film.has_aux()) return;
-    AuxSample a;
-    if (ctx.settings.aux_shading) {
-        Rng rng = aux_rng(ctx, x, y, s);
-        a = first_hit_aux(ctx.scene, camera_ray, rng);
-    } else if (!std::isnan(camera_depth)) {
-        a.depth = camera_depth;  // Blender's default Z pass alone, from the path's own camera ray
-    } else {
-        a = first_hit_depth(ctx.scene, camera_ray);  // ...or its own ray, without shading
+    AuxSample a = recorded.aux;
+    if (!recorded.ready) {
+        Rng camera_rng;
+        const Ray ray = camera_ray(ctx, x, y, s, &camera_rng);
+        if (ctx.settings.aux_shading) {
+            Rng rng = aux_rng(ctx, x, y, s);
+            a = first_hit_aux(ctx.scene, ray, rng);
+        } else {
+            a = first_hit_depth(ctx.scene, ray);
+        }
     }
     a.diagnostic = diagnostic;
     ctx.film.add_aux(x, y, a);

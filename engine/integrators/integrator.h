@@ -24,6 +24,8 @@ namespace smis {
 // DirectLightStrategy, RestirMis, ...) are generated from the one table of the render settings,
 // addon/smis_render/settings_schema.py (engine/render/tools/gen_settings.py).
 
+class FirstHitPasses;
+
 // Counters reported to the user (stats line) and checked by the stress tests.
 struct RenderCounters {
     std::atomic<uint64_t> paths{0};             // camera samples completed
@@ -37,9 +39,9 @@ struct LocalCounters {
     // The current sample's value for the integrator's diagnostic pass, set by Li() where it has one
     // (PixelIntegrator resets it per sample and hands it to the auxiliary passes); not a counter.
     float sample_diagnostic = 0.0f;
-    // The current sample's camera-ray depth (Cycles' Z), recorded by the path tracer as it traces
-    // the camera ray so that the Z pass needs no ray of its own; NaN where nothing recorded it.
-    float camera_depth = std::numeric_limits<float>::quiet_NaN();
+    // Where the current sample's camera path records the auxiliary passes at its first hit
+    // (aux_passes.h, set by RecordPasses while the passes are on); null: nowhere. Not a counter.
+    FirstHitPasses* passes = nullptr;
     // The current sample's transparency for Film Transparent (PathState::transparent_background),
     // reset per sample like sample_diagnostic; not a counter.
     float sample_transparency = 0.0f;
@@ -103,6 +105,11 @@ protected:
                                Rng& rng, LocalCounters& counters) const {
         return Li(ctx.scene, ctx.settings, ray, rng, counters);
     }
+
+private:
+    // Sample `s` of window pixel (x, y) along `ray`: pixel_sample() or Li().
+    Color sample(const RenderContext& ctx, int x, int y, uint32_t s, const Ray& ray, Rng& rng,
+                 LocalCounters& local) const;
 };
 
 // Creates the integrator settings.integrator selects (the spectral path tracer for PATH when

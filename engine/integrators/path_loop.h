@@ -23,6 +23,7 @@
 // suffix in psf_rgb.cpp) and spectral_throughput.h (the spectral path tracer, spectral path-space
 // filtering's prefix and suffix in psf_spectral.cpp).
 #pragma once
+#include "integrators/aux_passes.h"
 #include "integrators/direct_lighting.h"
 #include "integrators/path_tracing.h"
 #include "integrators/volume.h"
@@ -105,9 +106,14 @@ template <class Spectrum, bool kMedia, bool kRules>
     for (;; ++state.depth) {
         SurfaceHit hit;
         bool found;
+        // The camera ray's auxiliary passes, when on (aux_passes.h), from its hit: the one the passes'
+        // own ray would find unless this ray passed a medium boundary, where theirs stops.
+        bool passes_at_hit = false;
         if constexpr (kMedia) {
             RayMedia media;
             found = intersect_through(scene, ray, state.medium, &hit, &media);
+            if (state.depth == 0 && counters.passes && !media.crossed)
+                passes_at_hit = counters.passes->at_camera_ray(scene, found, hit);
             path.emission(L, clamped, scene, settings, ray, found, hit, state, &media, &sray);
             // Single scattering at this bounce (Cycles' volume bounces = 0: no path continues from
             // a scattering vertex, so only its next-event estimate counts).
@@ -119,8 +125,7 @@ template <class Spectrum, bool kMedia, bool kRules>
             if (path.is_black()) break;
         } else {
             found = scene.intersect(ray, &hit);
-            if (state.depth == 0 && settings.aux_passes && !settings.aux_shading)  // the Z pass alone
-                counters.camera_depth = found ? scene.camera().view_depth(hit.p) : kBackgroundDepth;
+            if (state.depth == 0 && counters.passes) passes_at_hit = counters.passes->at_camera_ray(scene, found, hit);
             path.emission(L, clamped, scene, settings, ray, found, hit, state, nullptr, &sray);
             if (add_transparency(settings, state, found, hit, path.transparency_beta(), counters)) break;
         }
@@ -131,6 +136,7 @@ template <class Spectrum, bool kMedia, bool kRules>
             sray.length = hit.t;
         }
         ShadingPoint sp = make_shading_point(scene, hit, ray.d, &sray);
+        if (passes_at_hit) counters.passes->at_first_hit(scene, sp);  // as shaded, before the path's rules
         if (holdout_ends_path(state, sp, path.transparency_beta(), counters)) break;
         if constexpr (kRules) {
             light_path_lobes(settings, state, sp);

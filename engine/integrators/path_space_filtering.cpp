@@ -124,6 +124,8 @@ struct PathSpaceFilteringIntegrator::IterationBuffers {
     std::vector<uint8_t> extra_paths;
     std::vector<uint32_t> extra_offset;
     std::vector<PrivateSuffix> extras;
+    // The auxiliary passes (when on) as each pixel's camera path recorded them (aux_passes.h).
+    std::vector<FirstHitPasses> passes;
 };
 
 PathSpaceFilteringIntegrator::PathSpaceFilteringIntegrator(PsfWeighting weighting, std::unique_ptr<PsfSpectrum> spectrum)
@@ -185,6 +187,7 @@ void PathSpaceFilteringIntegrator::iterate(RenderContext& ctx, uint32_t s) {
         extra_total += b.extra_paths[k];
     }
     b.extras.resize(extra_total);
+    b.passes.resize(ctx.film.has_aux() ? pixels : 0);
 
     // Stage 1: one full path per pixel, and the pixel's extra paths (spectral: at the iteration's
     // wavelengths, psf_spectral.h).
@@ -207,6 +210,8 @@ void PathSpaceFilteringIntegrator::iterate(RenderContext& ctx, uint32_t s) {
         const PixelStrata* record_strata = extra_strata ? &strata : nullptr;
         PrivateSuffix* record_extras = b.extras.data() + b.extra_offset[k];
         constexpr bool dirac_z1_per_pixel = W::kExact;
+        if (!b.passes.empty()) b.passes[k] = FirstHitPasses(ctx, x, y, s);
+        RecordPasses recording(local, b.passes.empty() ? nullptr : &b.passes[k]);
         records[k] = spectrum_ ? spectrum_->trace_record(media, k, scene, settings, ray, rng, local, scene.camera(),
                                                          record_attribs, &models[k], record_strata, extra,
                                                          record_extras, dirac_z1_per_pixel, media ? &record_media[k] : nullptr)
@@ -288,10 +293,7 @@ void PathSpaceFilteringIntegrator::iterate(RenderContext& ctx, uint32_t s) {
             b.own_weight_sum[k] += own_weight;
             ++b.own_weight_n[k];
         }
-        if (ctx.film.has_aux()) {
-            Rng camera_rng;
-            add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), reused);
-        }
+        if (ctx.film.has_aux()) add_aux_sample(ctx, x, y, s, b.passes[k], reused);
         ctx.film.add(x, y, guard_sample(L, local), records[k].transparency);
     };
 

@@ -357,6 +357,9 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     t0 = Clock::now();
     std::vector<Color> image(size_t(w) * h);
     std::vector<float> gathered_at(ctx.film.has_aux() ? image.size() : 0);  // the diagnostic pass
+    // The auxiliary passes (when on) as the camera path of the passes' sample s recorded them
+    // (aux_passes.h): the first path sample's when it is sample s (M = 1, or the first iteration).
+    std::vector<FirstHitPasses> passes(ctx.film.has_aux() ? image.size() : 0);
     std::vector<float> transparency(ctx.film.has_transparency() ? image.size() : 0);
     std::atomic<uint64_t> path_ns{0}, gather_ns{0};  // thread time of the path samples and the gathering
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
@@ -372,8 +375,16 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             PathState camera = camera_path_state(ray.o);
             camera.medium = scene.camera_medium();
             camera.planes_on_camera_ray = use_planes;
+            FirstHitPasses* pixel_passes = nullptr;
+            if (!passes.empty() && s * M + m == s) {
+                pixel_passes = &passes[size_t(y) * w + x];
+                *pixel_passes = FirstHitPasses(ctx, x, y, s);
+            }
             auto t_path = Clock::now();
-            if (!settings.camera_volume_only) surfaces += guard_sample(trace_path(scene, settings, ray, camera, rng, local), local);
+            if (!settings.camera_volume_only) {
+                RecordPasses recording(local, pixel_passes);
+                surfaces += guard_sample(trace_path(scene, settings, ray, camera, rng, local), local);
+            }
             auto t_gather = Clock::now();
             pixel_path_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(t_gather - t_path).count());
             transparent += local.sample_transparency;
@@ -396,10 +407,8 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     if (ctx.should_stop()) return;  // a partial iteration never reaches the film
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            if (!gathered_at.empty()) {  // diagnostic pass: photon planes the camera ray gathered
-                Rng camera_rng;
-                add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), gathered_at[size_t(y) * w + x]);
-            }
+            if (!gathered_at.empty())  // diagnostic pass: photon planes the camera ray gathered
+                add_aux_sample(ctx, x, y, s, passes[size_t(y) * w + x], gathered_at[size_t(y) * w + x]);
             ctx.film.add(x, y, image[size_t(y) * w + x], transparency.empty() ? 0.0f : transparency[size_t(y) * w + x]);
         }
     render_seconds_ += seconds_since(t0);

@@ -4,6 +4,13 @@
 
 namespace smis {
 
+Color PixelIntegrator::sample(const RenderContext& ctx, int x, int y, uint32_t s, const Ray& ray, Rng& rng,
+                              LocalCounters& local) const {
+    const Camera& cam = ctx.scene.camera();
+    return kWithSpectral ? pixel_sample(ctx, x + cam.window_x0(), y + cam.window_y0(), s, ray, rng, local)
+                         : Li(ctx.scene, ctx.settings, ray, rng, local);
+}
+
 void PixelIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) {
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         const PixelCamera camera(ctx, x, y);
@@ -11,12 +18,18 @@ void PixelIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) 
             Rng rng;
             Ray ray = camera.ray(s, &rng);
             local.sample_diagnostic = local.sample_transparency = 0.0f;
-            local.camera_depth = std::numeric_limits<float>::quiet_NaN();
-            const Camera& cam = ctx.scene.camera();
-            Color L = kWithSpectral ? pixel_sample(ctx, x + cam.window_x0(), y + cam.window_y0(), s, ray, rng, local)
-                                    : Li(ctx.scene, ctx.settings, ray, rng, local);
-            // After the sample, for its diagnostic value; the passes draw their own random numbers.
-            if (ctx.film.has_aux()) add_aux_sample(ctx, x, y, s, ray, local.sample_diagnostic, local.camera_depth);
+            Color L;
+            if (ctx.film.has_aux()) {  // the path records the passes at its first hit (aux_passes.h)
+                FirstHitPasses passes(ctx, x, y, s);
+                {
+                    RecordPasses recording(local, &passes);
+                    L = sample(ctx, x, y, s, ray, rng, local);
+                }
+                // After the sample, for its diagnostic value; the passes draw their own random numbers.
+                add_aux_sample(ctx, x, y, s, passes, local.sample_diagnostic);
+            } else {
+                L = sample(ctx, x, y, s, ray, rng, local);
+            }
             ++local.paths;
             ctx.film.add(x, y, guard_sample(L, local), local.sample_transparency);
         }

@@ -3,19 +3,18 @@
 #pragma once
 #include <algorithm>
 
+#include "integrators/camera_prefix.h"
 #include "integrators/path_tracing.h"
 #include "integrators/volume.h"
 
 namespace smis {
 namespace psf_detail {
 
-// What a prefix traced by the path loop (path_loop.h, kEndsAtFirstVertex) left at x1, its first
-// non-specular vertex: the RGB and spectral prefix policies record it (psf_rgb.cpp, psf_spectral.cpp).
-struct PrefixEnd {
-    bool reached = false;
+// What a camera prefix (camera_prefix.h) left at x1, its first non-specular vertex, with x1's
+// shading point: the RGB and spectral prefix policies record it (psf_rgb.cpp, psf_spectral.cpp).
+// Its distance sets the radius.
+struct X1PrefixEnd : PrefixEnd {
     ShadingPoint sp;
-    PathState state;
-    float distance = 0.0f;  // along the camera path, for the radius
 };
 
 // A suffix's first vertex z1 and what it carried back, as stage 2 reads it.
@@ -144,7 +143,7 @@ inline bool private_class(uint16_t c) { return (c >> 8) == kPrivateClass; }
 
 // The record of a prefix that reached x1 (end.sp), of spectral class `spectral_class` (kSharedClass
 // in RGB): x1 and its radius, psf_radius_px pixels projected to world space at the prefix's distance.
-inline void record_x1(PathRecord& rec, const PrefixEnd& end, uint8_t spectral_class, const RenderSettings& settings,
+inline void record_x1(PathRecord& rec, const X1PrefixEnd& end, uint8_t spectral_class, const RenderSettings& settings,
                       const Camera& camera, RecordAttribs* attribs) {
     const ShadingPoint& sp = end.sp;
     rec.has_vertex = true;

@@ -1,9 +1,8 @@
 // RGB path-space filtering's stage 1 on the path tracer's loop (path_loop.h). Two policies derived
 // from the path tracer's RGB one (rgb_throughput.h) change only what differs:
-//   RgbPrefix: the camera path up to x1, its first non-specular vertex, where the loop ends
-//     (kEndsAtFirstVertex); its Dirac vertices take no light sample (none can light a Dirac BSDF,
-//     and no random numbers are drawn for one), and a Subsurface lobe alone keeps the path tracer's
-//     walk in the pixel.
+//   RgbPrefix: the RGB camera prefix (camera_prefix.h, rgb_throughput.h) up to x1, its first
+//     non-specular vertex, where the loop ends; a Subsurface lobe alone keeps the path tracer's walk
+//     in the pixel.
 //   RgbSuffix: the path from x1's BSDF sample on, in three parts the record keeps apart: the segment
 //     x1 -> z1 (its emission and, in media, its single scattering: the pixel's own), z1's light sample
 //     and BSDF sample (kept as estimators, for the unbiased variant's re-evaluation), and the rest
@@ -20,20 +19,13 @@ namespace smis {
 namespace psf_detail {
 namespace {
 
-struct RgbPrefixEnd : PrefixEnd {
-    Color beta{1.0f};        // the prefix throughput f_e / p up to x1
-    float eta_scale = 1.0f;  // its refractions' radiance scaling (Russian roulette leaves it out)
+struct RgbPrefixEnd : X1PrefixEnd {
+    Color beta{1.0f};  // the prefix throughput f_e / p up to x1
 };
 
-class RgbPrefix : public RgbThroughput {
+class RgbPrefix : public RgbCameraPrefix {
 public:
-    static constexpr bool kResampledLights = false;
-    static constexpr bool kEndsAtFirstVertex = true;
-    explicit RgbPrefix(RgbPrefixEnd* end) : end_(end) {}
-    void prepare(ShadingPoint& sp) { end_->distance += sp.hit.t; }
-    template <class Clamp>
-    void direct(Color&, Clamp&&, const Scene&, const RenderSettings&, const ShadingPoint&, Rng&, LocalCounters&,
-                const PathState&) const {}
+    explicit RgbPrefix(RgbPrefixEnd* end) : RgbCameraPrefix(end), end_(end) {}
     // A Subsurface lobe alone: its exit would be x1, but the gather re-evaluates x1's BSDF from its
     // material, which is not the exit's; the pixel keeps PATH's estimate from here (unbiased, not
     // filtered), and the prefix ends.
@@ -45,13 +37,9 @@ public:
         L += trace_subsurface(scene, settings, sp, bs, at_entry, beta, rng, counters);
         return false;
     }
-    void after_scatter(const PathState&, const BsdfSample& bs) {
-        if (bs.transmission) end_->eta_scale *= sqr(bs.eta);
-    }
     void first_vertex(const ShadingPoint& sp, const PathState& state) {
-        end_->reached = true;
+        RgbCameraPrefix::first_vertex(sp, state);
         end_->sp = sp;
-        end_->state = state;
         end_->beta = beta;
     }
 

@@ -17,23 +17,17 @@ namespace {
 // The spectral path tracer's policy, ending the path at its first non-specular vertex (x1): the loop
 // (path_loop.h) traces the prefix with every feature of the spectral path tracer (media, dispersion,
 // holdouts, Film Transparent) and collects its emission; x1 is recorded for stage 1.
-class PrefixThroughput : public SpectralThroughput {
+class PrefixThroughput : public CameraPrefix<SpectralThroughput> {
 public:
-    static constexpr bool kEndsAtFirstVertex = true;
-    PrefixThroughput(const SpectralScene& spectral, SpectralPath& p, PrefixEnd* end)
-        : SpectralThroughput(spectral, p), end_(end) {}
-    void prepare(ShadingPoint& sp) {
-        SpectralThroughput::prepare(sp);
-        end_->distance += sp.hit.t;
-    }
+    PrefixThroughput(const SpectralScene& spectral, SpectralPath& p, X1PrefixEnd* end)
+        : CameraPrefix(end, spectral, p), end_(end) {}
     void first_vertex(const ShadingPoint& sp, const PathState& state) {
-        end_->reached = true;
+        CameraPrefix::first_vertex(sp, state);
         end_->sp = sp;
-        end_->state = state;
     }
 
 private:
-    PrefixEnd* end_;
+    X1PrefixEnd* end_;
 };
 
 // Which prefixes may share suffixes (their stored L_out carries the wavelength MIS weight of the
@@ -410,7 +404,7 @@ PathRecord PsfSpectrum::Impl::trace_record(size_t k, const Scene& scene, const R
     PathState st = camera_path_state(ray.o);
     st.first_vertex_ahead = true;
     if constexpr (kMedia) st.medium = scene.camera_medium();
-    PrefixEnd end;
+    X1PrefixEnd end;
     rec.fixed = trace_path_loop<PrefixThroughput, kMedia, true>(scene, settings, ray, st, rng, counters,
                                                                 PrefixThroughput(spectral, p, &end));
     if (!end.reached) return rec;

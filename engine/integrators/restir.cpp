@@ -35,42 +35,24 @@ namespace {
 // Stream offsets of the reuse stages, distinct from the camera sample's stream.
 constexpr uint32_t kTemporalStream = 0x7e3a91c5u, kSpatialStream = 0x2b8d4f17u;
 
-// Where the camera prefix ended: x1 (written into the pixel record) and the path's state there.
-struct PrefixEnd {
-    bool reached = false;
-    bool subsurface_exit = false;  // x1 is the exit of a Subsurface lobe alone (a Dirac entry)
-    PathState state;               // at x1 (at the entry for a subsurface exit: the walk is no bounce)
-    float eta_scale = 1.0f;        // the prefix's refractions' radiance scaling (for Russian roulette)
+// Where the camera prefix ended (camera_prefix.h); x1 itself is written into the pixel record.
+struct RestirPrefixEnd : PrefixEnd {
+    bool subsurface_exit = false;  // x1 is the exit of a Subsurface lobe alone (a Dirac entry); the
+                                   // state is the entry's then (the walk is no bounce)
 };
 
-// The pixel sample whose auxiliary passes the prefix records at its first hit (aux_passes.h).
-struct AuxRequest {
-    const RenderContext* ctx;
-    int x, y;
-    uint32_t s;
-};
-
-// The camera path up to x1 on the path tracer's loop (RGB throughput), changing only what differs:
-// the loop ends at x1 (kEndsAtFirstVertex), whose shading point, throughput and path length go into
-// the pixel record; its Dirac vertices take no light sample (none can light a Dirac BSDF, and no
-// random numbers are drawn for one); a Subsurface lobe alone walks to its exit, which is x1. With
-// `aux` (the passes need shading, and the scene has no media, whose boundaries the path's rays pass
-// and the passes' do not), the first hit's passes go into the pixel record too.
-class RestirPrefix : public RgbThroughput {
+// The camera path up to x1 on the path tracer's loop (the RGB camera prefix), changing only what
+// differs: x1's shading point, throughput and medium go into the pixel record, and a Subsurface
+// lobe alone walks to its exit, which is x1.
+class RestirPrefix : public RgbCameraPrefix {
 public:
-    static constexpr bool kResampledLights = false;
-    static constexpr bool kEndsAtFirstVertex = true;
-    RestirPrefix(RestirPixel* px, PrefixEnd* end, const AuxRequest* aux) : px_(px), end_(end), aux_(aux) {}
+    RestirPrefix(RestirPixel* px, RestirPrefixEnd* end) : RgbCameraPrefix(end), px_(px), end_(end) {}
     // In media a segment's emission and single scattering join L as one sum (emission first), the
     // order ReSTIR's stage 1 has always added them in, so its images stay bit-identical.
     template <class Clamp>
     void emission(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const Ray& ray,
                   bool found, const SurfaceHit& hit, const PathState& state, const RayMedia* media,
                   const ShaderRay* sray) {
-        if (aux_ && !found && state.depth == 0) {  // the camera ray saw nothing: the background's passes
-            px_->aux = AuxSample{};
-            px_->aux_ready = true;
-        }
         const Color e = clamped(beta * emission_along(scene, settings, ray, found, hit, state, media, sray),
                                 state.depth <= 1);
         if (media && state.depth <= settings.max_bounces) segment_emission_ = e;  // scattering() adds it
@@ -80,17 +62,6 @@ public:
                     LocalCounters& counters, bool skip_plane_lights) const {
         L += segment_emission_ + beta * single_scattering(scene, ray, media, rng, counters, skip_plane_lights);
     }
-    void prepare(ShadingPoint& sp) {
-        // The first call is the first hit's (an earlier end leaves the passes to stage 2).
-        if (aux_ && !px_->aux_ready) {
-            px_->aux = first_hit_passes(*aux_->ctx, aux_->x, aux_->y, aux_->s, sp);
-            px_->aux_ready = true;
-        }
-        px_->distance += sp.hit.t;
-    }
-    template <class Clamp>
-    void direct(Color&, Clamp&&, const Scene&, const RenderSettings&, const ShadingPoint&, Rng&, LocalCounters&,
-                const PathState&) const {}
     template <class Clamp>
     bool subsurface(Color&, Clamp&&, const Scene& scene, const RenderSettings&, ShadingPoint& sp, BsdfSample& bs,
                     Rng& rng, LocalCounters&, const PathState& state) {
@@ -99,12 +70,8 @@ public:
         first_vertex(sp, state);
         return false;
     }
-    void after_scatter(const PathState&, const BsdfSample& bs) {
-        if (bs.transmission) end_->eta_scale *= sqr(bs.eta);
-    }
     void first_vertex(const ShadingPoint& sp, const PathState& state) {
-        end_->reached = true;
-        end_->state = state;
+        RgbCameraPrefix::first_vertex(sp, state);
         px_->has_vertex = true;
         px_->camera_hit = state.depth == 0;
         px_->sp = sp;
@@ -114,8 +81,7 @@ public:
 
 private:
     RestirPixel* px_;
-    PrefixEnd* end_;
-    const AuxRequest* aux_;
+    RestirPrefixEnd* end_;
     Color segment_emission_{0.0f};
 };
 
@@ -123,27 +89,28 @@ private:
 // scene has media (instantiated only then).
 template <bool kMedia>
 void trace_pixel(const Scene& scene, const RenderSettings& settings, const Ray& camera, Rng& rng,
-                 LocalCounters& counters, RestirPixel& px, const AuxRequest* aux) {
+                 LocalCounters& counters, RestirPixel& px) {
     px.has_vertex = false;
     px.beta = Color(0.0f);
-    px.distance = 0.0f;
     px.r = Reservoir{};
     px.eval = CandidateEval{};
     PathState st = camera_path_state(camera.o);
     st.first_vertex_ahead = true;
     if constexpr (kMedia) st.medium = scene.camera_medium();
-    PrefixEnd end;
+    RestirPrefixEnd end;
     px.fixed = trace_path_loop<RestirPrefix, kMedia, true>(scene, settings, camera, st, rng, counters,
-                                                           RestirPrefix(&px, &end, aux));
+                                                           RestirPrefix(&px, &end));
+    px.distance = end.distance;
     if (!end.reached) return;
-    // x1's reservoir; resampled: the vertex the next ray leaves from took it.
+    // x1's reservoir; resampled: the vertex the next ray leaves from took it (x1 itself, also when it
+    // is the exit of a Subsurface lobe alone; not the exit of a Subsurface lobe x1 samples below).
     st = end.state;
     st.first_vertex_ahead = false;
     px.r = ris_reservoir(scene, px.sp, settings.ris_candidates, settings.restir_visibility_reuse, rng, &px.eval,
                          st.medium);
     Color beta = px.beta;
     float eta_scale = end.eta_scale;
-    bool resampled = !end.subsurface_exit;
+    bool resampled = true;
     const ShadingPoint* from = &px.sp;
     ShadingPoint exit;
     BsdfSample bs = sample_bsdf(px.sp, rng);
@@ -220,7 +187,6 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     // Two passes, each with one barrier: stages 1-2 and stages 3-4 read only their own pixel's (and,
     // for 3, neighbours' stage-2) data. Every stage keeps its own random stream.
     const bool temporal = prev_.size() == n_pixels && history_cap > 0.0f;
-    const bool aux_shading = ctx.film.has_aux() && settings.aux_shading;
     auto t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         const size_t i = size_t(y) * w + x;
@@ -228,20 +194,20 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         Rng rng;
         Ray ray = camera_ray(ctx, x, y, s, &rng);
         local.sample_transparency = 0.0f;
-        local.camera_depth = std::numeric_limits<float>::quiet_NaN();
-        me.aux_ready = false;
-        if (spectral_) {
-            const Camera& cam = scene.camera();
-            me.fixed = spectral_->trace_restir_pixel(ctx, x + cam.window_x0(), y + cam.window_y0(), s, ray, rng, local,
-                                                     me, &lambda_[i * n_lambda], &weight_[i * n_lambda]);
-        } else if (scene.has_media()) {
-            trace_pixel<true>(scene, settings, ray, rng, local, me, nullptr);
-        } else {
-            const AuxRequest aux{&ctx, x, y, s};
-            trace_pixel<false>(scene, settings, ray, rng, local, me, aux_shading ? &aux : nullptr);
+        me.passes = ctx.film.has_aux() ? FirstHitPasses(ctx, x, y, s) : FirstHitPasses();
+        {
+            RecordPasses recording(local, ctx.film.has_aux() ? &me.passes : nullptr);
+            if (spectral_) {
+                const Camera& cam = scene.camera();
+                me.fixed = spectral_->trace_restir_pixel(ctx, x + cam.window_x0(), y + cam.window_y0(), s, ray, rng,
+                                                         local, me, &lambda_[i * n_lambda], &weight_[i * n_lambda]);
+            } else if (scene.has_media()) {
+                trace_pixel<true>(scene, settings, ray, rng, local, me);
+            } else {
+                trace_pixel<false>(scene, settings, ray, rng, local, me);
+            }
         }
         me.transparency = local.sample_transparency;
-        me.camera_depth = local.camera_depth;
         ++local.paths;
         const RestirPixel& old = temporal ? prev_[i] : me;
         if (!temporal || !me.has_vertex || !old.has_vertex) return;
@@ -308,15 +274,7 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             L += clamp_contribution(settings, direct, me.camera_hit);
         }
         if (ctx.film.has_aux()) {  // diagnostic pass: the candidates the shaded reservoir stands for (M)
-            const float M = me.has_vertex ? final_[i].M : 0.0f;
-            if (me.aux_ready) {
-                AuxSample a = me.aux;
-                a.diagnostic = M;
-                ctx.film.add_aux(x, y, a);
-            } else {
-                Rng camera_rng;
-                add_aux_sample(ctx, x, y, s, camera_ray(ctx, x, y, s, &camera_rng), M, me.camera_depth);
-            }
+            add_aux_sample(ctx, x, y, s, me.passes, me.has_vertex ? final_[i].M : 0.0f);
         }
         ctx.film.add(x, y, guard_sample(L, local), me.transparency);
     });

@@ -3,6 +3,7 @@
 #pragma once
 #include <vector>
 
+#include "integrators/aux_passes.h"
 #include "integrators/reservoir_reuse.h"
 #include "integrators/spectral_path.h"
 
@@ -20,12 +21,9 @@ struct RestirPixel {
     int32_t medium = kNoMedium;  // the medium the camera path arrived in at the vertex (scenes with media)
     Reservoir r;
     CandidateEval eval;    // r's sample evaluated at sp (when r has one), for the reuse stages
-    // The auxiliary passes (when on) from the camera prefix's first hit (aux_passes.h), so stage 2
-    // traces no second camera ray: all of them (aux_ready), or the Z pass alone (camera_depth, NaN
-    // when the prefix did not record it).
-    bool aux_ready = false;
-    AuxSample aux;
-    float camera_depth = 0.0f;
+    // The auxiliary passes (when on) as the camera prefix recorded them at its first hit
+    // (aux_passes.h), so stage 2 traces no second camera ray where it did.
+    FirstHitPasses passes;
 };
 
 class RestirIntegrator : public IterativeIntegrator {

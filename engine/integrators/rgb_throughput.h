@@ -1,7 +1,8 @@
 // The RGB path tracer's spectrum policy for the path loop (path_loop.h describes the policy): one
-// Color throughput. Shared by the path tracer (path_tracing.cpp) and RGB path-space filtering's
-// prefix and suffix (psf_paths.h, which derive from it). Internal to those files.
+// Color throughput. Shared by the path tracer (path_tracing.cpp), RGB path-space filtering's prefix
+// and suffix (psf_rgb.cpp) and ReSTIR's prefix (restir.cpp), which derive from it. Internal to those files.
 #pragma once
+#include "integrators/camera_prefix.h"
 #include "integrators/direct_lighting.h"
 #include "integrators/path_loop.h"
 
@@ -64,6 +65,18 @@ struct RgbThroughput {
         return russian_roulette(depth, beta, eta_scale, rng) && !smis::is_black(beta);
     }
     void finish(LocalCounters&) const {}
+};
+
+// The RGB camera prefix (camera_prefix.h) of ReSTIR and path-space filtering: its Dirac vertices
+// take no light sample (none can light a Dirac BSDF, and no random numbers are drawn for one);
+// x1's light is the integrator's own.
+class RgbCameraPrefix : public CameraPrefix<RgbThroughput> {
+public:
+    static constexpr bool kResampledLights = false;
+    using CameraPrefix::CameraPrefix;
+    template <class Clamp>
+    void direct(Color&, Clamp&&, const Scene&, const RenderSettings&, const ShadingPoint&, Rng&, LocalCounters&,
+                const PathState&) const {}
 };
 
 }  // namespace smis

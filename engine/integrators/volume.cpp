@@ -77,8 +77,13 @@ int32_t medium_across(const Scene& scene, const ShadingPoint& sp, int32_t curren
 bool intersect_through(const Scene& scene, const Ray& ray, int32_t medium, SurfaceHit* hit, RayMedia* media) {
     media->count = 0;
     media->tau_end = Color(0.0f);
-    return walk(scene, ray, medium, hit, &media->end_medium,
-                [&](float t0, float t1, int32_t m) { media->add(scene, t0, t1, m); });
+    int stretches = 0;  // one more than the boundaries passed
+    const bool found = walk(scene, ray, medium, hit, &media->end_medium, [&](float t0, float t1, int32_t m) {
+        ++stretches;
+        media->add(scene, t0, t1, m);
+    });
+    media->crossed = stretches > 1;
+    return found;
 }
 
 namespace {

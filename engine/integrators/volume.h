@@ -21,6 +21,7 @@ struct RayMedia {
     int count = 0;
     int32_t end_medium = kNoMedium;  // the medium on the ray's side of the hit (or at infinity)
     Color tau_end{0.0f};             // optical depth of the whole ray
+    bool crossed = false;            // the ray passed a boundary (its hit is not the ray's first surface)
 
     void add(const Scene& scene, float t0, float t1, int32_t medium);
     // exp(-optical depth over [0, t)), per channel.
