@@ -316,6 +316,10 @@ private:
     [[gnu::noinline]] void fill_curve_hit(const Ray& ray, const struct RTCRayHit& rh, uint32_t instance,
                                           SurfaceHit* hit) const;
     ShaderContext curve_shader_context(const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray) const;
+    // shader_context() of a triangle: one local returned, so the context is built in the caller's
+    // slot (with the curves' return beside it, it was built in a local and copied out: 376 bytes).
+    ShaderContext triangle_shader_context(const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
+                                          bool full) const;
     static void cutout_filter(const struct RTCFilterFunctionNArguments* args);
     struct Instance {
         uint32_t mesh;

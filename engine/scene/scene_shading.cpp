@@ -22,12 +22,17 @@ Point2 uv_offset(const Vec3& dpdu, const Vec3& dpdv, const Vec3& d) {
 }  // namespace
 
 ShaderContext Scene::shader_context(const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray, bool full) const {
+    if (meshes_[instances_[at.instance].mesh].curves) return curve_shader_context(at, wo, ray);
+    return triangle_shader_context(at, wo, ray, full);
+}
+
+ShaderContext Scene::triangle_shader_context(const SurfaceAttribs& at, const Vec3& wo, const ShaderRay& ray,
+                                             bool full) const {
     ShaderContext c;
     c.scene = this;
     c.ray = ray;
     const Instance& inst = instances_[at.instance];
     const Mesh& mesh = meshes_[inst.mesh];
-    if (mesh.curves) return curve_shader_context(at, wo, ray);
     c.instance = at.instance;
     c.prim = at.prim;
     c.bu = at.bu;
@@ -51,13 +56,10 @@ ShaderContext Scene::shader_context(const SurfaceAttribs& at, const Vec3& wo, co
             c.N_object = normalize(inst.identity ? inst.to_world.normal_to_object(ng) : ng);
     }
     Vec3 p = a * w + b * at.bu + cc * at.bv;
-    Vec3 e1 = b - a, e2 = cc - a;
     if (!inst.identity) {
         p = inst.to_world.point(p);
         ng = inst.to_world.normal(ng) * mirror;
         ns = inst.to_world.normal(ns) * mirror;
-        e1 = inst.to_world.vector(e1);
-        e2 = inst.to_world.vector(e2);
     }
     ng = normalize(ng);
     ns = normalize(ns);
@@ -81,6 +83,9 @@ ShaderContext Scene::shader_context(const SurfaceAttribs& at, const Vec3& wo, co
     c.texspace_size = mesh.texspace_size;
     Vec3 dpdu(0.0f), dpdv(0.0f);
     if (t) {
+        // The triangle's edges in world space: only the UV derivatives read them.
+        Vec3 e1 = b - a, e2 = cc - a;
+        if (!inst.identity) e1 = inst.to_world.vector(e1), e2 = inst.to_world.vector(e2);
         float du1 = t[1].x - t[0].x, dv1 = t[1].y - t[0].y, du2 = t[2].x - t[0].x, dv2 = t[2].y - t[0].y;
         float det = du1 * dv2 - du2 * dv1;
         if (std::fabs(det) > 1e-20f) {

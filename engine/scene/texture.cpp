@@ -100,7 +100,7 @@ void Texture::finish(float v[4]) const {
         for (int c = 0; c < 3; ++c) v[c] = srgb_to_linear(v[c]);
 }
 
-int Texture::wrap_index(int i, int n) const {
+inline int Texture::wrap_index(int i, int n) const {
     switch (options_.wrap) {
         case Wrap::Repeat:
             i %= n;
@@ -141,8 +141,16 @@ TextureSample Texture::lookup(Point2 uv) const {
         for (int c = 0; c < 4; ++c) acc[c] += w * t[c];
     };
     if (options_.interp == Interp::Linear) {
-        int x0 = wrap_index(ix, width_), x1 = wrap_index(ix + 1, width_);
-        int y0 = wrap_index(iy, height_), y1 = wrap_index(iy + 1, height_);
+        int x0, x1, y0, y1;
+        if (options_.wrap == Wrap::Repeat) {
+            // (i + 1) mod n from i mod n: one division per axis instead of two.
+            x0 = wrap_index(ix, width_), y0 = wrap_index(iy, height_);
+            x1 = x0 + 1 == width_ ? 0 : x0 + 1;
+            y1 = y0 + 1 == height_ ? 0 : y0 + 1;
+        } else {
+            x0 = wrap_index(ix, width_), x1 = wrap_index(ix + 1, width_);
+            y0 = wrap_index(iy, height_), y1 = wrap_index(iy + 1, height_);
+        }
         add(x0, y0, (1.0f - ty) * (1.0f - tx));
         add(x1, y0, (1.0f - ty) * tx);
         add(x0, y1, ty * (1.0f - tx));

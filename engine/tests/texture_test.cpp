@@ -50,6 +50,31 @@ TEST(Texture, WrapModes) {
     EXPECT_FLOAT_EQ(repeat.lookup({NAN, 0.5f}).alpha, 0.0f);
 }
 
+// Linear Repeat blends the last texel of a row (column) with the first across the seam: at u = 0 and
+// u = 1 (and every whole number) a 4 x 3 image gives the mean of its last and first columns, and
+// likewise in v. Red counts the column, green the row, so a wrong neighbour shows in one channel.
+TEST(Texture, LinearRepeatBlendsAcrossTheSeam) {
+    const int w = 4, h = 3;
+    std::vector<float> px;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) px.insert(px.end(), {float(x), float(y), 0.0f, 1.0f});
+    Texture t(px.data(), w, h, "linear", Texture::Interp::Linear, Texture::Wrap::Repeat);
+    const float row1 = 1.5f / h;  // the centre of row 1
+    for (float u : {0.0f, 1.0f, -1.0f, 3.0f}) {
+        TextureSample s = t.lookup({u, row1});
+        EXPECT_NEAR(s.rgb.x, 0.5f * (float(w - 1) + 0.0f), 1e-5f) << "u = " << u;
+        EXPECT_NEAR(s.rgb.y, 1.0f, 1e-5f) << "u = " << u;
+    }
+    const float col2 = 2.5f / w;  // the centre of column 2
+    for (float v : {0.0f, 1.0f, 2.0f, -2.0f}) {
+        TextureSample s = t.lookup({col2, v});
+        EXPECT_NEAR(s.rgb.x, 2.0f, 1e-5f) << "v = " << v;
+        EXPECT_NEAR(s.rgb.y, 0.5f * (float(h - 1) + 0.0f), 1e-5f) << "v = " << v;
+    }
+    // Just inside the seam: a quarter texel left of u = 1 is 3/4 of the last column, 1/4 of the first.
+    EXPECT_NEAR(t.lookup({1.0f - 0.25f / w, row1}).rgb.x, 0.75f * float(w - 1), 1e-5f);
+}
+
 TEST(Texture, SrgbIsDecodedOnceAlphaIsNot) {
     const float grey[] = {0.5f, 0.5f, 0.5f, 0.5f};
     Texture t(grey, 1, 1, "sRGB", false, Texture::Wrap::Repeat);
