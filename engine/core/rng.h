@@ -20,6 +20,7 @@ public:
     Rng(uint64_t seq, uint64_t offset) { seed(seq, offset); }
     void seed(uint64_t seq, uint64_t offset) {
         prefix_left_ = 0;
+        scattering_segment_ = false;
         state_ = 0u;
         inc_ = (seq << 1u) | 1u;
         next_u32();
@@ -58,6 +59,17 @@ public:
         // take the first m slots when they are computed.
         for (int i = 0; i < n; ++i) prefix_[n + m - 1 - i] = v[i];
     }
+    // A pixel sample's first scattering segment in a medium draws from stratified groups of its own
+    // (volume.h, segment_numbers), not from the prefix, which stays for the first surface vertex:
+    // the camera marks the sample (with the key and index of its deferred prefix), and the first
+    // segment takes the mark, once.
+    void mark_scattering_segment() { scattering_segment_ = deferred_ != nullptr; }
+    bool take_scattering_segment(uint64_t* key, uint32_t* sample) {
+        if (!scattering_segment_) return false;
+        scattering_segment_ = false;
+        *key = key_, *sample = sample_;
+        return true;
+    }
     double next_double() {
         uint64_t v = (static_cast<uint64_t>(next_u32()) << 32) | next_u32();
         return static_cast<double>(v >> 11) * 0x1p-53;
@@ -74,6 +86,7 @@ private:
     }
     uint64_t state_ = 0, inc_ = 1;
     uint8_t prefix_left_ = 0, deferred_left_ = 0;
+    bool scattering_segment_ = false;
     uint32_t sample_ = 0;
     uint64_t key_ = 0;
     DeferredValues deferred_ = nullptr;

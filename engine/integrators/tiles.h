@@ -85,7 +85,8 @@ inline void set_extra_bsdf_sample_prefix(Rng* rng, uint64_t pixel_key, uint32_t 
     rng->set_prefix(v, 3);
 }
 
-// The dimension group of a camera sample's time in the shutter (groups 0-8 are taken above).
+// The dimension group of a camera sample's time in the shutter (groups 0-8 are taken above). Groups
+// 10-12 are the first scattering segment's (volume.h, kScatteringDimensionGroup).
 constexpr uint32_t kTimeDimensionGroup = 9;
 
 // The camera rays of one window pixel (x, y): ray(s, &rng) is sample s's camera ray and sets rng
@@ -113,6 +114,7 @@ public:
             stratified::sample_2d(s, position_, v);
             if (lens) stratified::sample_2d(s, lens_, v + 2);
             rng->set_prefix(v, lens ? 4 : 2, first_vertex_values, 6, key_, s);
+            rng->mark_scattering_segment();
         }
         Point2 off = ctx_.filter.sample({rng->next_float(), rng->next_float()});
         const float px = fx_ + 0.5f + off.x, py = fy_ + 0.5f + off.y;

@@ -1,5 +1,6 @@
 #include "integrators/volume.h"
 
+#include "core/stratified.h"
 #include "integrators/path_tracing.h"
 #include "scene/spherical_rectangle.h"
 
@@ -139,6 +140,21 @@ bool shadow_media(const Scene& scene, const Vec3& origin, const Vec3& dir, float
     SurfaceHit hit;
     return !walk(scene, Ray{origin, dir, 0.0f, tmax, kShutterCentre, kRayShadow}, medium, &hit, &media->end_medium,
                  [&](float t0, float t1, int32_t m) { media->add(scene, t0, t1, m); });
+}
+
+SegmentNumbers segment_numbers(Rng& rng) {
+    uint64_t key;
+    uint32_t sample;
+    if (kWithStratified && rng.take_scattering_segment(&key, &sample)) {
+        float v[6];
+        for (uint32_t g = 0; g < 3; ++g) stratified::sample_2d(sample, key, kScatteringDimensionGroup + g, v + 2 * g);
+        return {v[0], v[1], {v[2], v[3]}, {v[4], v[5]}};
+    }
+    SegmentNumbers n;
+    n.select = rng.next_float(), n.dist = rng.next_float();
+    n.light = {rng.next_float(), rng.next_float()};
+    n.focus = {rng.next_float(), rng.next_float()};
+    return n;
 }
 
 namespace {

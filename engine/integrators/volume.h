@@ -74,6 +74,24 @@ Color single_scattering(const Scene& scene, const Ray& ray, const RayMedia& medi
 LightSample sample_light_from_medium(const Light& light, const Vec3& x, Point2 u, float time,
                                      RectangleSampling rectangles);
 
+// A scattering segment's random numbers: the light choice (whose remapped number then picks the
+// technique and the channel, MediaLightChoice::sample), the distance, the point on the light and the
+// equiangular focus. The same count per segment whatever happens, so later decisions keep their
+// streams.
+struct SegmentNumbers {
+    float select, dist;
+    Point2 light, focus;
+};
+// The first dimension group of a pixel sample's first scattering segment: (select, dist), the light
+// point and the focus are groups 10, 11 and 12 (tiles.h lists the others).
+constexpr uint32_t kScatteringDimensionGroup = 10;
+// The pixel sample's first scattering segment (Rng::take_scattering_segment: the camera ray's, in a
+// scene seen through a medium) draws from stratified groups of its own, so that over a pixel's
+// samples the light choice, technique and distance are stratified jointly and the light points too,
+// while the first surface vertex keeps the stratified prefix it has in scenes without media; every
+// other segment draws from the stream. Unbiased either way: each number is uniform and independent.
+SegmentNumbers segment_numbers(Rng& rng);
+
 // single_scattering's estimator for any set of channels (RGB's three, a spectral path's wavelengths):
 // per scattering segment of `media`, one light, one distance and one light sample, as described at
 // single_scattering. `channels` provides
@@ -90,20 +108,18 @@ void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& medi
     for (int i = 0; i < media.count; ++i) {
         const RayMedia::Segment& s = media.seg[i];
         const Medium& med = scene.medium(s.medium);
-        // The same numbers per segment whatever happens, so later decisions keep their streams.
-        float u_select = rng.next_float(), u_technique = rng.next_float(), u_channel = rng.next_float(),
-              u_dist = rng.next_float();
-        Point2 u_focus{rng.next_float(), rng.next_float()}, u{rng.next_float(), rng.next_float()};
+        const SegmentNumbers n = segment_numbers(rng);
+        const Point2 u = n.light;
         if (!med.scatters() || choice.empty(skip_plane_lights)) continue;
         const float len = s.t1 - s.t0;
         const Vec3 o = ray.o + ray.d * s.t0;
         // Lights hidden from Volume Scatter, and with skip_plane_lights the planes' lights, are
         // never chosen: their contribution here is zero.
         uint32_t li;
-        float light_pmf;
+        float light_pmf, u_technique;
         const Color sigma_t = med.sigma_t();
-        if (!choice.sample({o, ray.d, len, (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f, skip_plane_lights}, u_select,
-                           &li, &light_pmf))
+        if (!choice.sample({o, ray.d, len, (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f, skip_plane_lights}, n.select,
+                           &li, &light_pmf, &u_technique))
             continue;
         const Light& light = scene.light(li);
         const bool rectangle = light.rectangle(nullptr);
@@ -114,12 +130,17 @@ void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& medi
             // may still pass in front of it, close to the point.
             bool any_point = light.point_independent_of_reference();
             bool same_point = any_point && !(rectangle && rectangles == RectangleSampling::kSolidAngle);
-            LightSample focus = light.sample_at(mid, same_point ? u : u_focus, ray.time);
+            LightSample focus = light.sample_at(mid, same_point ? u : n.focus, ray.time);
             if ((focus.pdf > 0.0f || any_point) && focus.dist > 0.0f && std::isfinite(focus.dist))
                 eq = equiangular_frame(o, ray.d, len, mid + focus.wi * focus.dist);
         }
-        DistanceSample ds = eq.valid && u_technique < 0.5f ? sample_equiangular(eq, u_dist)
-                                                           : channels.sample_distance(s.medium, len, u_channel, u_dist);
+        // The technique takes the lower or upper half of the light choice's remapped number, and
+        // distance sampling the rest of it for its channel.
+        const bool equiangular = eq.valid && u_technique < 0.5f;
+        const float u_channel =
+            eq.valid ? std::min(2.0f * u_technique - (u_technique < 0.5f ? 0.0f : 1.0f), 0x1.fffffep-1f) : u_technique;
+        DistanceSample ds = equiangular ? sample_equiangular(eq, n.dist)
+                                        : channels.sample_distance(s.medium, len, u_channel, n.dist);
         float pdf = channels.distance_pdf(s.medium, len, ds.t);
         if (eq.valid) pdf = 0.5f * (pdf + equiangular_pdf(eq, ds.t));
         if (!(ds.pdf > 0.0f) || !(pdf > 0.0f) || !std::isfinite(pdf)) {

@@ -5,6 +5,10 @@
 
 namespace smis {
 
+namespace {
+constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;  // the largest float below 1
+}  // namespace
+
 MediaLightChoice::MediaLightChoice(const std::vector<std::unique_ptr<Light>>& lights,
                                    const DiscreteDistribution& power) {
     entries_.resize(lights.size());
@@ -76,26 +80,31 @@ void MediaLightChoice::segment_pmfs(const Segment& s, float* pmf) const {
         pmf[i] = norm * (kPowerWeight * m.power_pmf[i] + uniform + (segment ? float(kSegmentWeight * g[i] / total) : 0.0f));
 }
 
-bool MediaLightChoice::sample(const Segment& s, float u, uint32_t* light, float* pmf) const {
+bool MediaLightChoice::sample(const Segment& s, float u, uint32_t* light, float* pmf, float* remapped) const {
     const Mode& m = mode_[s.skip_plane_lights];
     if (m.eligible.empty()) return false;
     if (entries_.size() > size_t(kMaxSegmentLights)) {
         // The defensive mixture alone: the first half of u chooses by power, the second uniformly.
+        float r = 0.0f;
         if (u < 0.5f) {
-            *light = uint32_t(m.power.sample(2.0f * u));
+            *light = uint32_t(m.power.sample(2.0f * u, &r));
         } else {
-            size_t k = std::min(m.eligible.size() - 1, size_t((2.0f * u - 1.0f) * float(m.eligible.size())));
+            const float v = (2.0f * u - 1.0f) * float(m.eligible.size());
+            size_t k = std::min(m.eligible.size() - 1, size_t(v));
             *light = m.eligible[k];
+            r = v - float(k);
         }
+        if (remapped) *remapped = std::clamp(r, 0.0f, kOneMinusEpsilon);
         *pmf = this->pmf(s, *light);
         return *pmf > 0.0f;
     }
     float p[kMaxSegmentLights];
     segment_pmfs(s, p);
     // Inverse CDF over the eligible lights; rounding past the end falls on the last one.
-    float cdf = 0.0f;
+    float cdf = 0.0f, below = 0.0f;
     *light = m.eligible.back();
     for (uint32_t i : m.eligible) {
+        below = cdf;
         cdf += p[i];
         if (u < cdf) {
             *light = i;
@@ -103,6 +112,7 @@ bool MediaLightChoice::sample(const Segment& s, float u, uint32_t* light, float*
         }
     }
     *pmf = p[*light];
+    if (remapped) *remapped = *pmf > 0.0f ? std::clamp((u - below) / *pmf, 0.0f, kOneMinusEpsilon) : 0.0f;
     return *pmf > 0.0f;
 }
 

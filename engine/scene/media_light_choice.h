@@ -46,8 +46,10 @@ public:
         float sigma_t;
         bool skip_plane_lights;
     };
-    // Chooses a light with u in [0, 1); false when no light can light media.
-    bool sample(const Segment& s, float u, uint32_t* light, float* pmf) const;
+    // Chooses a light with u in [0, 1); false when no light can light media. *remapped (if given): u
+    // rescaled within the chosen light's share of [0, 1), uniform and independent of the choice,
+    // for the caller's next decisions.
+    bool sample(const Segment& s, float u, uint32_t* light, float* pmf, float* remapped = nullptr) const;
     // The probability that sample() chooses `light` for s.
     float pmf(const Segment& s, uint32_t light) const;
     bool empty(bool skip_plane_lights) const { return mode_[skip_plane_lights].eligible.empty(); }

@@ -2,33 +2,45 @@
 // and independent across pixels (so estimators stay unbiased), and less noise in a render.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <vector>
 
 #include "core/stratified.h"
+#include "integrators/tiles.h"
+#include "integrators/volume.h"
 #include "stats.h"
 #include "test_scenes.h"
 
 namespace smis {
 namespace {
 
-// The first 2^k points of a pixel's 2D group form a (0, k, 2)-net: every elementary interval of area
-// 2^-k (2^a x 2^(k-a) cells, every a) holds exactly one point. Independent random points do not.
+// Whether the 2^k points (x, y interleaved) form a (0, k, 2)-net: every elementary interval of area
+// 2^-k (2^a x 2^(k-a) cells, every a) holds exactly one point.
+bool is_02_net(const std::vector<float>& pts, int k) {
+    const int n = 1 << k;
+    for (int a = 0; a <= k; ++a) {
+        const int nx = 1 << a, ny = 1 << (k - a);
+        std::vector<int> count(n, 0);
+        for (int s = 0; s < n; ++s) {
+            int cx = std::min(nx - 1, int(pts[2 * s] * nx)), cy = std::min(ny - 1, int(pts[2 * s + 1] * ny));
+            ++count[cy * nx + cx];
+        }
+        for (int c : count)
+            if (c != 1) return false;
+    }
+    return true;
+}
+
+// The first 2^k points of a pixel's 2D group form a (0, k, 2)-net. Independent random points do not.
 TEST(Stratified, FirstSamplesOfAPixelAreA02Net) {
     for (uint64_t key : {1ull, 77ull, 0xdeadbeefull}) {
         for (int k : {2, 4, 6}) {
             const int n = 1 << k;
             std::vector<float> pts(2 * n);
             for (int s = 0; s < n; ++s) stratified::sample_2d(uint32_t(s), key, 3, &pts[2 * s]);
-            for (int a = 0; a <= k; ++a) {
-                const int nx = 1 << a, ny = 1 << (k - a);
-                std::vector<int> count(n, 0);
-                for (int s = 0; s < n; ++s) {
-                    int cx = std::min(nx - 1, int(pts[2 * s] * nx)), cy = std::min(ny - 1, int(pts[2 * s + 1] * ny));
-                    ++count[cy * nx + cx];
-                }
-                for (int c : count) ASSERT_EQ(c, 1) << "key " << key << " k " << k << " a " << a;
-            }
+            ASSERT_TRUE(is_02_net(pts, k)) << "key " << key << " k " << k;
         }
         // 1D groups: the first 2^k values fall one per interval of length 2^-k.
         std::vector<int> count(16, 0);
@@ -62,6 +74,44 @@ TEST(Stratified, OneSampleAcrossPixelsIsUniformAndGroupsIndependent) {
         double corr = cov / std::sqrt((sxx / n - sx * sx / n / n) * (syy / n - sy * sy / n / n));
         EXPECT_LT(std::fabs(corr), 4.0 / std::sqrt(double(n))) << "sample " << sample;
     }
+}
+
+// In a scene seen through a medium, the camera ray's first scattering segment (volume.h,
+// segment_numbers) takes its numbers from stratified groups of its own: over a pixel's first 16
+// samples (light choice, distance), the light point and the focus each form a (0, 4, 2)-net; and the
+// stratified prefix stays whole for the first surface vertex after it (light choice, light point,
+// lobe, direction as first_vertex_values gives them). A second segment draws from the stream.
+TEST(Stratified, TheFirstScatteringSegmentHasGroupsOfItsOwnAndTheFirstVertexKeepsThePrefix) {
+    auto scene = testing::small_room(8, 8);
+    RenderSettings st;
+    st.seed = 7;
+    Film film(8, 8);
+    PixelFilter filter;
+    RenderCounters counters;
+    std::atomic<bool> cancel{false};
+    RenderContext ctx{*scene, st, film, filter, counters, cancel, std::chrono::steady_clock::time_point::max()};
+    const int x = 3, y = 5, k = 4;
+    const Camera& cam = scene->camera();
+    const uint64_t key = stratified_pixel_key(x + cam.window_x0(), y + cam.window_y0(), st.seed);
+    PixelCamera pixel(ctx, x, y);
+    std::vector<float> choice_dist, light, focus, second;
+    for (uint32_t s = 0; s < (1u << k); ++s) {
+        Rng rng;
+        pixel.ray(s, &rng);
+        const SegmentNumbers n = segment_numbers(rng);
+        choice_dist.insert(choice_dist.end(), {n.select, n.dist});
+        light.insert(light.end(), {n.light.x, n.light.y});
+        focus.insert(focus.end(), {n.focus.x, n.focus.y});
+        float first_vertex[6];
+        first_vertex_values(key, s, first_vertex);
+        for (int i = 5; i >= 0; --i) ASSERT_EQ(rng.next_float(), first_vertex[i]) << "sample " << s << " value " << 5 - i;
+        const SegmentNumbers later = segment_numbers(rng);
+        second.insert(second.end(), {later.select, later.dist});
+    }
+    EXPECT_TRUE(is_02_net(choice_dist, k));
+    EXPECT_TRUE(is_02_net(light, k));
+    EXPECT_TRUE(is_02_net(focus, k));
+    EXPECT_FALSE(is_02_net(second, k));  // independent numbers: a net by chance is most unlikely
 }
 
 // The point of it: a diffuse room lit by an area light (soft shadows, first-bounce light and BSDF
