@@ -108,6 +108,7 @@ template <class Spectrum, bool kMedia, bool kRules>
         if constexpr (kMedia) {
             RayMedia media;
             found = intersect_through(scene, ray, state.medium, &hit, &media);
+            media.plane_segments = state.plane_segments;
             path.emission(L, clamped, scene, settings, ray, found, hit, state, &media, &sray);
             // Single scattering at this bounce (Cycles' volume bounces = 0: no path continues from
             // a scattering vertex, so only its next-event estimate counts).

@@ -21,6 +21,9 @@ struct RayMedia {
     int count = 0;
     int32_t end_medium = kNoMedium;  // the medium on the ray's side of the hit (or at infinity)
     Color tau_end{0.0f};             // optical depth of the whole ray
+    // Bit i: skip_plane_lights applies to seg[i] (photon planes estimate its single scattering from
+    // their lights); on the others the path tracer does (photon_planes.cpp, the segment partition).
+    uint8_t plane_segments = 0xff;
 
     void add(const Scene& scene, float t0, float t1, int32_t medium);
     // exp(-optical depth over [0, t)), per channel.
@@ -93,7 +96,8 @@ void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& medi
         float u_select = rng.next_float(), u_technique = rng.next_float(), u_channel = rng.next_float(),
               u_dist = rng.next_float();
         Point2 u_focus{rng.next_float(), rng.next_float()}, u{rng.next_float(), rng.next_float()};
-        if (!med.scatters() || choice.empty(skip_plane_lights)) continue;
+        const bool skip = skip_plane_lights && (media.plane_segments >> i & 1u);
+        if (!med.scatters() || choice.empty(skip)) continue;
         const float len = s.t1 - s.t0;
         const Vec3 o = ray.o + ray.d * s.t0;
         // Lights hidden from Volume Scatter, and with skip_plane_lights the planes' lights, are
@@ -101,7 +105,7 @@ void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& medi
         uint32_t li;
         float light_pmf;
         const Color sigma_t = med.sigma_t();
-        if (!choice.sample({o, ray.d, len, (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f, skip_plane_lights}, u_select,
+        if (!choice.sample({o, ray.d, len, (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f, skip}, u_select,
                            &li, &light_pmf))
             continue;
         const Light& light = scene.light(li);
