@@ -371,8 +371,9 @@ SETTINGS = [
                 "iterations' sets, counts the crossings of each pixel's camera-ray segments (averaged over 5x5 "
                 "pixels); segments below this count are estimated by the path tracer's single scattering for the "
                 "plane lights and skipped by the gather. A fixed partition of every camera ray's segments: unbiased. "
-                "3: at 15 s, 512x384, SMAPE 0.16 and 0.12 where every segment to the planes gave 0.23 and 0.20 "
-                "(volume_spot, volume_planes; PATH 0.14, 0.12), relMSE about the same (docs/bench/planes2_*.md).",
+                "3: at 15 s, 512x384, load 10-14, SMAPE 0.14 and 0.13 where every segment to the planes gave 0.24 "
+                "and 0.20 (volume_spot, volume_planes; PATH 0.14, 0.12), relMSE about the same (README, "
+                "docs/bench/planes2_*.md).",
             min=0.0, soft_max=16.0, panel="volumes", show=_uses_planes),
     Setting("smis_planes", "int", 2, "SMIS Orientations",
             "n, the number of stratified plane orientations per SMIS realisation (eq. 27); with 2 the partner "
