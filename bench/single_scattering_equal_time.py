@@ -232,6 +232,7 @@ def summary(path, rows, refs, args, load_start):
                   "| budget | PATH SMAPE / relMSE (spp, s) | PLANES_SMIS_EXACT SMAPE / relMSE (iterations, s) | "
                   "CYCLES SMAPE / relMSE (spp, s) | PATH / CYCLES | PLANES / PATH | PLANES / CYCLES |",
                   "|---|---|---|---|---|---|---|"]
+        variants = set()
         for budget in args.budgets:
             cell = {e: means.get((name, "time", e, budget)) for e in ESTIMATORS}
             if not any(cell.values()):
@@ -246,9 +247,15 @@ def summary(path, rows, refs, args, load_start):
                 return ("%.2f / %.2f (%.2f)" % (a["smape"] / b["smape"], a["relmse"] / b["relmse"],
                                                 a["relmse"] * a["seconds"] / (b["relmse"] * b["seconds"])))\
                     if a and b else "-"
-            p, q, c = cell["PATH"], cell["PLANES_SMIS_EXACT"], cell["CYCLES"]
+            p, q, c = cell["PATH"], cell["PLANES_SMIS_EXACT"], cell.get("CYCLES")
             lines.append("| %g s | %s | %s | %s | %s | %s | %s |" % (budget, fmt(p), fmt(q), fmt(c), rat(p, c),
                                                                     rat(q, p), rat(q, c)))
+            variants.update((e, budget) for e in cell if e.startswith("PLANES_SMIS_EXACT+") and cell[e])
+        for e, budget in sorted(variants):  # --planes-variant runs, against PATH and the plain planes
+            a = means.get((name, "time", e, budget))
+            p, q = means.get((name, "time", "PATH", budget)), means.get((name, "time", "PLANES_SMIS_EXACT", budget))
+            lines.append("| %g s | %s `%s`: %s | / PATH %s | / PLANES_SMIS_EXACT %s | | | |"
+                         % (budget, e, json.dumps(ESTIMATORS.get(e)), fmt(a), rat(a, p), rat(a, q)))
         order = [r for r in rows if r["scene"] == name and r["kind"] == "order"]
         if order:
             lines += ["", "Equal plane count (%d iterations x %d planes, same planes and path samples per seed):"
@@ -286,7 +293,17 @@ def main():
     ap.add_argument("--summarize", action="store_true", help="only rewrite the summary and plots from the JSON")
     ap.add_argument("--stem", default=None, help="results name (default single_scattering[_quick])")
     ap.add_argument("--merge", nargs="*", default=[], help="with --summarize: more runs' stems, whose scenes replace")
+    ap.add_argument("--planes-variant", action="append", default=[], metavar="LABEL:KEY=VALUE[,KEY=VALUE]",
+                    help="one more PLANES_SMIS_EXACT run per budget and seed with these settings, named "
+                         "PLANES_SMIS_EXACT+LABEL (interleaved with the others; e.g. k2:plane_min_crossings=2)")
+    ap.add_argument("--no-cycles", action="store_true", help="leave Cycles out of the equal-time runs")
     args = ap.parse_args()
+    for variant in args.planes_variant:
+        label, _, pairs = variant.partition(":")
+        extra = {k: json.loads(v) for k, v in (kv.split("=", 1) for kv in pairs.split(",") if kv)}
+        ESTIMATORS["PLANES_SMIS_EXACT+" + label] = dict(ESTIMATORS["PLANES_SMIS_EXACT"], **extra)
+    if args.no_cycles:
+        del ESTIMATORS["CYCLES"]
     args.budgets = args.budgets or (QUICK_BUDGETS if args.quick else BUDGETS)
     args.stem = args.stem or "single_scattering" + ("_quick" if args.quick else "")
     if args.summarize:  # the Markdown summary again from the JSONs of earlier runs (later ones win per scene)

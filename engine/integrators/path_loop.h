@@ -114,6 +114,7 @@ template <class Spectrum, bool kMedia, bool kRules>
             found = intersect_through(scene, ray, state.medium, &hit, &media);
             if (state.depth == 0 && counters.passes && !media.crossed)
                 passes_at_hit = counters.passes->at_camera_ray(scene, found, hit);
+            media.plane_segments = state.plane_segments;
             path.emission(L, clamped, scene, settings, ray, found, hit, state, &media, &sray);
             // Single scattering at this bounce (Cycles' volume bounces = 0: no path continues from
             // a scattering vertex, so only its next-event estimate counts).

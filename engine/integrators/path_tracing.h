@@ -94,9 +94,11 @@ struct PathState {
     float prev_pdf = 0.0f;   // solid-angle pdf of the BSDF sample that produced the ray
     Vec3 prev_p;             // where that ray started (for the triangle lights' pdf)
     // Media (only read when Scene::has_media()): the medium the next ray starts in, and whether
-    // photon planes estimate the camera ray's single scattering from rectangular lights.
+    // photon planes estimate the camera ray's single scattering from their lights, and on which of its
+    // media segments.
     int32_t medium = -1;
     bool planes_on_camera_ray = false;
+    uint8_t plane_segments = 0xff;  // of those, RayMedia::plane_segments of the camera ray
     // A camera path before its first non-specular vertex, where settings.direct_light applies.
     bool first_vertex_ahead = false;
     // Cycles' PATH_RAY_DIFFUSE_ANCESTOR: the path made a diffuse bounce, and subsurface scattering

@@ -34,6 +34,8 @@
 
 #include <chrono>
 
+#include <tbb/parallel_for.h>
+
 #include "integrators/photon_plane_set.h"
 #include "integrators/tiles.h"
 #include "integrators/volume.h"
@@ -195,7 +197,8 @@ struct PlaneGather {
 
     // The single scattering from the planes' lights along a camera ray that starts in `medium`, up
     // to its first opaque surface: the header's estimator summed over the ray's crossings.
-    Color operator()(const Ray& ray, int32_t medium, Rng& rng, GatherCounts* n) const {
+    // Segments whose bit in `segments` is clear are the path tracer's (RayMedia::plane_segments).
+    Color operator()(const Ray& ray, int32_t medium, uint8_t segments, Rng& rng, GatherCounts* n) const {
         thread_local std::vector<PlaneHit> hits;
         Color L(0.0f);
         SurfaceHit first;
@@ -204,7 +207,7 @@ struct PlaneGather {
         for (int i = 0; i < media.count; ++i) {
             const RayMedia::Segment& seg = media.seg[i];
             const Medium& med = scene.medium(seg.medium);
-            if (!med.scatters()) continue;
+            if (!med.scatters() || !(segments >> i & 1u)) continue;
             set.gather(Ray{ray.o, ray.d, seg.t0, seg.t1, ray.time}, &hits, &n->parallel);
             n->gathered += hits.size();
             // Each crossing's contribution before its shadow ray's transmittance: T_cam sigma_s
@@ -272,31 +275,102 @@ struct PlaneGather {
     }
 };
 
+// fn(segment index, crossings) for each scattering media segment of window pixel (x, y)'s sample-0
+// camera ray: the crossings of `set` there (a fixed ray per pixel, the same whatever the thread count).
+template <class Fn>
+void crossings_per_segment(const RenderContext& ctx, const PhotonPlaneSet& set, int x, int y, Fn&& fn) {
+    thread_local std::vector<PlaneHit> hits;
+    uint64_t parallel = 0;
+    Rng rng;
+    const Ray ray = camera_ray(ctx, x, y, 0, &rng);
+    SurfaceHit first;
+    RayMedia media;
+    intersect_through(ctx.scene, ray, ctx.scene.camera_medium(), &first, &media);
+    for (int k = 0; k < media.count; ++k) {
+        if (!ctx.scene.medium(media.seg[k].medium).scatters()) continue;
+        set.gather(Ray{ray.o, ray.d, media.seg[k].t0, media.seg[k].t1, ray.time}, &hits, &parallel);
+        fn(k, hits.size());
+    }
+}
+
 // The camera ray crossings a plane set gives per pixel, estimated on a grid of pixel centres (a
 // fixed sample of the image, so that the choice it feeds is the same whatever the thread count).
-double crossings_per_camera_ray(const RenderContext& ctx, const PhotonPlaneSet& set) {
+// Segments the path tracer takes (the partition) are left out: the gather skips them.
+double crossings_per_camera_ray(const RenderContext& ctx, const PhotonPlaneSet& set,
+                                const std::vector<uint8_t>& plane_segments) {
     constexpr int kGrid = 16;
-    const Scene& scene = ctx.scene;
     const int w = ctx.film.width(), h = ctx.film.height();
-    std::vector<PlaneHit> hits;
-    uint64_t crossings = 0, parallel = 0;
+    uint64_t crossings = 0;
     for (int j = 0; j < kGrid; ++j)
         for (int i = 0; i < kGrid; ++i) {
-            Rng rng;
-            const Ray ray = camera_ray(ctx, (2 * i + 1) * w / (2 * kGrid), (2 * j + 1) * h / (2 * kGrid), 0, &rng);
-            SurfaceHit first;
-            RayMedia media;
-            intersect_through(scene, ray, scene.camera_medium(), &first, &media);
-            for (int k = 0; k < media.count; ++k) {
-                if (!scene.medium(media.seg[k].medium).scatters()) continue;
-                set.gather(Ray{ray.o, ray.d, media.seg[k].t0, media.seg[k].t1, ray.time}, &hits, &parallel);
-                crossings += hits.size();
-            }
+            const int x = (2 * i + 1) * w / (2 * kGrid), y = (2 * j + 1) * h / (2 * kGrid);
+            const uint8_t mask = plane_segments.empty() ? 0xff : plane_segments[size_t(y) * w + x];
+            crossings_per_segment(ctx, set, x, y, [&](int k, size_t n) {
+                if (mask >> k & 1u) crossings += n;
+            });
         }
     return double(crossings) / (kGrid * kGrid);
 }
 
+// n planes from `lights` with the numbers of `sequence` (rectangles: Fig. 10b; point lights: a
+// uniform normal), each light chosen by its pmf.
+std::vector<PhotonPlane> draw_planes(const PlaneLights& lights, uint32_t n, PlaneSequence& sequence) {
+    std::vector<uint32_t> per_light(lights.lights.size(), 0);
+    std::vector<PhotonPlane> planes;
+    planes.reserve(n);
+    for (uint32_t i = 0; i < n; ++i) {
+        uint32_t li = static_cast<uint32_t>(lights.selection.sample(sequence.light_u(i)));
+        const PlaneLight& l = lights.lights[li];
+        const PlaneUniforms u = sequence.plane(li, per_light[li]++, l.point);
+        PhotonPlane p = l.point ? sample_point_photon_plane(l, li, u) : sample_photon_plane(l, li, u);
+        if (p.chord_length > 0.0f && p.sweep_length > 0.0f) planes.push_back(p);
+    }
+    return planes;
+}
+
 }  // namespace
+
+// The segment partition. Crossing counts scale with a segment's length and the planes' density
+// there: short fog segments (the floor's edge, thin fog in front of a surface) and regions few
+// planes reach get 0-2 crossings per plane set, so their pixels are mostly exactly 0 with rare
+// bright crossings (SMAPE), where the path tracer's single scattering (equiangular sampling towards
+// the light, one shadow ray) is never 0. Here each pixel's camera-ray segments are split once per
+// render: a pilot plane set (the iterations' distribution, its own stream, so independent of every
+// iteration's set and path samples) is gathered along the pixel's sample-0 camera ray, the counts
+// per segment index are averaged over 5x5 pixels (an estimate of the expected count), and segment
+// indices below plane_min_crossings go to the path tracer. Every camera ray of the pixel then uses
+// that split: its segment i is estimated by the planes or by the path tracer's single scattering
+// for the plane lights, never both and never neither (a fixed partition of the integral over
+// camera rays and segments), so the sum stays unbiased whatever the pilot drew.
+void PhotonPlanesIntegrator::partition_segments(const RenderContext& ctx, const PhotonPlaneSet& pilot) {
+    constexpr int kSeg = RayMedia::kMaxSegments, kRadius = 2;
+    const int w = ctx.film.width(), h = ctx.film.height();
+    std::vector<float> counts(size_t(w) * h * kSeg, -1.0f);  // -1: no scattering segment there
+    tbb::parallel_for(0, h, [&](int y) {
+        for (int x = 0; x < w; ++x)
+            crossings_per_segment(ctx, pilot, x, y,
+                                  [&](int k, size_t n) { counts[(size_t(y) * w + x) * kSeg + k] = float(n); });
+    });
+    plane_segments_.assign(size_t(w) * h, 0xff);
+    const float k_min = ctx.settings.plane_min_crossings;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int k = 0; k < kSeg; ++k) {
+                if (counts[(size_t(y) * w + x) * kSeg + k] < 0.0f) continue;
+                double sum = 0.0;
+                int n = 0;
+                for (int j = std::max(0, y - kRadius); j <= std::min(h - 1, y + kRadius); ++j)
+                    for (int i = std::max(0, x - kRadius); i <= std::min(w - 1, x + kRadius); ++i) {
+                        const float c = counts[(size_t(j) * w + i) * kSeg + k];
+                        if (c >= 0.0f) sum += c, ++n;
+                    }
+                ++pilot_segments_;
+                if (sum < double(k_min) * n) {
+                    plane_segments_[size_t(y) * w + x] &= uint8_t(~(1u << k));
+                    ++path_segments_;
+                }
+            }
+}
 
 uint32_t PhotonPlanesIntegrator::surface_samples(const RenderContext& ctx, const PhotonPlaneSet& set) {
     if (ctx.settings.plane_surface_samples > 0) {
@@ -313,7 +387,7 @@ uint32_t PhotonPlanesIntegrator::surface_samples(const RenderContext& ctx, const
         // two iterations, 0.203, the same relMSE; volume_planes M = 3: 0.210, M = 1: 0.178, relMSE
         // 0.182 and 0.180). M gives the two parts about equal time.
         constexpr double kCrossingCost = 0.2;
-        const double ratio = crossings_per_camera_ray(ctx, set) * kCrossingCost;
+        const double ratio = crossings_per_camera_ray(ctx, set, plane_segments_) * kCrossingCost;
         surface_samples_ = uint32_t(std::clamp(std::lround(ratio), 1l, 64l));
     }
     return surface_samples_;
@@ -327,21 +401,18 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
 
     // The plane set of this iteration, from its own stream (independent of the pixels' streams).
     auto t0 = Clock::now();
+    if (s == 0) first_iteration_start_ = t0;
     const PlaneLights lights = collect_plane_lights(scene);
     const bool use_planes = scene.has_media() && !lights.lights.empty() && settings.photon_planes > 0;
     std::vector<PhotonPlane> planes;
     std::vector<Color> plane_scale;  // Le pi A / (pmf N) per rectangle, I / (pmf N) per point light
     if (use_planes) {
-        PlaneSequence sequence(mix64(0x706c616e6573ull ^ settings.seed), s, settings.plane_stratified);
-        std::vector<uint32_t> per_light(lights.lights.size(), 0);
-        planes.reserve(settings.photon_planes);
-        for (uint32_t i = 0; i < settings.photon_planes; ++i) {
-            uint32_t li = static_cast<uint32_t>(lights.selection.sample(sequence.light_u(i)));
-            const PlaneLight& l = lights.lights[li];
-            const PlaneUniforms u = sequence.plane(li, per_light[li]++, l.point);
-            PhotonPlane p = l.point ? sample_point_photon_plane(l, li, u) : sample_photon_plane(l, li, u);
-            if (p.chord_length > 0.0f && p.sweep_length > 0.0f) planes.push_back(p);
+        if (settings.plane_min_crossings > 0.0f && plane_segments_.empty()) {
+            PlaneSequence pilot(mix64(0x70696c6f74ull ^ settings.seed), 0, settings.plane_stratified);
+            partition_segments(ctx, PhotonPlaneSet(scene.device(), draw_planes(lights, settings.photon_planes, pilot)));
         }
+        PlaneSequence sequence(mix64(0x706c616e6573ull ^ settings.seed), s, settings.plane_stratified);
+        planes = draw_planes(lights, settings.photon_planes, sequence);
         for (uint32_t li = 0; li < lights.lights.size(); ++li) {
             const PlaneLight& l = lights.lights[li];
             const float pmf_n = lights.selection.pmf(li) * float(settings.photon_planes);
@@ -354,67 +425,79 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     const PlaneGather gather{scene, set, lights, plane_weight, plane_scale, settings.plane_shadow_rays};
     const uint32_t M = use_planes && !settings.camera_volume_only ? surface_samples(ctx, set) : 1;
 
+    // M passes over the image, one path sample per pixel each (pixel samples s M ... s M + M - 1),
+    // for all but the planes' part; the first pass's camera ray also gathers the planes. Every path
+    // sample reaches the film at once with its plane set's estimate added (not divided by M):
+    //   film sample j of the pixel = path_j + planes(iteration of j),
+    // so the pixel's value, the mean of its film samples, is the mean of all its path samples plus
+    // the planes' estimates weighted by the path samples each got: unbiased however many passes of
+    // an iteration the time limit let finish (the weights depend on the time only). A time limit
+    // thus stops between passes, or between tiles of one, and keeps every finished path sample (it
+    // discarded the whole unfinished iteration: 40% of a 15 s budget on volume_spot). With M whole
+    // passes the pixel's value is the old one, the iteration's M path samples averaged plus planes.
     t0 = Clock::now();
-    std::vector<Color> image(size_t(w) * h);
-    std::vector<float> gathered_at(ctx.film.has_aux() ? image.size() : 0);  // the diagnostic pass
-    // The auxiliary passes (when on) as the camera path of the passes' sample s recorded them
-    // (aux_passes.h): the first path sample's when it is sample s (M = 1, or the first iteration).
-    std::vector<FirstHitPasses> passes(ctx.film.has_aux() ? image.size() : 0);
-    std::vector<float> transparency(ctx.film.has_transparency() ? image.size() : 0);
+    std::vector<Color> planes_at(size_t(w) * h, Color(0.0f));  // this iteration's planes per pixel
     std::atomic<uint64_t> path_ns{0}, gather_ns{0};  // thread time of the path samples and the gathering
-    for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
-        // M path samples (pixel samples s M ... s M + M - 1) for all but the planes' part; the first
-        // one's camera ray also gathers the planes, whose estimate is not divided by M.
-        Color surfaces(0.0f), planes_L(0.0f);
-        float transparent = 0.0f;
-        uint64_t pixel_path_ns = 0;
-        for (uint32_t m = 0; m < M; ++m) {
+    uint32_t finished = 0;
+    // The session's first pass (iteration 0) ignores the time limit so that a short limit still
+    // gives an image (session.cpp); that needs only this iteration's first pass: the later ones obey
+    // the limit, counted from the first iteration's start (the session's start but for the set-up
+    // of its render loop), so that the first iteration of M passes does not overrun the budget.
+    RenderContext later = ctx;
+    if (ctx.settings.time_limit > 0.0 && ctx.deadline == std::chrono::steady_clock::time_point::max())
+        later.deadline = first_iteration_start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                      std::chrono::duration<double>(ctx.settings.time_limit));
+    // should_stop() never turns false again: once a pass was cut short no later pass runs, so
+    // passes 1.. only visit pixels whose gather pass finished.
+    for (uint32_t m = 0; m < M && !(m == 0 ? ctx : later).should_stop(); ++m) {
+        RenderContext& pass = m == 0 ? ctx : later;
+        for_each_pixel_in_tiles(pass, [&](int x, int y, LocalCounters& local) {
+            const size_t i = size_t(y) * w + x;
             Rng rng;
             Ray ray = camera_ray(ctx, x, y, s * M + m, &rng);
             local.sample_transparency = 0.0f;
             PathState camera = camera_path_state(ray.o);
             camera.medium = scene.camera_medium();
             camera.planes_on_camera_ray = use_planes;
-            FirstHitPasses* pixel_passes = nullptr;
-            if (!passes.empty() && s * M + m == s) {
-                pixel_passes = &passes[size_t(y) * w + x];
-                *pixel_passes = FirstHitPasses(ctx, x, y, s);
-            }
+            if (!plane_segments_.empty()) camera.plane_segments = plane_segments_[i];
+            // The auxiliary passes (when on) as the camera path of the passes' sample s recorded
+            // them (aux_passes.h): the first path sample's when it is sample s (M = 1, or the first
+            // iteration); else add_aux_sample traces the sample's camera ray.
+            FirstHitPasses pixel_passes;
+            const bool record_passes = ctx.film.has_aux() && s * M + m == s;
+            if (record_passes) pixel_passes = FirstHitPasses(ctx, x, y, s);
             auto t_path = Clock::now();
+            Color surfaces(0.0f);
             if (!settings.camera_volume_only) {
-                RecordPasses recording(local, pixel_passes);
-                surfaces += guard_sample(trace_path(scene, settings, ray, camera, rng, local), local);
+                RecordPasses recording(local, record_passes ? &pixel_passes : nullptr);
+                surfaces = guard_sample(trace_path(scene, settings, ray, camera, rng, local), local);
             }
             auto t_gather = Clock::now();
-            pixel_path_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(t_gather - t_path).count());
-            transparent += local.sample_transparency;
+            path_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(t_gather - t_path).count());
             ++local.paths;
-            if (m > 0 || !use_planes) continue;
-            GatherCounts n;
-            planes_L = gather(ray, camera.medium, rng, &n);
-            gather_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t_gather).count());
-            plane_hits_ += n.gathered;
-            shadow_rays_ += n.shadow_rays;
-            if (!gathered_at.empty()) gathered_at[size_t(y) * w + x] = float(n.gathered);
-            parallel_rejected_ += n.parallel;
-            nonfinite_rejected_ += n.nonfinite;
-            local.samples_rejected += n.parallel + n.nonfinite;
-        }
-        path_ns += pixel_path_ns;
-        image[size_t(y) * w + x] = guard_sample(surfaces / float(M) + planes_L, local);
-        if (!transparency.empty()) transparency[size_t(y) * w + x] = transparent / float(M);
-    });
-    if (ctx.should_stop()) return;  // a partial iteration never reaches the film
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            if (!gathered_at.empty())  // diagnostic pass: photon planes the camera ray gathered
-                add_aux_sample(ctx, x, y, s, passes[size_t(y) * w + x], gathered_at[size_t(y) * w + x]);
-            ctx.film.add(x, y, image[size_t(y) * w + x], transparency.empty() ? 0.0f : transparency[size_t(y) * w + x]);
-        }
+            float gathered = 0.0f;
+            if (m == 0 && use_planes) {
+                GatherCounts n;
+                planes_at[i] = gather(ray, camera.medium, camera.plane_segments, rng, &n);
+                gather_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t_gather).count());
+                plane_hits_ += n.gathered;
+                shadow_rays_ += n.shadow_rays;
+                parallel_rejected_ += n.parallel;
+                nonfinite_rejected_ += n.nonfinite;
+                local.samples_rejected += n.parallel + n.nonfinite;
+                gathered = float(n.gathered);
+            }
+            // Diagnostic pass: photon planes the camera ray gathered.
+            if (m == 0 && ctx.film.has_aux()) add_aux_sample(ctx, x, y, s, pixel_passes, gathered);
+            ctx.film.add(x, y, guard_sample(surfaces + planes_at[i], local), local.sample_transparency);
+        });
+        if (!pass.should_stop()) ++finished;  // (a pass the limit met after its last tile counts as cut)
+    }
     render_seconds_ += seconds_since(t0);
     path_seconds_ += 1e-9 * double(path_ns.load());
     gather_seconds_ += 1e-9 * double(gather_ns.load());
-    ++iterations_;
+    passes_ += finished;
+    if (finished == M) ++iterations_;
     planes_ += set.size();
 }
 
@@ -426,6 +509,9 @@ std::map<std::string, double> PhotonPlanesIntegrator::stats() const {
             {"parallel_rejected", double(parallel_rejected_.load())},
             {"nonfinite_rejected", double(nonfinite_rejected_.load())},
             {"surface_samples", double(surface_samples_)},
+            {"passes", double(passes_)},
+            {"path_segments", double(path_segments_)},
+            {"pilot_segments", double(pilot_segments_)},
             {"build_seconds", build_seconds_},
             {"render_seconds", render_seconds_},
             {"path_thread_seconds", path_seconds_},

@@ -22,6 +22,9 @@ struct RayMedia {
     int32_t end_medium = kNoMedium;  // the medium on the ray's side of the hit (or at infinity)
     Color tau_end{0.0f};             // optical depth of the whole ray
     bool crossed = false;            // the ray passed a boundary (its hit is not the ray's first surface)
+    // Bit i: skip_plane_lights applies to seg[i] (photon planes estimate its single scattering from
+    // their lights); on the others the path tracer does (photon_planes.cpp, the segment partition).
+    uint8_t plane_segments = 0xff;
 
     void add(const Scene& scene, float t0, float t1, int32_t medium);
     // exp(-optical depth over [0, t)), per channel.
@@ -110,7 +113,8 @@ void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& medi
         const Medium& med = scene.medium(s.medium);
         const SegmentNumbers n = segment_numbers(rng);
         const Point2 u = n.light;
-        if (!med.scatters() || choice.empty(skip_plane_lights)) continue;
+        const bool skip = skip_plane_lights && (media.plane_segments >> i & 1u);
+        if (!med.scatters() || choice.empty(skip)) continue;
         const float len = s.t1 - s.t0;
         const Vec3 o = ray.o + ray.d * s.t0;
         // Lights hidden from Volume Scatter, and with skip_plane_lights the planes' lights, are
@@ -118,7 +122,7 @@ void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& medi
         uint32_t li;
         float light_pmf, u_technique;
         const Color sigma_t = med.sigma_t();
-        if (!choice.sample({o, ray.d, len, (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f, skip_plane_lights}, n.select,
+        if (!choice.sample({o, ray.d, len, (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f, skip}, n.select,
                            &li, &light_pmf, &u_technique))
             continue;
         const Light& light = scene.light(li);
