@@ -109,12 +109,34 @@ MSANISO_KNOWN = {"aniso_multi_0p8_0p7": 0.055, "aniso_multi_1_m0p5": 0.021, "ani
                  "principled_multi_aniso_metal": 0.018}
 # The same set with the setting multiscatter_cycles_walk (lobes/multiscatter_walk.h): the Anisotropic BSDFs'
 # Multiscatter GGX as Cycles' own estimator (its stochastic light-sample eval from the shallower direction,
-# its sampled walk's throughput for BSDF samples, its approximate MIS density). Measured at 1024 spp
-# against Cycles at 2 x 4096: 0.38% (0.8 / 0.7; 5.0% by default), 0.52% (1 / -0.5; 1.8%), 0.26% (radial-X
-# tangent; 1.00%). The Principled BSDF's lobes are not Cycles' one closure (its metal and dielectric
-# layer are separate lobes here) and keep the consistent pair: the metal 1.36%, the dielectric 0.42%.
+# its sampled walk's throughput for BSDF samples, its approximate MIS density), and the Principled BSDF's
+# specular layer and metal as Cycles' one reflection closure with its interpolated Fresnel colour per bounce
+# (kFresnel). Measured at 1024 spp against Cycles at 2 x 4096: 0.38% (0.8 / 0.7; 5.0% by default), 0.50%
+# (1 / -0.5; 1.8%), 0.34% (radial-X tangent; 1.00%), the Principled metal 0.29% (1.44%; 1.36% before its
+# conversion), the dielectric 0.82% (0.44%: Cycles' estimator is not one BSDF, so its image depends on the
+# MIS weights, and ours weigh the diffuse and walk lobes and the lights differently; bound 1.25%).
 MSANISO_WALK_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "1024"))
-MSANISO_WALK_KNOWN = {"principled_multi_aniso_metal": MSANISO_KNOWN["principled_multi_aniso_metal"]}
+MSANISO_WALK_KNOWN = {"principled_multi_aniso_dielectric": 0.0125}
+# The multiscatter glass set with the setting (lobes/multi_glass_walk.h): Cycles' own glass estimator (its
+# stochastic light-sample eval mf_eval_glass, its sampled walk's colours, its MIS density mf_glass_pdf), the
+# Principled rough transmission the same closure with Fresnel colours on its reflections. Measured at 1024
+# spp against Cycles at 2 x 1024 (default in brackets): 0.39% (roughness 0.3; 11.1%), 1.68% (0.8; 2.8%),
+# 1.42% (0.6 coloured; 5.7%), 0.87% (1, IOR 2; 30.1%), Principled 3.71% (0.5 white; 19.7%), 3.24% (0.8
+# coloured; 8.9%), 1.46% (Specular Tint 1; 6.1%); at 512 spp 0.45 / 2.06 / 1.45 / 0.94 / 3.86 / 5.00 / 1.95%.
+# What is left is not the estimator (its eval, walk and pdf agree with Cycles 3.4's own code to within
+# their noise, 0.5-2% per configuration; pdf exact): Cycles' image of an inconsistent estimator depends on
+# its MIS weights, and ours choose lights (by power, not 1/2 each) and weigh lobes differently; the balance
+# heuristic instead of the power heuristic moves IOR 2 from 0.94% to 3.0%. Bounds: the 512-spp errors
+# plus a margin, so that a regression fails.
+MULTIGLASS_WALK_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "512"))
+MULTIGLASS_WALK_KNOWN = {"glass_multi_0p8": 0.026, "glass_multi_0p6_tinted": 0.02, "glass_multi_1_ior2": 0.0125,
+                         "principled_multi_glass_0p5": 0.047, "principled_multi_glass_tinted": 0.065,
+                         "principled_multi_glass_specular_tint": 0.026}
+# The Principled set with the setting: its Multiscatter GGX metal (Metallic 1) as Cycles' one reflection
+# closure: 0.32% at 1024 spp (1.87% by default at 2048). The sharp-reflection glass (not converted) converges
+# slowly (0.93% at 2048 spp, 0.99% at 1024): bound 1.25%.
+PRINCIPLED_WALK_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "1024"))
+PRINCIPLED_WALK_KNOWN = {"principled_glass_sharp_reflection": 0.0125}
 _BUILT = {}
 
 
@@ -233,6 +255,22 @@ def test_anisotropic_multiscatter_ggx_matches_cycles_with_its_estimator(tmp_path
                         "scene.smis.multiscatter_cycles_walk = True\n")
 
 
+def test_multiscatter_glass_matches_cycles_with_its_estimator(tmp_path_factory):
+    """The multiscatter glass set with the setting multiscatter_cycles_walk (lobes/multi_glass_walk.h): the
+    Glass BSDF's and the Principled transmission's Multiscatter GGX as Cycles estimates them, each sphere
+    within 1% of Cycles or its bound (MULTIGLASS_WALK_KNOWN)."""
+    _set_matches_cycles(tmp_path_factory, "closures_multiglass", MULTIGLASS_WALK_SPP, MULTIGLASS_WALK_KNOWN,
+                        "scene.smis.multiscatter_cycles_walk = True\n")
+
+
+def test_principled_multiscatter_matches_cycles_with_its_estimator(tmp_path_factory):
+    """The Principled set with the setting multiscatter_cycles_walk: the Multiscatter GGX metal as Cycles' one
+    reflection closure with its Fresnel colour per bounce (multiscatter_walk.h, kFresnel), each sphere
+    within 1% of Cycles or its bound (PRINCIPLED_WALK_KNOWN)."""
+    _set_matches_cycles(tmp_path_factory, "closures_principled", PRINCIPLED_WALK_SPP, PRINCIPLED_WALK_KNOWN,
+                        "scene.smis.multiscatter_cycles_walk = True\n")
+
+
 def _sphere_means_match(tmp_path_factory, spp, principled_spp, extra, bound, mode_known=None):
     """All five sets rendered with `extra` settings: every sphere finite and its mean within `bound`
     (plus its known difference, and `mode_known`'s for this mode) of Cycles'. The small sets render at
@@ -296,3 +334,4 @@ scene.view_layers[0].smis.use_pass_albedo = True
             continue
         c = _tile(albedo, t)[12:20, 12:20].reshape(-1, 3).mean(0)
         np.testing.assert_allclose(c, expected[t["name"]], rtol=1e-3, err_msg=t["name"])
+

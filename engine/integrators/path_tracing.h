@@ -232,7 +232,8 @@ inline void update_transparent_background(const RenderSettings& settings, PathSt
         lobe && (lobe->kind == LobeKind::Transparent ||
                  (settings.film_transparent && bs.transmission &&
                   (((lobe->kind == LobeKind::Dielectric || lobe->kind == LobeKind::Refraction ||
-                     lobe->kind == LobeKind::MultiGlass || lobe->kind == LobeKind::GlassMultiple) &&
+                     lobe->kind == LobeKind::MultiGlass || lobe->kind == LobeKind::GlassMultiple ||
+                     lobe->kind == LobeKind::MultiGlassWalk) &&
                     lobe->alpha <= settings.film_transparent_glass) ||
                    (lobe->kind == LobeKind::PrincipledGlass && lobe->alpha_y <= settings.film_transparent_glass))));
 }
@@ -281,12 +282,17 @@ inline void blur_glossy_lobes(const RenderSettings& s, const PathState& st, Shad
     const float alpha = 0.5f * std::sqrt(1.0f - blur_pdf);
     sp.bsdf.change_lobes([alpha](Lobe& lobe) { blur_lobe(lobe, alpha); });
 }
-// The setting multiscatter_cycles_walk: the Glossy and Anisotropic BSDFs' Multiscatter GGX as Cycles
-// estimates it, one lobe in place of the consistent pair (lobes/multiscatter_walk.h).
+// The setting multiscatter_cycles_walk: the Glossy and Anisotropic BSDFs' Multiscatter GGX and the
+// Multiscatter GGX glass as Cycles estimates them, one lobe in place of each consistent pair
+// (lobes/multiscatter_walk.h, multi_glass_walk.h).
 inline void cycles_multiscatter_lobes(const RenderSettings& s, ShadingPoint& sp) {
     if (!s.multiscatter_cycles_walk) return;
-    sp.bsdf = sp.bsdf.only([](const Lobe& l) { return !replaced_by_cycles_walk(l); });
-    sp.bsdf.change_lobes([](Lobe& l) { to_cycles_walk(l); });
+    Lobe* glass = nullptr;
+    sp.bsdf.change_lobes([&](Lobe& l) {
+        to_cycles_walk(l);
+        to_cycles_glass_walk(l, &glass);
+    });
+    sp.bsdf = sp.bsdf.only([](const Lobe& l) { return !replaced_by_cycles_walk(l) && !replaced_by_cycles_glass_walk(l); });
 }
 // The Light Paths rules that change a vertex's lobes: the caustics toggles, Filter Glossy, and
 // Cycles' multiscatter estimator on request.

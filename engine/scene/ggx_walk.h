@@ -136,9 +136,10 @@ struct Exit {
 };
 
 // One walk for light arriving from wi (z > 0) on the microsurface `surface` (Isotropic, Anisotropic),
-// rand() returning uniform numbers in [0, 1).
-template <class Surface, class Rand>
-Exit walk_on(const Vec3& wi, const Surface& surface, Rand& rand) {
+// rand() returning uniform numbers in [0, 1). on_bounce(cos_i) sees every bounce's w.wm (what Cycles'
+// interpolated Fresnel colour of the Principled reflection reads).
+template <class Surface, class Rand, class OnBounce>
+Exit walk_on(const Vec3& wi, const Surface& surface, Rand& rand, OnBounce&& on_bounce) {
     State s;
     s.dir = -wi;
     s.lam = surface.lam(s.dir);
@@ -147,11 +148,17 @@ Exit walk_on(const Vec3& wi, const Surface& surface, Rand& rand) {
         float uy = rand(), ux = rand();
         Vec3 back = -s.dir;
         Vec3 wm = surface.normal(back, ux, uy);
-        s.dir = wm * (2.0f * dot(back, wm)) - back;
+        float cos_i = dot(back, wm);
+        on_bounce(cos_i);
+        s.dir = wm * (2.0f * cos_i) - back;
         s.lam = surface.lam(s.dir);
         s.escape = escape_probability(s.dir, s.cdf, s.lam);
     }
     return {Vec3(0, 0, 1), 0};
+}
+template <class Surface, class Rand>
+Exit walk_on(const Vec3& wi, const Surface& surface, Rand& rand) {
+    return walk_on(wi, surface, rand, [](float) {});
 }
 template <class Rand>
 Exit walk(const Vec3& wi, float alpha, Rand&& rand) {
@@ -172,6 +179,29 @@ inline float dielectric_fresnel(float c, float eta) {
     g = std::sqrt(g);
     float a = (g - c) / (g + c), b = (c * (g + c) - 1.0f) / (c * (g - c) + 1.0f);
     return 0.5f * a * a * (1.0f + b * b);
+}
+
+// Cycles' interpolate_fresnel_color: cspec0 (1 - FH) + FH with FH the dielectric Fresnel at cos_i
+// normalised between F0 = F(1) and 1, at the closure's IOR eta (on either side of a glass interface).
+inline Color fresnel_colour(float cos_i, float eta, const Color& cspec0) {
+    float f0 = dielectric_fresnel(1.0f, eta);
+    float fh = (dielectric_fresnel(cos_i, eta) - f0) * (1.0f / (1.0f - f0));
+    return cspec0 * (1.0f - fh) + Color(fh);
+}
+
+// One bounce of the dielectric walk off microfacet wm for a ray arriving from `back` (back.wm = cos_i) at
+// relative IOR rel, u uniform in [0, 1): reflection with the Fresnel probability, else refraction, the
+// refracted direction mirrored onto the other side (Cycles' mf_sample_phase_glass, then wr = -wr). True
+// when it reflected.
+inline bool glass_bounce(const Vec3& back, const Vec3& wm, float cos_i, float rel, float u, Vec3* dir) {
+    if (u < dielectric_fresnel(cos_i, rel)) {
+        *dir = wm * (2.0f * cos_i) - back;
+        return true;
+    }
+    float inv = 1.0f / rel;
+    float cos_t = -safe_sqrt(1.0f - (1.0f - cos_i * cos_i) * inv * inv);
+    *dir = -normalize(wm * (cos_i * inv + cos_t) - back * inv);
+    return false;
 }
 
 struct GlassExit {
@@ -199,16 +229,10 @@ GlassExit glass_walk(const Vec3& wi, float alpha, float eta, Rand&& rand, OnBoun
         float uy = rand(), ux = rand();
         Vec3 back = -s.dir;
         Vec3 wm = visible_normal(back, alpha, ux, uy);
-        float rel = outside ? eta : 1.0f / eta;
         float cos_i = dot(back, wm);
-        bool reflected = rand() < dielectric_fresnel(cos_i, rel);
+        bool reflected = glass_bounce(back, wm, cos_i, outside ? eta : 1.0f / eta, rand(), &s.dir);
         on_bounce(std::fabs(cos_i), !reflected);
-        if (reflected) {
-            s.dir = wm * (2.0f * cos_i) - back;
-        } else {
-            float inv = 1.0f / rel;
-            float cos_t = -safe_sqrt(1.0f - (1.0f - cos_i * cos_i) * inv * inv);
-            s.dir = -normalize(wm * (cos_i * inv + cos_t) - back * inv);  // mirrored onto the other side
+        if (!reflected) {
             outside = !outside;
             ++refractions;
         }
@@ -255,8 +279,18 @@ float phase_towards(const Vec3& w, float lam, const Vec3& out, const Surface& su
     return cos_h * 0.25f / std::max(projected_area * cos_h, 1e-7f) * distribution(wh, surface);
 }
 
-// Cycles' light-sample evaluation of its Multiscatter GGX glossy closure of colour c (mf_eval, glossy
-// phase function, no Fresnel): f(view, light) cos(light) per channel, without the closure's weight. A
+// Cycles' colours of the glossy walk: the Glossy / Anisotropic BSDF's colour at every bounce after the
+// first, or (fresnel, the Principled BSDF's one reflection closure MICROFACET_MULTI_GGX_FRESNEL) the
+// interpolated Fresnel colour of cspec0 at the specular IOR eta at every bounce.
+struct GlossyColours {
+    Color colour{1.0f};
+    bool fresnel = false;
+    Color cspec0{1.0f};
+    float eta = 1.5f;
+};
+
+// Cycles' light-sample evaluation of its Multiscatter GGX glossy closure (mf_eval, glossy
+// phase function, colours): f(view, light) cos(light) per channel, without the closure's weight. A
 // stochastic estimate, rand() uniform in [0, 1) (Cycles: its shading point's LCG). As Cycles:
 //  * it walks from the shallower of the two directions (light and view swapped where the light is
 //    steeper), scaling the result by cos(light) / cos(view) there; the walk is not reciprocal, so
@@ -268,8 +302,12 @@ float phase_towards(const Vec3& w, float lam, const Vec3& out, const Surface& su
 //    (Cycles' `phase = ... * throughput; eval += throughput * phase * G1`): c^(2k) after k bounces, where
 //    its sampled walk has c^k;
 //  * at most kMaxBounces heights, the last bounce not reflected.
+//
+// With Fresnel colours (Cycles' use_fresnel) the throughput starts at the Fresnel colour at the half
+// vector of view and light, which also colours the order-0 term; the first bounce keeps it, each
+// further bounce multiplies the Fresnel colour at its microfacet; no colour.
 template <class Surface, class Rand>
-Color cycles_eval(Vec3 view, Vec3 light, const Surface& surface, const Color& c, Rand&& rand) {
+Color cycles_eval(Vec3 view, Vec3 light, const Surface& surface, const GlossyColours& colours, Rand&& rand) {
     const bool swapped = light.z < view.z;
     if (swapped) std::swap(view, light);
     if (view.z < 1e-5f || light.z < 1e-5f) return Color(0.0f);
@@ -278,8 +316,13 @@ Color cycles_eval(Vec3 view, Vec3 light, const Surface& surface, const Color& c,
     s.dir = -view;
     s.lam = surface.lam(s.dir);
     const float g2 = 1.0f / (1.0f - (s.lam + 1.0f) + lam_out);  // 1 / (1 + Lambda(view) + Lambda(light))
-    Color eval(g2 * 0.25f / view.z * distribution(normalize(view + light), surface));
+    const Vec3 wh = normalize(view + light);
+    Color eval(g2 * 0.25f / view.z * distribution(wh, surface));
     Color throughput(1.0f);
+    if (colours.fresnel) {
+        throughput = fresnel_colour(dot(view, wh), colours.eta, colours.cspec0);
+        eval *= throughput;
+    }
     for (int order = 0; order < kMaxBounces; ++order) {
         if (!next_height(&s, rand())) break;
         float uy = rand(), ux = rand();
@@ -289,14 +332,22 @@ Color cycles_eval(Vec3 view, Vec3 light, const Surface& surface, const Color& c,
             eval += throughput * throughput *
                     (phase_towards(s.dir, s.lam, light, surface) * escape_probability(light, s.cdf, lam_out));
         if (order + 1 < kMaxBounces) {
-            s.dir = wm * (2.0f * dot(back, wm)) - back;
+            float cos_i = dot(back, wm);
+            if (colours.fresnel && order > 0) throughput *= fresnel_colour(cos_i, colours.eta, colours.cspec0);
+            s.dir = wm * (2.0f * cos_i) - back;
             s.lam = surface.lam(s.dir);
             s.escape = escape_probability(s.dir, s.cdf, s.lam);
-            throughput *= c;
+            if (!colours.fresnel) throughput *= colours.colour;
         }
     }
     if (swapped) eval *= view.z / light.z;  // view and light are swapped here: cos(light) / cos(view)
     return eval;
+}
+template <class Surface, class Rand>
+Color cycles_eval(Vec3 view, Vec3 light, const Surface& surface, const Color& c, Rand&& rand) {
+    GlossyColours colours;
+    colours.colour = c;
+    return cycles_eval(view, light, surface, colours, rand);
 }
 
 // Cycles' fit of the single-scattering GGX albedo at alpha r (mf_ggx_albedo): the share of its MIS

@@ -18,6 +18,7 @@ inline uint32_t lobe_ray_types(const Lobe& lobe) {
         case LobeKind::Dielectric:
         case LobeKind::MultiGlass:
         case LobeKind::GlassMultiple:
+        case LobeKind::MultiGlassWalk:
         case LobeKind::Refraction:
         case LobeKind::HairTransmission:
         case LobeKind::PrincipledHairTT:
@@ -56,7 +57,8 @@ inline bool lobe_is_caustic(const Lobe& lobe, bool reflective_off, bool refracti
         case LobeKind::Dielectric:
         case LobeKind::PrincipledGlass:
         case LobeKind::MultiGlass:
-        case LobeKind::GlassMultiple: return reflective_off && refractive_off;
+        case LobeKind::GlassMultiple:
+        case LobeKind::MultiGlassWalk: return reflective_off && refractive_off;
         default: return false;
     }
 }
@@ -83,6 +85,7 @@ inline void blur_lobe(Lobe& lobe, float alpha) {
         case LobeKind::Dielectric:
         case LobeKind::MultiGlass:
         case LobeKind::GlassMultiple:  // its alpha_y is not an alpha (glass_multiple.h)
+        case LobeKind::MultiGlassWalk:  // Cycles re-walks at the new alpha
         case LobeKind::Refraction: lobe.alpha = std::max(lobe.alpha, alpha); break;
         case LobeKind::AnisoGgx:
         case LobeKind::AnisoBeckmann:

@@ -178,7 +178,7 @@ static void own_tangents_in_frame(const Frame& frame, ShaderResult* res) {
         Vec3 t(lt.x, lt.y, lt.z);
         if (!(length_sq(t) > 0.0f)) continue;
         Vec3 s = tangent_frame(frame.n, t, lt.turns).s;
-        lobe.kind_colour = Color(dot(s, frame.s) - 1.0f, dot(s, frame.t), 0.0f);
+        lobe.kind_colour = Color(dot(s, frame.s) - 1.0f, dot(s, frame.t), lobe.kind_colour.z);  // z: the kind's own
     }
 }
 

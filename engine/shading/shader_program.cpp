@@ -797,6 +797,7 @@ void multiscatter_glass(const Color& w, const Color& c, float roughness, float i
     Lobe single = make_lobe(LobeKind::MultiGlass, FresnelMode::None, w, roughness, ior, index), multiple;
     single.f0 = variant == GlassMultipleLobe::kPerRefraction ? vmin(c, Color(1.0f)) : Color(1.0f);
     single.kind_colour.x = spec_tint;
+    single.variant = variant;  // unused by MultiGlass; the colour model of Cycles' estimator (multi_glass_walk.h)
     push_lobe(out, single);
     if (glass_multiple_lobe(single, vmin(c, Color(1.0f)), variant, &multiple)) {
         multiple.index = multiple_index;
@@ -938,6 +939,11 @@ void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
         else push_lobe(out, l);
     };
     float f0 = std::min(0.08f * specular, 0.99f);
+    // With Multiscatter GGX, Cycles' one reflection closure (multiscatter_walk.h, mark_cycles_principled):
+    // weight w (1 - t), cspec0 = 0.08 Specular x tint colour x (1 - m) + base m, marked on the specular
+    // layer or on a Metallic 1 metal for the setting multiscatter_cycles_walk.
+    const float cycles_weight = w * (1.0f - t);
+    bool carried = false;
     if (f0 > 0.0f) {
         float spec_ior = 2.0f / (1.0f - std::sqrt(f0)) - 1.0f;
         Color spec_color = lerp(spec_tint, Color(1.0f), tint);
@@ -945,15 +951,29 @@ void principled(const ShaderOp& op, const float* r, ShaderResult* out) {
                            uint8_t(idx + 1));
         s.f0 = Color(f0);
         stretch(&s);
+        if (multi_reflection && average(s.weight) > 0.0f) {
+            Color tmp = Color(1.0f - spec_tint) + tint * spec_tint;
+            mark_cycles_principled(&s, tmp * (specular * 0.08f) * (1.0f - m) + base * m, cycles_weight);
+            carried = true;
+        }
         push_specular(s);
     }
     Lobe metal = make_lobe(spec_kind, FresnelMode::Schlick, Color(w * m), rough, 1.5f, uint8_t(idx + 2));
     metal.f0 = vmin(base, Color(1.0f));
     stretch(&metal);
+    if (multi_reflection && carried) {
+        metal.variant = kCyclesPrincipledPart;
+    } else if (multi_reflection && m == 1.0f) {  // the metal alone: cspec0 = base = its f0
+        metal.eta = 2.0f / (1.0f - std::sqrt(f0)) - 1.0f;  // unused by its Schlick Fresnel
+        mark_cycles_principled(&metal, metal.f0, cycles_weight);
+        carried = true;
+    }
     push_specular(metal);
     Lobe metal_multiple;
-    if (multi_reflection && metal_multiple_scattering(metal, uint8_t(idx + 6), &metal_multiple))
+    if (multi_reflection && metal_multiple_scattering(metal, uint8_t(idx + 6), &metal_multiple)) {
+        metal_multiple.variant = carried ? kCyclesPrincipledPart : 0;
         push_specular(metal_multiple);
+    }
     if (t > 0.0f) principled_glass(base, w * t, rough, load1(r, op.in[TransmissionRoughness], 0.0f), spec_tint, ior,
                                    multiscatter, uint8_t(idx + 3), out);
     float sheen = std::max(load1(r, op.in[Sheen], 0.0f), 0.0f);

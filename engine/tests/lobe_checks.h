@@ -108,4 +108,14 @@ inline void expect_sample_agrees_with_eval(const std::string& name, const Lobe& 
     expect_sample_agrees_with_eval(name, lobe, rng, two_sided, [](const Vec3&, const BsdfSample&) { return true; });
 }
 
+// The number of factors c in t (per channel a power of c): the sampled weight of Cycles' walk estimators
+// (one colour per further bounce); -1 (and a failed expectation) when t is not one.
+inline int power_of(const Color& t, const Color& c) {
+    float k = std::log(t.z) / std::log(c.z);
+    EXPECT_NEAR(k, std::round(k), 1e-3f) << t.z;
+    EXPECT_NEAR(t.x, std::pow(c.x, std::round(k)), 1e-4f);
+    EXPECT_NEAR(t.y, std::pow(c.y, std::round(k)), 1e-4f);
+    return std::fabs(k - std::round(k)) < 1e-3f ? int(std::round(k)) : -1;
+}
+
 }  // namespace smis::lobe_checks

@@ -19,6 +19,7 @@
 #include "scene/lobes/lobe.h"
 #include "scene/lobes/microfacet.h"
 #include "scene/lobes/multi_glass.h"
+#include "scene/lobes/multi_glass_walk.h"
 #include "scene/lobes/multiscatter_aniso_ggx.h"
 #include "scene/lobes/multiscatter_ggx.h"
 #include "scene/lobes/multiscatter_walk.h"
@@ -50,7 +51,7 @@ using AllLobeKinds = LobeKindList<DiffuseLobe, MicrofacetLobe, DielectricLobe, C
                                   PrincipledPartLobe, HairReflectionLobe, HairTransmissionLobe, PrincipledHairRLobe,
                                   PrincipledHairTTLobe, PrincipledHairTRTLobe, PrincipledHairTRRTLobe, MultiGlassLobe,
                                   GlassMultipleLobe, AshikhminShirleyLobe, MultiAnisoGgxLobe,
-                                  AnisoGgxMultipleLobe, MultiGgxWalkLobe>;
+                                  AnisoGgxMultipleLobe, MultiGgxWalkLobe, MultiGlassWalkLobe>;
 static_assert(AllLobeKinds::size == size_t(LobeKind::Count), "every LobeKind needs its struct in AllLobeKinds");
 
 // What a kind compiled out of this build (kEnabled false, core/features.h) dispatches to: nothing to
@@ -118,6 +119,7 @@ template <bool kGated = true, class F>
         case MultiAnisoGgxLobe::kKind: return call_kind<MultiAnisoGgxLobe, kGated>(f);
         case AnisoGgxMultipleLobe::kKind: return call_kind<AnisoGgxMultipleLobe, kGated>(f);
         case MultiGgxWalkLobe::kKind: return call_kind<MultiGgxWalkLobe, kGated>(f);
+        case MultiGlassWalkLobe::kKind: return call_kind<MultiGlassWalkLobe, kGated>(f);
         case LobeKind::Count: break;
     }
     return f(DisabledLobe{});  // not a kind (a corrupt byte): nothing to evaluate

@@ -75,6 +75,7 @@ enum class LobeKind : uint8_t {
     MultiAnisoGgx,     // anisotropic Multiscatter GGX, its single scattering (lobes/multiscatter_aniso_ggx.h)
     AnisoGgxMultiple,  // anisotropic Multiscatter GGX, its multiple scattering (lobes/multiscatter_aniso_ggx.h)
     MultiGgxWalk,      // Multiscatter GGX as Cycles estimates it, on request (lobes/multiscatter_walk.h)
+    MultiGlassWalk,    // Multiscatter GGX glass as Cycles estimates it, on request (lobes/multi_glass_walk.h)
     Count
 };
 

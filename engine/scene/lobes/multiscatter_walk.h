@@ -46,6 +46,25 @@ inline uint64_t key_of(std::initializer_list<float> values) {
     return h;
 }
 
+// Cycles' walk lobes (L: pdf() its MIS density, walk_eval() its stochastic eval for a colour): eval and
+// pdf, and the spectral tracer's terms (the eval at the colour's channel mean).
+template <class L>
+EvalPdf eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+    EvalPdf r;
+    r.pdf = L::pdf(lobe, wo, wi);
+    if (!(r.pdf > 0.0f)) return {};
+    r.value = lobe.weight * L::walk_eval(lobe, wo, wi, lobe.f0);
+    return r;
+}
+template <class L>
+LobeTerms terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+    LobeTerms t;
+    t.pdf = L::pdf(lobe, wo, wi);
+    if (!(t.pdf > 0.0f)) return {};
+    t.geom = L::walk_eval(lobe, wo, wi, Color(average(lobe.f0))).x;
+    return t;
+}
+
 }  // namespace walk_lobe_detail
 
 struct MultiGgxWalkLobe : LobeDefaults<MultiGgxWalkLobe> {
@@ -58,6 +77,7 @@ struct MultiGgxWalkLobe : LobeDefaults<MultiGgxWalkLobe> {
     static constexpr SpectralFresnel kSpectral = SpectralFresnel::None;
     static constexpr bool kOwnTangent = true;
     static constexpr bool kColourEval = true;  // eval_pdf: a colour no product weight x geom gives
+    static constexpr uint8_t kFresnel = 2;     // variant: the Principled BSDF's reflection (f0 = cspec0)
 
     static bool is_delta(const Lobe& lobe) { return lobe_detail::aniso_is_delta(lobe); }
 
@@ -71,67 +91,100 @@ struct MultiGgxWalkLobe : LobeDefaults<MultiGgxWalkLobe> {
         return ggx_walk::cycles_pdf(lobe_detail::to_lobe_tangent(lobe, wo_frame),
                                     lobe_detail::to_lobe_tangent(lobe, wi_frame), s, std::sqrt(s.ax * s.ay));
     }
+    // Cycles' colours: c at every further bounce, or the Principled's Fresnel colours of cspec0 = c.
+    static ggx_walk::GlossyColours colours(const Lobe& lobe, const Color& c) {
+        ggx_walk::GlossyColours k;
+        k.fresnel = lobe.variant == kFresnel;
+        (k.fresnel ? k.cspec0 : k.colour) = c;
+        k.eta = lobe.eta;
+        return k;
+    }
     // Cycles' stochastic eval for colour c, its numbers from the two directions.
     static Color walk_eval(const Lobe& lobe, const Vec3& wo_frame, const Vec3& wi_frame, const Color& c) {
         walk_lobe_detail::HashRand rand{walk_lobe_detail::key_of(
             {wo_frame.x, wo_frame.y, wo_frame.z, wi_frame.x, wi_frame.y, wi_frame.z, lobe.alpha, lobe.alpha_y})};
         return ggx_walk::cycles_eval(lobe_detail::to_lobe_tangent(lobe, wo_frame),
-                                     lobe_detail::to_lobe_tangent(lobe, wi_frame), surface(lobe), c, rand);
+                                     lobe_detail::to_lobe_tangent(lobe, wi_frame), surface(lobe), colours(lobe, c),
+                                     rand);
     }
     static EvalPdf eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
-        EvalPdf r;
-        r.pdf = pdf(lobe, wo, wi);
-        if (!(r.pdf > 0.0f)) return {};
-        r.value = lobe.weight * walk_eval(lobe, wo, wi, lobe.f0);
-        return r;
+        return walk_lobe_detail::eval_pdf<MultiGgxWalkLobe>(lobe, wo, wi);
     }
-
     // The spectral tracer's terms: the eval at the colour's channel mean.
     [[gnu::noinline]] static LobeTerms terms(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
-        LobeTerms t;
-        t.pdf = pdf(lobe, wo, wi);
-        if (!(t.pdf > 0.0f)) return {};
-        t.geom = walk_eval(lobe, wo, wi, Color(average(lobe.f0))).x;
-        return t;
+        return walk_lobe_detail::terms<MultiGgxWalkLobe>(lobe, wo, wi);
     }
 
-    // Cycles' mf_sample: the walk from the view, its colour c at every bounce after the first.
+    // Cycles' mf_sample: the walk from the view, its colour c at every bounce after the first (or the
+    // Fresnel colour at every bounce's microfacet).
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo_frame, Point2 u, float u_event) {
         BsdfSample out;
         Vec3 wo = lobe_detail::to_lobe_tangent(lobe, wo_frame);
         if (!(wo.z > 0.0f) || is_delta(lobe)) return out;
         walk_lobe_detail::HashRand rand{walk_lobe_detail::key_of({u.x, u.y, u_event, wo.x, wo.y, wo.z})};
         ggx_walk::Anisotropic s = surface(lobe);
-        ggx_walk::Exit e = ggx_walk::walk_on(wo, s, rand);
-        if (e.bounces == 0 || !(e.dir.z > 0.0f)) return out;  // the walk died (Cycles: no sample)
         Color throughput(1.0f);
-        for (int k = 1; k < e.bounces; ++k) throughput *= lobe.f0;
+        ggx_walk::Exit e;
+        if (lobe.variant == kFresnel) {
+            e = ggx_walk::walk_on(wo, s, rand, [&](float cos_i) { throughput *= ggx_walk::fresnel_colour(cos_i, lobe.eta, lobe.f0); });
+        } else {
+            e = ggx_walk::walk_on(wo, s, rand);
+            for (int k = 1; k < e.bounces; ++k) throughput *= lobe.f0;
+        }
+        if (e.bounces == 0 || !(e.dir.z > 0.0f)) return out;  // the walk died (Cycles: no sample)
         out.wi = lobe_detail::from_lobe_tangent(lobe, e.dir);
         out.pdf = pdf(lobe, wo_frame, out.wi);
         out.value = lobe.weight * throughput * out.pdf;
         return out;
     }
 
-    static Color albedo(const Lobe& lobe) { return lobe.weight; }  // Glossy: the closure's colour
+    // Glossy: the closure's colour; the Principled reflection: its colour at normal incidence.
+    static Color albedo(const Lobe& lobe) { return lobe.variant == kFresnel ? lobe.weight * lobe.f0 : lobe.weight; }
 };
 
 // The pair of a Glossy or Anisotropic BSDF's Multiscatter GGX (lobes/multiscatter_ggx.h,
 // multiscatter_aniso_ggx.h), marked by the compiler with this variant and the closure's colour in f0,
 // so that the setting multiscatter_cycles_walk can put Cycles' estimator in its place at a shading
-// point (path_tracing.h, cycles_multiscatter_lobes). The Principled BSDF's lobes are not marked.
+// point (path_tracing.h, cycles_multiscatter_lobes).
+// The Principled BSDF's specular layer and metal with Multiscatter GGX are one closure in Cycles
+// (MICROFACET_MULTI_GGX_FRESNEL: weight W = Principled weight x (1 - transmission), the interpolated
+// Fresnel colour of cspec0 at the specular IOR at every bounce): the compiler marks the lobe that
+// carries it (kCyclesPrincipled: the specular layer with f0 = cspec0, or the metal of Metallic 1, whose
+// f0 is cspec0, with eta the specular IOR; both fields unused by those lobes) with W in kind_colour.z,
+// and the other lobes of the pair kCyclesPrincipledPart; without a carrier (Specular 0 under a partial
+// metal) nothing is marked and the lobes stay.
 constexpr uint8_t kCyclesWalkable = 1;
+constexpr uint8_t kCyclesPrincipled = MultiGgxWalkLobe::kFresnel;
+constexpr uint8_t kCyclesPrincipledPart = 3;
 inline void mark_cycles_walkable(Lobe* single, const Color& c) {
     single->variant = kCyclesWalkable;
     single->f0 = vmin(vmax(c, Color(0.0f)), Color(1.0f));  // Cycles saturates the closure's colour
 }
+inline void mark_cycles_principled(Lobe* carrier, const Color& cspec0, float weight) {
+    carrier->variant = kCyclesPrincipled;
+    carrier->f0 = vmin(vmax(cspec0, Color(0.0f)), Color(1.0f));  // Cycles saturates cspec0
+    carrier->kind_colour.z = weight;
+}
+inline bool is_multiscatter_reflection(LobeKind k) {
+    return k == LobeKind::MultiGgx || k == LobeKind::MultiAnisoGgx || k == LobeKind::GgxMultiple ||
+           k == LobeKind::AnisoGgxMultiple;
+}
 inline bool replaced_by_cycles_walk(const Lobe& l) {
-    return (l.kind == LobeKind::GgxMultiple || l.kind == LobeKind::AnisoGgxMultiple) && l.variant == kCyclesWalkable;
+    return ((l.kind == LobeKind::GgxMultiple || l.kind == LobeKind::AnisoGgxMultiple) && l.variant == kCyclesWalkable) ||
+           (is_multiscatter_reflection(l.kind) && l.variant == kCyclesPrincipledPart);
 }
 inline void to_cycles_walk(Lobe& l) {
-    if ((l.kind != LobeKind::MultiGgx && l.kind != LobeKind::MultiAnisoGgx) || l.variant != kCyclesWalkable) return;
+    if ((l.kind != LobeKind::MultiGgx && l.kind != LobeKind::MultiAnisoGgx) ||
+        (l.variant != kCyclesWalkable && l.variant != kCyclesPrincipled))
+        return;
     if (l.kind == LobeKind::MultiGgx) l.alpha_y = l.alpha;  // its own tangent: kind_colour 0, the frame's
     if (lobe_detail::aniso_is_delta(l)) return;  // Cycles' mirror below alpha_x alpha_y 1e-7, as the lobes'
     l.kind = LobeKind::MultiGgxWalk;
+    if (l.variant == kCyclesPrincipled) {
+        l.weight = Color(l.kind_colour.z);
+        l.kind_colour.z = 0.0f;
+        l.fresnel = FresnelMode::None;
+    }
 }
 
 }  // namespace smis
