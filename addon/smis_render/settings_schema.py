@@ -227,14 +227,14 @@ SETTINGS = [
                 "eval (lobes/hair.h, kCyclesSampler): Cycles' look, biased; off by default.",
             panel="light_paths"),
     Setting("multiscatter_cycles_walk", "bool", False, "Cycles Multiscatter Evaluation",
-            "Evaluate the Glossy and Anisotropic BSDFs' Multiscatter GGX as Cycles 3.4 does: light samples by its "
-            "stochastic random walk from the shallower direction (tinting each further bounce twice), BSDF samples "
-            "by its walk from the view, weighted by its approximate density. Cycles' estimator is inconsistent, so "
-            "its image depends on the lighting (a sun-lit anisotropic sphere up to 5% darker than the walk's "
-            "BSDF); this matches it, at the cost of a walk per evaluation. Off: one consistent BSDF (tabulated "
-            "walk), deterministic and unbiased",
-            why="Cycles' mf_eval / mf_sample / mf_pdf (lobes/multiscatter_walk.h): Cycles' look, inconsistent; "
-                "off by default.",
+            "Evaluate the Multiscatter GGX of the Glossy, Anisotropic, Glass and Principled BSDFs as Cycles 3.4 "
+            "does: light samples by its stochastic random walk from the shallower direction (tinting each further "
+            "bounce twice), BSDF samples by its walk from the view, weighted by its approximate density. Cycles' "
+            "estimator is inconsistent, so its image depends on the lighting (a sun-lit anisotropic sphere up to "
+            "5% darker than the walk's BSDF, rough glass up to 30%); this matches it, at the cost of a walk per "
+            "evaluation. Off: one consistent BSDF (tabulated walk), deterministic and unbiased",
+            why="Cycles' mf_eval / mf_sample / mf_pdf and their glass forms (lobes/multiscatter_walk.h, "
+                "lobes/multi_glass_walk.h): Cycles' look, inconsistent; off by default.",
             panel="light_paths"),
     Setting("mis_heuristic", MIS_HEURISTIC, "POWER", "MIS Heuristic",
             "How multiple importance sampling weights the sampling techniques", field="mis", panel="light_paths"),
@@ -439,7 +439,8 @@ SETTINGS = [
 
     # Set by the add-on from the scene and the view layer, not Blender properties of their own
     Setting("aux_passes", "bool", False, prop=None,
-            why="Depth/Normal/Albedo/diagnostic passes (one extra camera ray per sample)"),
+            why="Depth/Normal/Albedo/diagnostic passes (recorded at the camera path's first hit; a camera ray "
+                "of their own only past a medium boundary or a holdout hole)"),
     Setting("aux_shading", "bool", True, prop=None, why="...of which Normal or Albedo (else the first hit's depth "
                                                         "is all they need)"),
     Setting("film_transparent", "bool", False, prop=None,
