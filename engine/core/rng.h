@@ -35,7 +35,8 @@ public:
         return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31));
     }
     // Uniform in [0, 1): 24 random mantissa bits, never rounds up to 1. The first values can come
-    // from a prefix (set_prefix) instead of the PCG stream.
+    // from a prefix (set_prefix) instead of the PCG stream: the Sampler (core/sampler.h) puts the
+    // first vertex's named groups there for the path tracers that do not ask for them by name yet.
     float next_float() {
         if (kWithStratified && prefix_left_ != 0) return next_prefix();
         return static_cast<float>(next_u32() >> 8) * 0x1p-24f;

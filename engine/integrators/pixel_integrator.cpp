@@ -15,8 +15,9 @@ void PixelIntegrator::render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) 
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         const PixelCamera camera(ctx, x, y);
         for (uint32_t s = s0; s < s1; ++s) {
-            Rng rng;
-            Ray ray = camera.ray(s, &rng);
+            Sampler sampler;
+            Ray ray = camera.ray(s, &sampler);
+            Rng& rng = sampler.rng();
             local.sample_diagnostic = local.sample_transparency = 0.0f;
             Color L;
             if (ctx.film.has_aux()) {  // the path records the passes at its first hit (aux_passes.h)

@@ -1,6 +1,6 @@
 #include "integrators/volume.h"
 
-#include "core/stratified.h"
+#include "core/sampler.h"
 #include "integrators/path_tracing.h"
 #include "scene/spherical_rectangle.h"
 
@@ -147,7 +147,7 @@ SegmentNumbers segment_numbers(Rng& rng) {
     uint32_t sample;
     if (kWithStratified && rng.take_scattering_segment(&key, &sample)) {
         float v[6];
-        for (uint32_t g = 0; g < 3; ++g) stratified::sample_2d(sample, key, kScatteringDimensionGroup + g, v + 2 * g);
+        scattering_segment_values(key, sample, v);
         return {v[0], v[1], {v[2], v[3]}, {v[4], v[5]}};
     }
     SegmentNumbers n;

@@ -85,14 +85,12 @@ struct SegmentNumbers {
     float select, dist;
     Point2 light, focus;
 };
-// The first dimension group of a pixel sample's first scattering segment: (select, dist), the light
-// point and the focus are groups 10, 11 and 12 (tiles.h lists the others).
-constexpr uint32_t kScatteringDimensionGroup = 10;
 // The pixel sample's first scattering segment (Rng::take_scattering_segment: the camera ray's, in a
 // scene seen through a medium) draws from stratified groups of its own, so that over a pixel's
 // samples the light choice, technique and distance are stratified jointly and the light points too,
 // while the first surface vertex keeps the stratified prefix it has in scenes without media; every
 // other segment draws from the stream. Unbiased either way: each number is uniform and independent.
+// The groups: core/sampler.h, scattering_segment_values.
 SegmentNumbers segment_numbers(Rng& rng);
 
 // single_scattering's estimator for any set of channels (RGB's three, a spectral path's wavelengths):

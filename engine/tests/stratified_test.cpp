@@ -96,8 +96,9 @@ TEST(Stratified, TheFirstScatteringSegmentHasGroupsOfItsOwnAndTheFirstVertexKeep
     PixelCamera pixel(ctx, x, y);
     std::vector<float> choice_dist, light, focus, second;
     for (uint32_t s = 0; s < (1u << k); ++s) {
-        Rng rng;
-        pixel.ray(s, &rng);
+        Sampler sampler;
+        pixel.ray(s, &sampler);
+        Rng& rng = sampler.rng();
         const SegmentNumbers n = segment_numbers(rng);
         choice_dist.insert(choice_dist.end(), {n.select, n.dist});
         light.insert(light.end(), {n.light.x, n.light.y});

@@ -1,0 +1,161 @@
+// A pixel sample's random numbers, asked for by name (issue 21). An integrator says what it draws,
+// pixel(), lens(), time(), the first vertex's first_light(), first_lobe() and first_direction(),
+// and next_float() / next_2d() for everything else, instead of counting on one order of draws.
+//
+// With the stratified pattern (core/stratified.h) every name owns its dimension groups
+// (sample_groups below): its value is a pure function of the pixel, the seed and the sample index,
+// so a draw anywhere else, an extra next_float() or another name asked first, cannot shift it, and
+// the names take nothing from the PCG stream, so they cannot shift the stream's draws either.
+// With the random pattern (or stratification compiled out) every name draws from the stream, in
+// the order asked: those images stay what they were before the Sampler, and there is nothing to
+// stratify that an order could spoil.
+//
+// The path tracers do not yet ask for the first vertex by name: the Sampler still hands those
+// three groups to the sample's Rng as a deferred prefix (first_vertex_values, Rng::set_prefix), so
+// the first six numbers the path draws after the camera are them, as before.
+#pragma once
+#include <cstdint>
+
+#include "core/features.h"
+#include "core/rng.h"
+#include "core/sampling.h"
+#include "core/stratified.h"
+
+namespace smis {
+
+// The dimension groups of a pixel sample's stratified numbers: one table, so that two names cannot
+// share a group by accident.
+namespace sample_groups {
+constexpr uint32_t kPixel = 0;             // position in the pixel (2D)
+constexpr uint32_t kLens = 1;              // point on the lens (2D), depth of field only
+constexpr uint32_t kFirstChoices = 2;      // the first vertex's light choice and lobe choice (1D each)
+constexpr uint32_t kFirstLightPoint = 3;   // the first vertex's point on the light (2D)
+constexpr uint32_t kFirstDirection = 4;    // the first vertex's BSDF direction (2D)
+constexpr uint32_t kExtraLightPoint = 5;   // path-space filtering's extra light samples (tiles.h)
+constexpr uint32_t kExtraLightChoice = 6;
+constexpr uint32_t kExtraDirection = 7;    // path-space filtering's extra BSDF samples (tiles.h)
+constexpr uint32_t kExtraLobe = 8;
+constexpr uint32_t kTime = 9;              // time in the shutter (1D), motion blur only
+constexpr uint32_t kScatteringSegment = 10;  // the first scattering segment's, 10-12 (volume.h)
+}  // namespace sample_groups
+
+// The scrambles of a pixel's stratified groups: the same for all its samples and seeds alike.
+inline uint64_t stratified_pixel_key(uint32_t fx, uint32_t fy, uint32_t seed) {
+    return mix64(mix64((uint64_t(fy) << 32) | fx) ^ (uint64_t(seed) * 0xd1b54a32d192ed03ull));
+}
+
+// The first vertex's light sample: which light, and the point on it.
+struct LightNumbers {
+    float choice = 0;
+    Point2 point;
+};
+
+// The stratified first-vertex groups of sample s of the pixel with key `key`.
+namespace first_vertex {
+inline Point2 group_2d(uint64_t key, uint32_t s, uint32_t group) {
+    float v[2];
+    stratified::sample_2d(s, key, group, v);
+    return {v[0], v[1]};
+}
+inline LightNumbers light(uint64_t key, uint32_t s) {
+    return {group_2d(key, s, sample_groups::kFirstChoices).x, group_2d(key, s, sample_groups::kFirstLightPoint)};
+}
+inline float lobe(uint64_t key, uint32_t s) { return group_2d(key, s, sample_groups::kFirstChoices).y; }
+inline Point2 direction(uint64_t key, uint32_t s) { return group_2d(key, s, sample_groups::kFirstDirection); }
+}  // namespace first_vertex
+
+// The first vertex's values as the Rng's deferred prefix (Rng::DeferredValues), last first, in the
+// order the path tracers draw them: light choice, light point (2D), lobe choice, direction (2D).
+// The two choices share one group, computed once.
+inline void first_vertex_values(uint64_t key, uint32_t s, float* out) {
+    const Point2 choices = first_vertex::group_2d(key, s, sample_groups::kFirstChoices);
+    const Point2 point = first_vertex::group_2d(key, s, sample_groups::kFirstLightPoint);
+    const Point2 direction = first_vertex::direction(key, s);
+    out[5] = choices.x, out[4] = point.x, out[3] = point.y;
+    out[2] = choices.y, out[1] = direction.x, out[0] = direction.y;
+}
+
+// The first scattering segment's six numbers (volume.h, segment_numbers): (select, dist), the light
+// point and the focus, groups 10, 11 and 12.
+inline void scattering_segment_values(uint64_t key, uint32_t s, float* v) {
+    for (uint32_t g = 0; g < 3; ++g) stratified::sample_2d(s, key, sample_groups::kScatteringSegment + g, v + 2 * g);
+}
+
+class Sampler;
+
+// What a pixel's samples share: the stream's key and the scrambles of the camera's groups, hashed
+// once per pixel (where most camera rays leave the scene, these hashes were a tenth of a sample's
+// cost). The Samplers it starts refer to it: it must outlive them.
+class PixelSampler {
+public:
+    // (fx, fy): the pixel in the full frame. `lens` and `time`: whether the camera draws them.
+    PixelSampler(uint32_t fx, uint32_t fy, uint32_t seed, bool stratified, bool lens, bool time)
+        : stream_(pixel_stream(fx, fy, seed)), stratified_(kWithStratified && stratified) {
+        if (!stratified_) return;
+        key_ = stratified_pixel_key(fx, fy, seed);
+        pixel_ = stratified::GroupSeeds(key_, sample_groups::kPixel);
+        if (lens) lens_ = stratified::GroupSeeds(key_, sample_groups::kLens);
+        if (time) time_ = stratified::GroupSeeds(key_, sample_groups::kTime);
+    }
+    inline Sampler start(uint32_t s) const;
+    bool stratified() const { return stratified_; }
+    uint64_t key() const { return key_; }
+
+private:
+    friend class Sampler;
+    uint64_t stream_, key_ = 0;
+    bool stratified_;
+    stratified::GroupSeeds pixel_, lens_, time_;
+};
+
+// Sample s of a pixel: its named groups and its own PCG stream (a pure function of the pixel, the
+// sample and the seed, whatever the thread count).
+class Sampler {
+public:
+    Sampler() = default;
+    Sampler(const PixelSampler& pixel, uint32_t s) : rng_(pixel_sample_rng(pixel.stream_, s)), pixel_(&pixel), sample_(s) {
+        if (!pixel.stratified_) return;
+        rng_.set_prefix(nullptr, 0, first_vertex_values, 6, pixel.key_, s);
+        rng_.mark_scattering_segment();
+    }
+
+    Point2 pixel() { return camera_group(pixel_ ? &pixel_->pixel_ : nullptr); }
+    Point2 lens() { return camera_group(pixel_ ? &pixel_->lens_ : nullptr); }
+    float time() {
+        if (stratified()) return camera_group(&pixel_->time_).x;
+        return rng_.next_float();
+    }
+    LightNumbers first_light() {
+        if (stratified()) return first_vertex::light(pixel_->key_, sample_);
+        const float choice = rng_.next_float();
+        return {choice, next_2d()};
+    }
+    float first_lobe() { return stratified() ? first_vertex::lobe(pixel_->key_, sample_) : rng_.next_float(); }
+    Point2 first_direction() { return stratified() ? first_vertex::direction(pixel_->key_, sample_) : next_2d(); }
+
+    // Everything without a name: the PCG stream (still behind the first vertex's deferred prefix).
+    float next_float() { return rng_.next_float(); }
+    Point2 next_2d() {
+        const float x = rng_.next_float();  // two statements: x is drawn first
+        return {x, rng_.next_float()};
+    }
+    // For code that takes the stream as an Rng (all of it beyond the camera, for now).
+    Rng& rng() { return rng_; }
+    uint32_t sample_index() const { return sample_; }
+
+private:
+    bool stratified() const { return kWithStratified && pixel_ && pixel_->stratified_; }
+    Point2 camera_group(const stratified::GroupSeeds* seeds) {
+        if (!stratified()) return next_2d();
+        float v[2];
+        stratified::sample_2d(sample_, *seeds, v);
+        return {v[0], v[1]};
+    }
+    Rng rng_;
+    const PixelSampler* pixel_ = nullptr;
+    uint32_t sample_ = 0;
+};
+
+inline Sampler PixelSampler::start(uint32_t s) const { return Sampler(*this, s); }
+
+}  // namespace smis
