@@ -105,6 +105,7 @@ public:
 
 private:
     float bump_shadowing(const Vec3& wi) const;
+    float pdf_one_lobe(const Vec3& wo, const Vec3& wi) const;
     // Out of line, so the common (unbent) path of eval() and sample() keeps its inlining.
     [[gnu::noinline]] Color eval_bumped(const Vec3& wi, const Vec3& wo_l, const Vec3& wi_l) const;
     [[gnu::noinline]] void shadow_diffuse_terms(const Vec3& wi, LobeTerms* terms) const;

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <string>
 #include <vector>
@@ -435,6 +436,31 @@ TEST(BsdfConsistency, LobeSampleAgreesWithEvalAndPdf) {
         EXPECT_EQ(mismatches, 0) << "lobe kind " << int(lobe.kind) << " alpha " << lobe.alpha << " eta " << lobe.eta
                                  << ": " << first;
         EXPECT_GT(valid, 5000);
+    }
+}
+
+// Bsdf::pdf(wo, wi) of a one-lobe Bsdf takes its own path (pdf_one_lobe); it must give the very bits
+// of the general mixture path, pdf(fix_wo(wo), wi), for every lobe kind and direction pair.
+TEST(BsdfConsistency, OneLobePdfIsTheMixturePdfBitForBit) {
+    Rng rng(5, 7);
+    const Vec3 n = normalize(Vec3(0.2f, -0.3f, 1.0f));
+    std::vector<Lobe> lobes = non_delta_lobes();
+    lobes.push_back(dielectric_lobe(0.0f, 1.5f));  // a Dirac lobe: pdf 0 off its direction
+    for (Lobe lobe : lobes) {
+        lobe.weight = Color(0.37f, 0.71f, 0.113f);  // selection probability w * (1 / w), not 1 exactly
+        Bsdf bsdf(Frame(n), Vec3(0.0f, 0.0f, 1.0f));  // shading normal off the geometric one
+        bsdf.add(lobe);
+        ASSERT_EQ(bsdf.lobe_count(), 1);
+        int differ = 0;
+        for (int i = 0; i < 20000; ++i) {
+            const Vec3 wo = sample_uniform_sphere(rand2(rng)), wi = sample_uniform_sphere(rand2(rng));
+            const float fast = bsdf.pdf(wo, wi), general = bsdf.pdf(bsdf.fix_wo(wo), wi);
+            uint32_t a, b;
+            std::memcpy(&a, &fast, sizeof a);
+            std::memcpy(&b, &general, sizeof b);
+            differ += a != b;
+        }
+        EXPECT_EQ(differ, 0) << "lobe kind " << int(lobe.kind) << " alpha " << lobe.alpha;
     }
 }
 
