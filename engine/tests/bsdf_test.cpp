@@ -464,6 +464,32 @@ TEST(BsdfConsistency, OneLobePdfIsTheMixturePdfBitForBit) {
     }
 }
 
+// Bsdf's copy assignment copies the lobes in use only: the assigned Bsdf must evaluate, sample and
+// report exactly as its source, whatever it held before (more lobes, another frame, a bump).
+TEST(BsdfConsistency, AssignmentCopiesTheWholeMixtureInUse) {
+    const Vec3 n = normalize(Vec3(0.1f, 0.2f, 1.0f));
+    Bsdf source(Frame(n), Vec3(0.0f, 0.0f, 1.0f));
+    source.add(diffuse_lobe(Color(0.3f, 0.5f, 0.7f)));
+    source.add(microfacet_lobe(0.2f, FresnelMode::Schlick));
+    source.set_bump_base(Vec3(0.0f, 0.0f, 1.0f));
+    Bsdf target(Frame(Vec3(1.0f, 0.0f, 0.0f)), Vec3(1.0f, 0.0f, 0.0f));
+    for (int i = 0; i < 5; ++i) target.add(dielectric_lobe(0.0f, 1.3f));
+    target = source;
+    ASSERT_EQ(target.lobe_count(), source.lobe_count());
+    EXPECT_EQ(target.is_delta(), source.is_delta());
+    Rng rng(3, 9);
+    int differ = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3 wo = sample_uniform_sphere(rand2(rng)), wi = sample_uniform_sphere(rand2(rng));
+        const Point2 u = rand2(rng);
+        const float u_lobe = rng.next_float();
+        const BsdfSample a = target.sample(wo, u, u_lobe), b = source.sample(wo, u, u_lobe);
+        differ += !(target.eval(wo, wi) == source.eval(wo, wi)) || target.pdf(wo, wi) != source.pdf(wo, wi) ||
+                  !(a.wi == b.wi) || a.pdf != b.pdf || !(a.value == b.value);
+    }
+    EXPECT_EQ(differ, 0);
+}
+
 TEST(BsdfConsistency, MixtureSampleAgreesWithEvalAndPdf) {
     Rng rng(12, 5);
     const Frame frames[] = {y_up_frame(), Frame(normalize(Vec3(0.3f, -0.5f, 0.8f))), Frame(Vec3(0, 0, -1))};
