@@ -21,6 +21,19 @@ public:
     static constexpr int kMaxLobes = 8;
     Bsdf() = default;
     Bsdf(const Frame& shading, const Vec3& ng) : frame_(shading), ng_(ng) {}
+    Bsdf(const Bsdf&) = default;
+    // Copies the lobes in use only (lobes past count_ are never read): every shaded hit of a node
+    // material assigns the Bsdf its program built, and the implicit one copied all kMaxLobes lobes.
+    Bsdf& operator=(const Bsdf& other) {
+        frame_ = other.frame_;
+        ng_ = other.ng_;
+        count_ = other.count_;
+        delta_count_ = other.delta_count_;
+        bumped_ = other.bumped_;
+        bump_base_ = other.bump_base_;
+        for (int i = 0; i < count_; ++i) lobes_[i] = other.lobes_[i];
+        return *this;
+    }
     // The lobes of `lobes` (already added, so already sanitised) at another shading frame.
     Bsdf(const Frame& shading, const Vec3& ng, const Bsdf& lobes)
         : frame_(shading), ng_(ng), count_(lobes.count_), delta_count_(lobes.delta_count_) {
@@ -105,6 +118,7 @@ public:
 
 private:
     float bump_shadowing(const Vec3& wi) const;
+    float pdf_one_lobe(const Vec3& wo, const Vec3& wi) const;
     // Out of line, so the common (unbent) path of eval() and sample() keeps its inlining.
     [[gnu::noinline]] Color eval_bumped(const Vec3& wi, const Vec3& wo_l, const Vec3& wi_l) const;
     [[gnu::noinline]] void shadow_diffuse_terms(const Vec3& wi, LobeTerms* terms) const;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <stdexcept>
 
 namespace smis {
@@ -29,11 +30,33 @@ inline void bspline_weights(float t, float w[4]) {
 // float has no fraction left).
 constexpr float kCoordLimit = 1e7f;
 
+// x^2.4 for x in [0.09, 1] (the power segment of the decode), computed as Cycles 3.4 does for byte
+// sRGB images (util/color.h, fastpow24): y = (x^4)^(1/5) from a first guess made on the float's bit
+// pattern (read as a scaled log2), refined by three Newton steps on y^5 = x^4, then y^3. The guess is
+// within ~7 %, Newton squares the relative error (times 2) per step, so the result is at float
+// rounding level (Texture.FastSrgbDecodeMatchesPow bounds it); a third of glibc powf's instructions.
+inline float pow24_unit(float x) {
+    int32_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    constexpr int32_t kOne = 0x3F800000;  // the bit pattern of 1.0f
+    const int32_t guess_bits = kOne + static_cast<int32_t>(0.8f * static_cast<float>(bits - kOne));
+    float y;
+    std::memcpy(&y, &guess_bits, sizeof y);
+    const float x2 = x * x, x4 = x2 * x2;
+    for (int step = 0; step < 3; ++step) {
+        const float y2 = y * y;
+        y = 0.8f * y + 0.2f * x4 / (y2 * y2);
+    }
+    return y * y * y;
+}
+
 }  // namespace
 
 float srgb_to_linear(float v) {
     if (v < 0.04045f) return v < 0.0f ? 0.0f : v * (1.0f / 12.92f);
-    return std::pow((v + 0.055f) * (1.0f / 1.055f), 2.4f);
+    // Above 1 (float images) or NaN: the exact power; the fast one is only checked on [0.04045, 1].
+    if (!(v <= 1.0f)) return std::pow((v + 0.055f) * (1.0f / 1.055f), 2.4f);
+    return pow24_unit((v + 0.055f) * (1.0f / 1.055f));
 }
 
 Texture::Texture(const float* rgba, int width, int height, const std::string& colorspace, bool closest, Wrap wrap)

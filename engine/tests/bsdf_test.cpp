@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <string>
 #include <vector>
@@ -436,6 +437,57 @@ TEST(BsdfConsistency, LobeSampleAgreesWithEvalAndPdf) {
                                  << ": " << first;
         EXPECT_GT(valid, 5000);
     }
+}
+
+// Bsdf::pdf(wo, wi) of a one-lobe Bsdf takes its own path (pdf_one_lobe); it must give the very bits
+// of the general mixture path, pdf(fix_wo(wo), wi), for every lobe kind and direction pair.
+TEST(BsdfConsistency, OneLobePdfIsTheMixturePdfBitForBit) {
+    Rng rng(5, 7);
+    const Vec3 n = normalize(Vec3(0.2f, -0.3f, 1.0f));
+    std::vector<Lobe> lobes = non_delta_lobes();
+    lobes.push_back(dielectric_lobe(0.0f, 1.5f));  // a Dirac lobe: pdf 0 off its direction
+    for (Lobe lobe : lobes) {
+        lobe.weight = Color(0.37f, 0.71f, 0.113f);  // selection probability w * (1 / w), not 1 exactly
+        Bsdf bsdf(Frame(n), Vec3(0.0f, 0.0f, 1.0f));  // shading normal off the geometric one
+        bsdf.add(lobe);
+        ASSERT_EQ(bsdf.lobe_count(), 1);
+        int differ = 0;
+        for (int i = 0; i < 20000; ++i) {
+            const Vec3 wo = sample_uniform_sphere(rand2(rng)), wi = sample_uniform_sphere(rand2(rng));
+            const float fast = bsdf.pdf(wo, wi), general = bsdf.pdf(bsdf.fix_wo(wo), wi);
+            uint32_t a, b;
+            std::memcpy(&a, &fast, sizeof a);
+            std::memcpy(&b, &general, sizeof b);
+            differ += a != b;
+        }
+        EXPECT_EQ(differ, 0) << "lobe kind " << int(lobe.kind) << " alpha " << lobe.alpha;
+    }
+}
+
+// Bsdf's copy assignment copies the lobes in use only: the assigned Bsdf must evaluate, sample and
+// report exactly as its source, whatever it held before (more lobes, another frame, a bump).
+TEST(BsdfConsistency, AssignmentCopiesTheWholeMixtureInUse) {
+    const Vec3 n = normalize(Vec3(0.1f, 0.2f, 1.0f));
+    Bsdf source(Frame(n), Vec3(0.0f, 0.0f, 1.0f));
+    source.add(diffuse_lobe(Color(0.3f, 0.5f, 0.7f)));
+    source.add(microfacet_lobe(0.2f, FresnelMode::Schlick));
+    source.set_bump_base(Vec3(0.0f, 0.0f, 1.0f));
+    Bsdf target(Frame(Vec3(1.0f, 0.0f, 0.0f)), Vec3(1.0f, 0.0f, 0.0f));
+    for (int i = 0; i < 5; ++i) target.add(dielectric_lobe(0.0f, 1.3f));
+    target = source;
+    ASSERT_EQ(target.lobe_count(), source.lobe_count());
+    EXPECT_EQ(target.is_delta(), source.is_delta());
+    Rng rng(3, 9);
+    int differ = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3 wo = sample_uniform_sphere(rand2(rng)), wi = sample_uniform_sphere(rand2(rng));
+        const Point2 u = rand2(rng);
+        const float u_lobe = rng.next_float();
+        const BsdfSample a = target.sample(wo, u, u_lobe), b = source.sample(wo, u, u_lobe);
+        differ += !(target.eval(wo, wi) == source.eval(wo, wi)) || target.pdf(wo, wi) != source.pdf(wo, wi) ||
+                  !(a.wi == b.wi) || a.pdf != b.pdf || !(a.value == b.value);
+    }
+    EXPECT_EQ(differ, 0);
 }
 
 TEST(BsdfConsistency, MixtureSampleAgreesWithEvalAndPdf) {
