@@ -15,6 +15,10 @@ matches the Cycles 3.4 references in blender_tests/references/hair_*.exr
     parity; they were 0 before, with a warning);
   * hair_bsdf: Cycles' Hair BSDF through 8 bounces under sun and world; with hair_cycles_sampling we
     sample it as Cycles (whose sampler and eval disagree) and match, the default is darker;
+  * uv_direct, uv_curves_direct: hair UVs, each strand's Texture Coordinate > UV the emitter's UV
+    map at its root (particle hair: uv_on_emitter; the Curves object: its surface_uv_coordinate),
+    as the strands' diffuse colour (u, v, 0.3), sun-lit without bounces; without the UVs the image
+    is far off Cycles' (test_hair_uv_is_seen);
   * emissive_sun: glowing strands (an Emission on hair) lighting the floor and each other;
   * principled_color_sun, principled_color: the Principled Hair BSDF through 8 bounces, lit by the sun
     alone and by the sun and the world. Cycles draws the longitudinal sample of every bounce from an
@@ -53,6 +57,10 @@ SCENES = ["diffuse", "diffuse_curves", "hair_bsdf_direct", "principled_color_dir
 INFO_SCENES = ["info_intercept_direct", "info_geometry_direct", "info_intercept_curves_direct",
                "info_geometry_curves_direct"]
 INFO_THRESHOLD = 0.01  # measured 0.63-0.74% at 128 spp
+# Hair UVs (the emitter's UV map at each strand's root) as the strands' diffuse colour, sun-lit.
+UV_SCENES = ["uv_direct", "uv_curves_direct"]
+UV_THRESHOLD = 0.01
+UV_UNSEEN_MIN = 0.20
 # Samples per scene where not SPP: the varied strands' speckle is noisier (the Curves object's 64 spp
 # against its 256 spp reference: 3.1%).
 SCENE_SPP = {"principled_random_direct": 2 * SPP, "principled_random_curves_direct": 2 * SPP}
@@ -124,6 +132,24 @@ def test_hair_matches_cycles(tmp_path_factory, name):
 def test_hair_info_matches_cycles(tmp_path_factory, name):
     _, _, err = _render_and_reference(tmp_path_factory, name)
     assert err <= INFO_THRESHOLD, "%s: MRE %.3f%%" % (name, 100 * err)
+
+
+@pytest.mark.parametrize("name", UV_SCENES)
+def test_hair_uv_matches_cycles(tmp_path_factory, name):
+    _, _, err = _render_and_reference(tmp_path_factory, name)
+    assert err <= UV_THRESHOLD, "%s: MRE %.3f%%" % (name, 100 * err)
+
+
+def test_hair_uv_is_seen(tmp_path_factory):
+    """The UV scene tells the strands' UVs from none: with the emitter's UV map removed (every
+    strand then reads UV (0, 0)) the image is far from Cycles' (so the bar above checks the UVs)."""
+    _, _, err = _render_and_reference(tmp_path_factory, "uv_direct", setup="""
+scene.smis.samples = 16
+emitter = bpy.data.objects["emitter"].data
+while emitter.uv_layers:
+    emitter.uv_layers.remove(emitter.uv_layers[0])
+""")
+    assert err > UV_UNSEEN_MIN, "without the UVs: MRE %.3f%%" % (100 * err)
 
 
 def test_principled_hair_random_is_seen(tmp_path_factory):

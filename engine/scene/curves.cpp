@@ -71,11 +71,23 @@ bool inside_segment_tube(const float* p, const Vec3& o) {
 }  // namespace
 
 uint32_t Scene::add_curves(const float* points, size_t np, const int32_t* curve_offsets, size_t nc, uint32_t material,
-                           uint32_t first_curve) {
+                           uint32_t first_curve, const float* curve_uvs, const std::vector<AttributeInput>& attributes) {
     if (committed_) throw std::logic_error("scene already committed");
     if (material >= materials_.size()) throw std::invalid_argument("curves with an unknown material");
+    for (const AttributeInput& a : attributes)
+        if (!a.corners || a.dims < 1 || a.dims > 4) throw std::invalid_argument("curve attribute '" + a.name + "' is malformed");
     Mesh mesh;
     mesh.curves = true;
+    mesh.first_curve = first_curve;
+    auto finite_or_zero = [](float v) { return std::isfinite(v) ? v : 0.0f; };
+    if (curve_uvs)
+        for (size_t c = 0; c < nc; ++c)
+            mesh.curve_uvs.push_back({finite_or_zero(curve_uvs[2 * c]), finite_or_zero(curve_uvs[2 * c + 1])});
+    for (const AttributeInput& a : attributes) {
+        MeshAttribute attr{attribute_id(a.name), a.dims, {}};
+        for (size_t k = 0; k < nc * size_t(a.dims); ++k) attr.corners.push_back(finite_or_zero(a.corners[k]));
+        mesh.attributes.push_back(std::move(attr));
+    }
     for (size_t c = 0; c < nc; ++c) {
         int32_t first = curve_offsets[c], end = curve_offsets[c + 1];
         bool usable = first >= 0 && end <= int32_t(np) && end - first >= 2;
@@ -195,6 +207,7 @@ void Scene::fill_curve_hit(const Ray& ray, const RTCRayHit& rh, uint32_t instanc
     hit->light = materials_[hit->material].emissive() ? kStrandEmission : -1;
     if (kWithTextures) {
         hit->attr.object_color = inst.object_color;
+        if (!mesh.curve_uvs.empty()) hit->attr.uv = mesh.curve_uvs[mesh.segment_curves[prim] - mesh.first_curve];
         if (programs_) {
             // The normal as an angle about the tangent, in the tangent's own frame: with the
             // segment and u, all curve_shader_context needs to rebuild the hit.
@@ -245,6 +258,10 @@ ShaderContext Scene::curve_shader_context(const SurfaceAttribs& at, const Vec3& 
     ctx.curve_thickness = 2.0f * radius;
     ctx.N_object = inst.identity ? normalize(inst.to_world.normal_to_object(n)) : normalize(inst.to_object.vector(n));
     ctx.dPdu = c.tangent;
+    if (!mesh.curve_uvs.empty()) {
+        ctx.uv = mesh.curve_uvs[mesh.segment_curves[at.prim] - mesh.first_curve];
+        ctx.has_uv = true;
+    }
     set_object_inputs(inst, &ctx);
     float dist = length(ctx.P - camera_.origin());
     float footprint = camera_.pixel_footprint(std::max(dist, 1e-6f));

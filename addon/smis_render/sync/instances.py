@@ -285,15 +285,18 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
 def _export_hair(kind, inst, obj, scene, materials, counts, view_layer):
     """A mesh's particle hair or a Curves object as engine curves, one instance per hair system."""
     if kind == 'HAIR':
-        systems = [(hair.particle_strands(obj, p), hair.particle_material(obj, p))
-                   for p in hair.particle_hair_systems(obj)]
+        systems = [(hair.particle_strands(obj, p), hair.particle_material(obj, p),
+                    lambda uv_map, p=p: hair.particle_uvs(obj, p, uv_map)) for p in hair.particle_hair_systems(obj)]
     else:
-        systems = [(hair.curves_strands(obj.data), hair.curves_material(obj))]
+        systems = [(hair.curves_strands(obj.data), hair.curves_material(obj), lambda uv_map: hair.curves_uvs(obj.data))]
     first_curve = 0  # Cycles numbers an object's strands across its particle systems (Hair Info's Random)
-    for (points, offsets), material in systems:
+    for (points, offsets), material, strand_uvs in systems:
         if len(offsets) < 2:
             continue
-        mesh_id = scene.add_curves(points, offsets, materials.id_for(material), first_curve)
+        mat_id = materials.id_for(material)
+        uv_map = materials.uv_map_for([mat_id])
+        uvs, attributes = strand_uvs(uv_map) if uv_map is not None else (None, {})
+        mesh_id = scene.add_curves(points, offsets, mat_id, first_curve, uvs, attributes)
         first_curve += len(offsets) - 1
         counts.meshes += 1
         counts.dropped_curves += scene.mesh_dropped(mesh_id)
