@@ -15,6 +15,8 @@ bounces 0: direct light only, where Cycles' Hair BSDF evaluates what it defines,
 `_curves` (before `_direct`), the strands converted to a Curves object (hair curves) instead; with
 `_ribbons` (before `_direct`), Cycles' "Rounded Ribbons" curve shape instead of "3D Curves"; with
 `_close` (after `_ribbons`), a 400 mm lens instead of 40 (strands several pixels wide); with
+`_moving` (after `_close`), the emitter and its hair sliding MOVE (0.05 m) along x per frame, motion blur on
+(shutter 0.5, frame 1); with
 the suffix `_sun`, lit by the sun alone through max bounces 8 (light bounced between strands).
 Writes OUTDIR/hair_<MATERIAL>.blend for each: a 64 x 48 px view at 45 degrees down onto a 2 x 2 m
 plane (a grey diffuse emitter) growing 400 parent strands with 8 interpolated children each (3,600
@@ -37,6 +39,8 @@ from cycles_settings import make_cycles_unbiased  # noqa: E402
 MAX_BOUNCES = 8
 # The lens of the `_close` views (40 mm otherwise): a tenth of the field, strands several pixels wide.
 CLOSE_LENS = 400
+# How far the `_moving` hair slides per frame (m): about 16 pixels of the close view per frame.
+MOVE = 0.05
 WIDTH, HEIGHT = 64, 48
 
 
@@ -181,7 +185,7 @@ MATERIALS = {
 SUN_STRENGTH = {"principled_random": 20.0}
 
 
-def build(out_dir, material, direct=False, curves=False, sun_only=False, ribbons=False, close=False):
+def build(out_dir, material, direct=False, curves=False, sun_only=False, ribbons=False, close=False, moving=False):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
     scene.render.engine = 'CYCLES'
@@ -242,6 +246,21 @@ def build(out_dir, material, direct=False, curves=False, sun_only=False, ribbons
         mod.show_render = False
         mod.show_viewport = False
 
+    if moving:
+        # Transform motion blur: the emitter (with its hair; the Curves object too) slides along x,
+        # MOVE m per frame, rendered at frame 1 with Cycles' shutter 0.5 (half of it blurred).
+        scene.render.use_motion_blur = True
+        scene.render.motion_blur_shutter = 0.5
+        scene.frame_set(1)
+        for obj in [o for o in bpy.data.objects if o.type in ('MESH', 'CURVES')]:
+            for frame, x in ((0, -MOVE), (1, 0.0), (2, MOVE)):
+                obj.location.x = x
+                obj.keyframe_insert("location", index=0, frame=frame)
+            for fc in obj.animation_data.action.fcurves:
+                for k in fc.keyframe_points:
+                    k.interpolation = 'LINEAR'
+        scene.frame_set(1)
+
     bpy.ops.object.light_add(type='SUN', rotation=(math.radians(50), math.radians(-20), math.radians(30)))
     sun = bpy.context.object
     sun.data.energy = SUN_STRENGTH.get(material, 3.0)
@@ -262,9 +281,9 @@ def build(out_dir, material, direct=False, curves=False, sun_only=False, ribbons
         smis.max_bounces = bounces
         smis.filter_type = 'BOX'
         smis.filter_width = 1.0
-    path = os.path.join(out_dir, "hair_%s%s%s%s%s.blend" % (material, "_curves" if curves else "",
+    path = os.path.join(out_dir, "hair_%s%s%s%s%s%s.blend" % (material, "_curves" if curves else "",
                                                            "_ribbons" if ribbons else "",
-                                                           "_close" if close else "",
+                                                           "_close" if close else "", "_moving" if moving else "",
                                                            "_direct" if direct else "_sun" if sun_only else ""))
     bpy.ops.wm.save_as_mainfile(filepath=path)
     return path
@@ -277,9 +296,9 @@ def main():
     os.makedirs(out_dir, exist_ok=True)
     for name in args[1:] or ["hair_bsdf"]:
         direct, curves, sun_only = name.endswith("_direct"), "_curves" in name, name.endswith("_sun")
-        ribbons, close = "_ribbons" in name, "_close" in name
-        material = name.replace("_direct", "").replace("_sun", "").replace("_curves", "").replace("_ribbons", "").replace("_close", "")
-        print("wrote", build(out_dir, material, direct, curves, sun_only, ribbons, close))
+        ribbons, close, moving = "_ribbons" in name, "_close" in name, "_moving" in name
+        material = name.replace("_direct", "").replace("_sun", "").replace("_curves", "").replace("_ribbons", "").replace("_close", "").replace("_moving", "")
+        print("wrote", build(out_dir, material, direct, curves, sun_only, ribbons, close, moving))
 
 
 if __name__ == "__main__":

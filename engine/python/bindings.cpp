@@ -563,6 +563,14 @@ PYBIND11_MODULE(_smis, m) {
             "object's hair (Hair Info's Random hashes first_curve + c, as Cycles); uvs: (curves, 2) each strand's "
             "UV (the render UV map at its root) or None; attributes: {name: (curves, k)} per-strand values shader "
             "programs read by name; returns a mesh id for add_instance")
+        .def(
+            "set_curve_ribbons",
+            [](Scene& s, uint32_t mesh, uint32_t subdivisions) {
+                value_errors([&] { s.set_curve_ribbons(mesh, subdivisions); });
+            },
+            py::arg("mesh"), py::arg("subdivisions") = 2,
+            "Cycles' Rounded Ribbons for the hair mesh (add_curves): flat strips facing the ray, subdivisions + 1 "
+            "quads per segment, shaded with the round tube's normal")
         .def("attribute_id", [](Scene& s, const std::string& name) { return s.attribute_id(name); },
              "The id shader programs use for a mesh attribute (UV map or colour attribute) by name")
         .def(

@@ -126,6 +126,24 @@ uint32_t Scene::add_curves(const float* points, size_t np, const int32_t* curve_
     return uint32_t(meshes_.size() - 1);
 }
 
+void Scene::set_curve_ribbons(uint32_t mesh, uint32_t subdivisions) {
+    if (committed_) throw std::logic_error("scene already committed");
+    if (mesh >= meshes_.size() || !meshes_[mesh].curves) throw std::invalid_argument("ribbons of a mesh that is no hair");
+    meshes_[mesh].ribbon_rate = std::min(subdivisions, 64u) + 1;
+}
+
+// Cycles' ribbon normal (curve_shader_setup, CURVE_RIBBON): across the strip facing the ray, the
+// tube's normal at the same offset v in -1..1 (Embree's flat-curve v), so ribbons shade as round
+// fibres: N = v B - sqrt(1 - v^2) normalize(T x B), B = normalize(T x wo).
+inline Vec3 ribbon_normal(const Vec3& tangent, const Vec3& wo, float v, Vec3* across) {
+    Vec3 b = cross(tangent, wo);
+    if (!(length_sq(b) > 0.0f)) b = Frame(wo).s;
+    b = normalize(b);
+    *across = b;
+    float cosine = std::sqrt(std::max(1.0f - v * v, 0.0f));
+    return normalize(b * v - normalize(cross(tangent, b)) * cosine);
+}
+
 void Scene::flatten_curves(Mesh& mesh, const Transform& to_world) {
     // Radii scale with the transform's mean scale (Cycles' uniform-scale approximation).
     float scale = std::cbrt(std::fabs(to_world.determinant3()));
@@ -137,7 +155,9 @@ void Scene::flatten_curves(Mesh& mesh, const Transform& to_world) {
 }
 
 void Scene::build_curve_geometry(RTCScene target, Mesh& mesh, unsigned id, uint32_t visibility) {
-    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE);
+    RTCGeometry geom = rtcNewGeometry(device_, mesh.ribbon_rate ? RTC_GEOMETRY_TYPE_FLAT_CATMULL_ROM_CURVE
+                                                                : RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE);
+    if (mesh.ribbon_rate) rtcSetGeometryTessellationRate(geom, float(mesh.ribbon_rate));
     rtcSetGeometryMask(geom, visibility);
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, mesh.curve_points.data(), 0,
                                4 * sizeof(float), mesh.curve_points.size() / 4);
@@ -195,12 +215,24 @@ void Scene::fill_curve_hit(const Ray& ray, const RTCRayHit& rh, uint32_t instanc
         c.tangent = inst.to_world.vector(c.tangent);
     }
     Vec3 p = ray.o + ray.d * rh.ray.tfar;
-    Vec3 n = p - c.centre;
-    n = length_sq(n) > 0.0f ? normalize(n) : -ray.d;
-    if (!is_finite(n)) n = Vec3(0.0f, 0.0f, 1.0f);
+    Vec3 n, ng;
+    if (mesh.ribbon_rate) {
+        // A ribbon faces the ray, shaded with the faked round normal; Cycles' Ng = -D serves no
+        // BSDF on curves (bsdf.h takes the closure's N for Ng on curves, "ribbons darken
+        // otherwise"), so the faked normal stands for both, as the tube's normal does.
+        Vec3 across;
+        n = ribbon_normal(length_sq(c.tangent) > 0.0f ? normalize(c.tangent) : Vec3(0.0f, 0.0f, 1.0f),
+                          normalize(-ray.d), clampf(rh.hit.v, -1.0f, 1.0f), &across);
+        ng = n;
+    } else {
+        n = p - c.centre;
+        n = length_sq(n) > 0.0f ? normalize(n) : -ray.d;
+        ng = n;
+    }
+    if (!is_finite(n) || !is_finite(ng)) n = ng = Vec3(0.0f, 0.0f, 1.0f);
     hit->t = rh.ray.tfar;
     hit->p = p;
-    hit->ng = n;
+    hit->ng = ng;
     hit->ns = n;
     hit->material = mesh.materials[prim];
     hit->holdout = inst.holdout;
@@ -209,13 +241,13 @@ void Scene::fill_curve_hit(const Ray& ray, const RTCRayHit& rh, uint32_t instanc
         hit->attr.object_color = inst.object_color;
         if (!mesh.curve_uvs.empty()) hit->attr.uv = mesh.curve_uvs[mesh.segment_curves[prim] - mesh.first_curve];
         if (programs_) {
-            // The normal as an angle about the tangent, in the tangent's own frame: with the
-            // segment and u, all curve_shader_context needs to rebuild the hit.
+            // The normal as an angle about the tangent, in the tangent's own frame (a ribbon: its
+            // v across the strip): with the segment and u, all curve_shader_context needs.
             Frame f(length_sq(c.tangent) > 0.0f ? normalize(c.tangent) : Vec3(0.0f, 0.0f, 1.0f));
             hit->attr.instance = instance;
             hit->attr.prim = prim;
             hit->attr.bu = rh.hit.u;
-            hit->attr.bv = std::atan2(dot(n, f.t), dot(n, f.s));
+            hit->attr.bv = mesh.ribbon_rate ? clampf(rh.hit.v, -1.0f, 1.0f) : std::atan2(dot(n, f.t), dot(n, f.s));
         }
     }
 }
@@ -237,11 +269,21 @@ ShaderContext Scene::curve_shader_context(const SurfaceAttribs& at, const Vec3& 
         c.radius *= std::cbrt(std::fabs(inst.to_world.determinant3()));
     }
     Frame f(length_sq(c.tangent) > 0.0f ? normalize(c.tangent) : Vec3(0.0f, 0.0f, 1.0f));
-    Vec3 n = f.s * std::cos(at.bv) + f.t * std::sin(at.bv);
-    ctx.P = c.centre + n * c.radius;
+    Vec3 n;
     ctx.I = wo;
-    ctx.backfacing = dot(wo, n) < 0.0f;
-    ctx.Ng = ctx.N = ctx.backfacing ? -n : n;
+    if (mesh.ribbon_rate) {
+        // The strip facing the ray at v across it; N (and Ng, as fill_curve_hit) the faked normal.
+        Vec3 across;
+        n = ribbon_normal(f.n, wo, at.bv, &across);
+        ctx.P = c.centre + across * (at.bv * c.radius);
+        ctx.backfacing = false;
+        ctx.Ng = ctx.N = n;
+    } else {
+        n = f.s * std::cos(at.bv) + f.t * std::sin(at.bv);
+        ctx.P = c.centre + n * c.radius;
+        ctx.backfacing = dot(wo, n) < 0.0f;
+        ctx.Ng = ctx.N = ctx.backfacing ? -n : n;
+    }
     // Hair Info's Random: Cycles' ATTR_STD_CURVE_RANDOM, hash_uint2_to_float(curve, 0) of the curve's
     // index in its object's hair (blender/curves.cpp, ExportCurveSegments and export_hair_curves).
     ctx.curve = true;

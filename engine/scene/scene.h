@@ -113,6 +113,10 @@ public:
     uint32_t add_curves(const float* points, size_t np, const int32_t* curve_offsets, size_t nc, uint32_t material,
                         uint32_t first_curve = 0, const float* curve_uvs = nullptr,
                         const std::vector<AttributeInput>& attributes = {});
+    // Cycles' "Rounded Ribbons" curve shape for the hair `mesh` (add_curves): Embree flat Catmull-Rom
+    // curves, flat strips facing the ray with `subdivisions` + 1 quads per segment (Cycles'
+    // rtcSetGeometryTessellationRate), shaded with a normal faked as the round tube's (curve.h).
+    void set_curve_ribbons(uint32_t mesh, uint32_t subdivisions);
     // The mesh's texture space (Blender's texspace_location / texspace_size), for Generated coordinates.
     void set_mesh_texspace(uint32_t mesh, const Vec3& location, const Vec3& size);
     // Attribute names are interned: shader programs refer to them by id.
@@ -315,6 +319,7 @@ private:
         // `attributes` hold dims values per curve instead of per corner.
         uint32_t first_curve = 0;
         std::vector<Point2> curve_uvs;
+        uint32_t ribbon_rate = 0;  // set_curve_ribbons: quads per segment; 0: round curves
     };
     // Hair (curves.cpp): rays leaving a hair ignore the curve they start on (Cycles' self skip);
     // the Embree geometry; a sole user's curves moved into world space; a hit and what its program reads.

@@ -12,6 +12,8 @@
   index in its object's hair, counted over the object's particle systems in modifier order
   (instances.py passes add_curves the running count), so the strands vary as in Cycles.
 
+* Curve Shape: "3D Curves" as round Catmull-Rom curves, "Rounded Ribbons" as flat ones facing the
+  ray with Cycles' faked round normal (Scene.set_curve_ribbons, its Subdivisions).
 * Strand UVs (when the material reads UVs or attributes): Cycles gives every strand the emitter's
   UV maps at its root, constant along the strand (ATTR_ELEMENT_CURVE): particle hair through
   `ParticleSystem.uv_on_emitter` (the parent particle for parents, the first one for children, as
@@ -37,6 +39,15 @@ def _strand_radius(times, shape, root, tip):
     elif shape > 0.0:
         radius = radius ** (1.0 / (1.0 - shape))
     return radius * (root - tip) + tip
+
+
+def ribbon_subdivisions(scene):
+    """Cycles' Curve Shape (Render Properties > Curves): the Subdivisions of "Rounded Ribbons"
+    (RIBBONS), or None for "3D Curves" (THICK, the default)."""
+    curves = getattr(scene, "cycles_curves", None)
+    if curves is None or curves.shape != 'RIBBONS':
+        return None
+    return max(int(curves.subdivisions), 0)
 
 
 def particle_hair_systems(obj):

@@ -231,7 +231,8 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
             continue
         if kind in ('HAIR', 'CURVES'):
             try:
-                _export_hair(kind, inst, obj, scene, materials, counts, depsgraph.view_layer)
+                _export_hair(kind, inst, obj, scene, materials, counts, depsgraph.view_layer,
+                             hair.ribbon_subdivisions(depsgraph.scene))
             except (RuntimeError, ValueError, TypeError) as exc:
                 broken.append("%s (%s)" % (obj.name, exc))
             continue
@@ -282,7 +283,7 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
     return counts
 
 
-def _export_hair(kind, inst, obj, scene, materials, counts, view_layer):
+def _export_hair(kind, inst, obj, scene, materials, counts, view_layer, ribbons=None):
     """A mesh's particle hair or a Curves object as engine curves, one instance per hair system."""
     if kind == 'HAIR':
         systems = [(hair.particle_strands(obj, p), hair.particle_material(obj, p),
@@ -297,6 +298,8 @@ def _export_hair(kind, inst, obj, scene, materials, counts, view_layer):
         uv_map = materials.uv_map_for([mat_id])
         uvs, attributes = strand_uvs(uv_map) if uv_map is not None else (None, {})
         mesh_id = scene.add_curves(points, offsets, mat_id, first_curve, uvs, attributes)
+        if ribbons is not None:
+            scene.set_curve_ribbons(mesh_id, ribbons)
         first_curve += len(offsets) - 1
         counts.meshes += 1
         counts.dropped_curves += scene.mesh_dropped(mesh_id)
