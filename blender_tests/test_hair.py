@@ -23,6 +23,9 @@ matches the Cycles 3.4 references in blender_tests/references/hair_*.exr
     the round tube's normal faked) in a close view (strands several pixels wide), the diffuse
     strands under sun and world through 8 bounces; rendered as 3D curves instead, the image is
     further off (test_hair_ribbons_match_cycles);
+  * diffuse_close_moving, diffuse_curves_close_moving: transform motion blur of a hair object (the emitter with
+    its particle hair, and a Curves object, sliding 5 cm per frame, shutter 0.5, close view), diffuse strands
+    under sun and world; without the blur the image is far off (test_hair_motion_blur_is_seen);
   * emissive_sun: glowing strands (an Emission on hair) lighting the floor and each other;
   * principled_color_sun, principled_color: the Principled Hair BSDF through 8 bounces, lit by the sun
     alone and by the sun and the world. Cycles draws the longitudinal sample of every bounce from an
@@ -69,6 +72,9 @@ UV_UNSEEN_MIN = 0.20
 RIBBON_SCENE = "diffuse_ribbons_close"
 RIBBON_THRESHOLD = 0.02
 RIBBON_UNSEEN_MIN = 0.03
+# Transform motion blur of hair objects (sun and world, 8 bounces).
+MOTION_SCENES = ["diffuse_close_moving", "diffuse_curves_close_moving"]
+MOTION_UNSEEN_MIN = 0.10
 # Samples per scene where not SPP: the varied strands' speckle is noisier (the Curves object's 64 spp
 # against its 256 spp reference: 3.1%).
 SCENE_SPP = {"principled_random_direct": 2 * SPP, "principled_random_curves_direct": 2 * SPP}
@@ -169,6 +175,21 @@ def test_hair_ribbons_match_cycles(tmp_path_factory):
 scene.cycles_curves.shape = 'THICK'
 """)
     assert thick > RIBBON_UNSEEN_MIN, "as 3D curves: MRE %.3f%%" % (100 * thick)
+
+
+@pytest.mark.parametrize("name", MOTION_SCENES)
+def test_hair_motion_blur_matches_cycles(tmp_path_factory, name):
+    _, _, err = _render_and_reference(tmp_path_factory, name)
+    assert err <= THRESHOLD, "%s: MRE %.3f%%" % (name, 100 * err)
+
+
+def test_hair_motion_blur_is_seen(tmp_path_factory):
+    """The moving hair rendered without motion blur is far from Cycles' blurred image."""
+    _, _, err = _render_and_reference(tmp_path_factory, "diffuse_close_moving", setup="""
+scene.smis.samples = 16
+scene.render.use_motion_blur = False
+""")
+    assert err > MOTION_UNSEEN_MIN, "without motion blur: MRE %.3f%%" % (100 * err)
 
 
 def test_principled_hair_random_is_seen(tmp_path_factory):

@@ -204,15 +204,19 @@ void Scene::curve_self_filter(const RTCFilterFunctionNArguments* args) {
     }
 }
 
-// The hit's centre point and tangent in world space (a moving instance: at the shutter's centre).
+// The hit's centre point and tangent in world space (a moving instance: where Embree placed it at the
+// ray's time, so the normal P - C(u) is the tube's; the shader context rebuilds it at the shutter's
+// centre, whose normal's angle about the tangent it keeps).
 void Scene::fill_curve_hit(const Ray& ray, const RTCRayHit& rh, uint32_t instance, SurfaceHit* hit) const {
     const Instance& inst = instances_[instance];
     const Mesh& mesh = meshes_[inst.mesh];
     uint32_t prim = rh.hit.primID;
     CurvePoint c = catmull_rom(&mesh.curve_points[4 * size_t(mesh.indices[prim])], rh.hit.u);
     if (!inst.identity) {
-        c.centre = inst.to_world.point(c.centre);
-        c.tangent = inst.to_world.vector(c.tangent);
+        Transform at = inst.to_world;
+        if (!inst.motion.empty()) rtcGetGeometryTransform(inst.geometry, rh.ray.time, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &at.m[0][0]);
+        c.centre = at.point(c.centre);
+        c.tangent = at.vector(c.tangent);
     }
     Vec3 p = ray.o + ray.d * rh.ray.tfar;
     Vec3 n, ng;
