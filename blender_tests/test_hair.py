@@ -192,6 +192,24 @@ scene.render.use_motion_blur = False
     assert err > MOTION_UNSEEN_MIN, "without motion blur: MRE %.3f%%" % (100 * err)
 
 
+def test_curves_material_index_is_ignored_as_in_cycles(tmp_path_factory):
+    """Cycles 3.4 renders a Curves object with its first material slot whatever its curves'
+    material_index (blender/curves.cpp exports every curve with shader 0; measured: Cycles' image of
+    diffuse_curves with every other curve given a red second material is the reference's within its
+    noise). So do we: the same edit leaves our image at the plain reference."""
+    _, _, err = _render_and_reference(tmp_path_factory, "diffuse_curves", setup="""
+import numpy as np
+hair = next(o for o in bpy.data.objects if o.type == 'CURVES')
+red = bpy.data.materials.new("red")
+red.use_nodes = True
+red.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (1.0, 0.0, 0.0, 1.0)
+hair.data.materials.append(red)
+index = hair.data.attributes.new("material_index", 'INT', 'CURVE')
+index.data.foreach_set("value", (np.arange(len(hair.data.curves)) % 2).astype(np.int32))
+""")
+    assert err <= THRESHOLD, "diffuse_curves with material_index: MRE %.3f%%" % (100 * err)
+
+
 def test_principled_hair_random_is_seen(tmp_path_factory):
     """The random scene tells varied strands from the mean strand: with Random Color and Random
     Roughness zeroed the image is far from Cycles' (so the 2% above checks the variation)."""
