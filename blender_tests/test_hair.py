@@ -18,7 +18,8 @@ matches the Cycles 3.4 references in blender_tests/references/hair_*.exr
   * uv_direct, uv_curves_direct: hair UVs, each strand's Texture Coordinate > UV the emitter's UV
     map at its root (particle hair: uv_on_emitter; the Curves object: its surface_uv_coordinate),
     as the strands' diffuse colour (u, v, 0.3), sun-lit without bounces; without the UVs the image
-    is far off Cycles' (test_hair_uv_is_seen);
+    is far off Cycles' (test_hair_uv_is_seen); vcol_direct: the emitter's colour layer at each
+    strand's root read by an Attribute node (particle hair: mcol_on_emitter, sRGB to linear);
   * diffuse_ribbons_close: Cycles' "Rounded Ribbons" curve shape (flat strips facing the ray with
     the round tube's normal faked) in a close view (strands several pixels wide), the diffuse
     strands under sun and world through 8 bounces; rendered as 3D curves instead, the image is
@@ -65,7 +66,7 @@ INFO_SCENES = ["info_intercept_direct", "info_geometry_direct", "info_intercept_
                "info_geometry_curves_direct"]
 INFO_THRESHOLD = 0.01  # measured 0.63-0.74% at 128 spp
 # Hair UVs (the emitter's UV map at each strand's root) as the strands' diffuse colour, sun-lit.
-UV_SCENES = ["uv_direct", "uv_curves_direct"]
+UV_SCENES = ["uv_direct", "uv_curves_direct", "vcol_direct"]
 UV_THRESHOLD = 0.01
 UV_UNSEEN_MIN = 0.20
 # Rounded Ribbons in a close view, 8 bounces under sun and world.

@@ -154,6 +154,16 @@ def _uv_diffuse(nt):
     return diffuse
 
 
+def _vcol_diffuse(nt):
+    """A Diffuse BSDF coloured by the emitter's colour layer "Col" at the strand's root (Attribute
+    node; the plane's corners coloured by position: red across, green along)."""
+    attr = nt.nodes.new("ShaderNodeAttribute")
+    attr.attribute_name = "Col"
+    diffuse = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    nt.links.new(attr.outputs["Color"], diffuse.inputs["Color"])
+    return diffuse
+
+
 MATERIALS = {
     "hair_bsdf": _hair_bsdf,
     "hair_reflection": lambda nt: _hair_bsdf(nt, ("Reflection",)),
@@ -179,6 +189,8 @@ MATERIALS = {
     "emissive": _emissive,
     # the strands' UV (hair UVs), as their diffuse colour
     "uv": _uv_diffuse,
+    # the emitter's colour layer at the strand's root (hair vertex colours), as the diffuse colour
+    "vcol": _vcol_diffuse,
 }
 # The sun's strength (W/m^2) where not 3: bright enough that the direct-light image's 8x8 blocks lie
 # above the error's floor (EPS 0.02 in blender_tests/test_hair.py), so its error is relative.
@@ -207,6 +219,11 @@ def build(out_dir, material, direct=False, curves=False, sun_only=False, ribbons
     ground.node_tree.nodes["Principled BSDF"].inputs["Specular"].default_value = 0.0
     plane.data.materials.append(ground)
     plane.data.materials.append(node_material(material, MATERIALS[material]))
+    if material == "vcol":
+        col = plane.data.vertex_colors.new(name="Col")
+        for loop, c in zip(plane.data.loops, col.data):
+            x, y, _ = plane.data.vertices[loop.vertex_index].co
+            c.color = ((x + 1.0) * 0.5, (y + 1.0) * 0.5, 0.2, 1.0)
     mod = plane.modifiers.new("hair", 'PARTICLE_SYSTEM')
     st = mod.particle_system.settings
     mod.particle_system.seed = 7

@@ -19,7 +19,8 @@
   `ParticleSystem.uv_on_emitter` (the parent particle for parents, the first one for children, as
   Cycles passes them), the render-active map as the default UV and every map by name; a Curves
   object's first float2 attribute on the curve domain (3.4: `surface_uv_coordinate`) as the default
-  UV and its curve-domain float2 attributes by name.
+  UV and its curve-domain float2 attributes by name. Particle hair also carries the emitter's byte
+  colour layers at the roots by name (mcol_on_emitter, sRGB to linear as Cycles).
 
 `co_hair` is one Python call per point (no bulk accessor exists for evaluated children in 3.4):
 about 14 us each, 0.38 s for 3,000 strands of 9 points (measured on this machine).
@@ -146,7 +147,27 @@ def particle_uvs(obj, psys, uv_map):
     if default is None:
         active = next((l for l in layers if l.active_render), layers[0])
         default = per_map[active.name]
+    per_map.update(_particle_colors(obj, psys, mod, first, parents, children))
     return default, per_map
+
+
+def _srgb_to_linear(c):
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def _particle_colors(obj, psys, mod, first, parents, children):
+    """{name: (strands, 4)}: the emitter's byte colour layers (mesh.vertex_colors) at each strand's
+    root, by name, as Cycles' ObtainCacheParticleVcol reads them (mcol_on_emitter, sRGB bytes) and
+    stores them (color_srgb_to_linear, alpha 1)."""
+    out = {}
+    for vcol_no, layer in enumerate(getattr(obj.data, "vertex_colors", ())):
+        col = np.ones((parents + children - first, 4), dtype=np.float32)
+        for k, pa in enumerate(range(first, parents + children)):
+            particle = psys.particles[pa if pa < parents else 0]
+            col[k, :3] = psys.mcol_on_emitter(mod, particle=particle, particle_no=pa, vcol_no=vcol_no)
+        col[:, :3] = _srgb_to_linear(col[:, :3])
+        out[layer.name] = col
+    return out
 
 
 def curves_uvs(curves):
