@@ -24,9 +24,10 @@ matches the Cycles 3.4 references in blender_tests/references/hair_*.exr
     the round tube's normal faked) in a close view (strands several pixels wide), the diffuse
     strands under sun and world through 8 bounces; rendered as 3D curves instead, the image is
     further off (test_hair_ribbons_match_cycles);
-  * diffuse_close_moving, diffuse_curves_close_moving: transform motion blur of a hair object (the emitter with
-    its particle hair, and a Curves object, sliding 5 cm per frame, shutter 0.5, close view), diffuse strands
-    under sun and world; without the blur the image is far off (test_hair_motion_blur_is_seen);
+  * diffuse_close_moving, diffuse_curves_close_moving: transform motion blur of a hair object (the
+    emitter with its particle hair, and a Curves object, sliding 5 cm per frame, shutter 0.5, close
+    view), diffuse strands under sun and world; without the blur the image is far off
+    (test_hair_motion_blur_is_seen);
   * emissive_sun: glowing strands (an Emission on hair) lighting the floor and each other;
   * principled_color_sun, principled_color: the Principled Hair BSDF through 8 bounces, lit by the sun
     alone and by the sun and the world. Cycles draws the longitudinal sample of every bounce from an

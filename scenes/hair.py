@@ -10,8 +10,10 @@ colour parametrisations), `principled_random` (melanin and roughness varied per 
 and Random Roughness), `info_intercept` and `info_geometry` (a Diffuse BSDF coloured by Hair
 Info's Intercept through a colour ramp, and by Length, Thickness and Tangent Normal), `emissive`
 (glowing strands: an Emission coloured along the strand plus a Diffuse BSDF), `uv` (a Diffuse BSDF
-coloured by the strand's UV, the emitter's UV map at its root); with the suffix `_direct`, the same lit by the sun alone (black world, max
-bounces 0: direct light only, where Cycles' Hair BSDF evaluates what it defines, lobes/hair.h); with
+coloured by the strand's UV, the emitter's UV map at its root), `vcol` (one coloured by the emitter's
+colour layer at the root); with the suffix `_direct`, the same
+lit by the sun alone (black world, max bounces 0: direct light only, where Cycles' Hair BSDF
+evaluates what it defines, lobes/hair.h); with
 `_curves` (before `_direct`), the strands converted to a Curves object (hair curves) instead; with
 `_ribbons` (before `_direct`), Cycles' "Rounded Ribbons" curve shape instead of "3D Curves"; with
 `_close` (after `_ribbons`), a 400 mm lens instead of 40 (strands several pixels wide); with
@@ -314,7 +316,9 @@ def main():
     for name in args[1:] or ["hair_bsdf"]:
         direct, curves, sun_only = name.endswith("_direct"), "_curves" in name, name.endswith("_sun")
         ribbons, close, moving = "_ribbons" in name, "_close" in name, "_moving" in name
-        material = name.replace("_direct", "").replace("_sun", "").replace("_curves", "").replace("_ribbons", "").replace("_close", "").replace("_moving", "")
+        material = name
+        for suffix in ("_direct", "_sun", "_curves", "_ribbons", "_close", "_moving"):
+            material = material.replace(suffix, "")
         print("wrote", build(out_dir, material, direct, curves, sun_only, ribbons, close, moving))
 
 
