@@ -9,9 +9,16 @@ Principled Hair BSDF `principled_color`, `principled_melanin`, `principled_absor
 colour parametrisations), `principled_random` (melanin and roughness varied per strand by Random Color
 and Random Roughness), `info_intercept` and `info_geometry` (a Diffuse BSDF coloured by Hair
 Info's Intercept through a colour ramp, and by Length, Thickness and Tangent Normal), `emissive`
-(glowing strands: an Emission coloured along the strand plus a Diffuse BSDF); with the suffix `_direct`, the same lit by the sun alone (black world, max
-bounces 0: direct light only, where Cycles' Hair BSDF evaluates what it defines, lobes/hair.h); with
+(glowing strands: an Emission coloured along the strand plus a Diffuse BSDF), `uv` (a Diffuse BSDF
+coloured by the strand's UV, the emitter's UV map at its root), `vcol` (one coloured by the emitter's
+colour layer at the root); with the suffix `_direct`, the same
+lit by the sun alone (black world, max bounces 0: direct light only, where Cycles' Hair BSDF
+evaluates what it defines, lobes/hair.h); with
 `_curves` (before `_direct`), the strands converted to a Curves object (hair curves) instead; with
+`_ribbons` (before `_direct`), Cycles' "Rounded Ribbons" curve shape instead of "3D Curves"; with
+`_close` (after `_ribbons`), a 400 mm lens instead of 40 (strands several pixels wide); with
+`_moving` (after `_close`), the emitter and its hair sliding MOVE (0.05 m) along x per frame, motion blur on
+(shutter 0.5, frame 1); with
 the suffix `_sun`, lit by the sun alone through max bounces 8 (light bounced between strands).
 Writes OUTDIR/hair_<MATERIAL>.blend for each: a 64 x 48 px view at 45 degrees down onto a 2 x 2 m
 plane (a grey diffuse emitter) growing 400 parent strands with 8 interpolated children each (3,600
@@ -32,6 +39,10 @@ from closures import node_material  # noqa: E402
 from cycles_settings import make_cycles_unbiased  # noqa: E402
 
 MAX_BOUNCES = 8
+# The lens of the `_close` views (40 mm otherwise): a tenth of the field, strands several pixels wide.
+CLOSE_LENS = 400
+# How far the `_moving` hair slides per frame (m): about 16 pixels of the close view per frame.
+MOVE = 0.05
 WIDTH, HEIGHT = 64, 48
 
 
@@ -131,6 +142,30 @@ def _emissive(nt):
     return add
 
 
+def _uv_diffuse(nt):
+    """A Diffuse BSDF coloured by the strand's UV (Texture Coordinate > UV: the emitter's UV map at the
+    strand's root): (u, v, 0.3), so red grows across the plane and green along it."""
+    coord = nt.nodes.new("ShaderNodeTexCoord")
+    mad = nt.nodes.new("ShaderNodeVectorMath")
+    mad.operation = 'MULTIPLY_ADD'
+    mad.inputs[1].default_value = (1.0, 1.0, 0.0)
+    mad.inputs[2].default_value = (0.0, 0.0, 0.3)
+    nt.links.new(coord.outputs["UV"], mad.inputs[0])
+    diffuse = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    nt.links.new(mad.outputs[0], diffuse.inputs["Color"])
+    return diffuse
+
+
+def _vcol_diffuse(nt):
+    """A Diffuse BSDF coloured by the emitter's colour layer "Col" at the strand's root (Attribute
+    node; the plane's corners coloured by position: red across, green along)."""
+    attr = nt.nodes.new("ShaderNodeAttribute")
+    attr.attribute_name = "Col"
+    diffuse = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    nt.links.new(attr.outputs["Color"], diffuse.inputs["Color"])
+    return diffuse
+
+
 MATERIALS = {
     "hair_bsdf": _hair_bsdf,
     "hair_reflection": lambda nt: _hair_bsdf(nt, ("Reflection",)),
@@ -154,13 +189,17 @@ MATERIALS = {
     "info_geometry": _hair_info_diffuse('geometry'),
     # emissive strands (with `_sun`: lit by the sun, the floor lit by them too; no world)
     "emissive": _emissive,
+    # the strands' UV (hair UVs), as their diffuse colour
+    "uv": _uv_diffuse,
+    # the emitter's colour layer at the strand's root (hair vertex colours), as the diffuse colour
+    "vcol": _vcol_diffuse,
 }
 # The sun's strength (W/m^2) where not 3: bright enough that the direct-light image's 8x8 blocks lie
 # above the error's floor (EPS 0.02 in blender_tests/test_hair.py), so its error is relative.
 SUN_STRENGTH = {"principled_random": 20.0}
 
 
-def build(out_dir, material, direct=False, curves=False, sun_only=False):
+def build(out_dir, material, direct=False, curves=False, sun_only=False, ribbons=False, close=False, moving=False):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
     scene.render.engine = 'CYCLES'
@@ -182,6 +221,11 @@ def build(out_dir, material, direct=False, curves=False, sun_only=False):
     ground.node_tree.nodes["Principled BSDF"].inputs["Specular"].default_value = 0.0
     plane.data.materials.append(ground)
     plane.data.materials.append(node_material(material, MATERIALS[material]))
+    if material == "vcol":
+        col = plane.data.vertex_colors.new(name="Col")
+        for loop, c in zip(plane.data.loops, col.data):
+            x, y, _ = plane.data.vertices[loop.vertex_index].co
+            c.color = ((x + 1.0) * 0.5, (y + 1.0) * 0.5, 0.2, 1.0)
     mod = plane.modifiers.new("hair", 'PARTICLE_SYSTEM')
     st = mod.particle_system.settings
     mod.particle_system.seed = 7
@@ -209,8 +253,32 @@ def build(out_dir, material, direct=False, curves=False, sun_only=False):
         bpy.ops.curves.convert_from_particle_system()
         hair = next(o for o in bpy.data.objects if o.type == 'CURVES')
         hair.data.materials.append(plane.data.materials[1])
+        # The conversion leaves the curves without a surface UV: give each the plane's UV at its
+        # root as `surface_uv_coordinate` (what 3.4's hair curves carry when attached to a surface;
+        # the default UV plane maps x, y in -1..1 to 0..1), which Cycles reads as the strands' UV.
+        n = len(hair.data.curves)
+        offsets = [0] * (n + 1)
+        hair.data.curve_offset_data.foreach_get("value", offsets)
+        roots = [hair.data.points[offsets[c]].position for c in range(n)]
+        uv = hair.data.attributes.new("surface_uv_coordinate", 'FLOAT2', 'CURVE')
+        uv.data.foreach_set("vector", [w for p in roots for w in ((p.x + 1.0) * 0.5, (p.y + 1.0) * 0.5)])
         mod.show_render = False
         mod.show_viewport = False
+
+    if moving:
+        # Transform motion blur: the emitter (with its hair; the Curves object too) slides along x,
+        # MOVE m per frame, rendered at frame 1 with Cycles' shutter 0.5 (half of it blurred).
+        scene.render.use_motion_blur = True
+        scene.render.motion_blur_shutter = 0.5
+        scene.frame_set(1)
+        for obj in [o for o in bpy.data.objects if o.type in ('MESH', 'CURVES')]:
+            for frame, x in ((0, -MOVE), (1, 0.0), (2, MOVE)):
+                obj.location.x = x
+                obj.keyframe_insert("location", index=0, frame=frame)
+            for fc in obj.animation_data.action.fcurves:
+                for k in fc.keyframe_points:
+                    k.interpolation = 'LINEAR'
+        scene.frame_set(1)
 
     bpy.ops.object.light_add(type='SUN', rotation=(math.radians(50), math.radians(-20), math.radians(30)))
     sun = bpy.context.object
@@ -219,21 +287,23 @@ def build(out_dir, material, direct=False, curves=False, sun_only=False):
 
     bpy.ops.object.camera_add(location=(0.0, -2.6, 2.2), rotation=(math.radians(52), 0.0, 0.0))
     cam = bpy.context.object
-    cam.data.lens = 40
+    cam.data.lens = CLOSE_LENS if close else 40
     scene.camera = cam
 
     bounces = 0 if direct else MAX_BOUNCES
     scene.cycles.max_bounces = bounces
     make_cycles_unbiased(scene, bounces)
-    scene.cycles_curves.shape = 'THICK'
+    scene.cycles_curves.shape = 'RIBBONS' if ribbons else 'THICK'
     smis = scene.smis if hasattr(scene, "smis") else None
     if smis is not None:
         smis.integrator = 'PATH'
         smis.max_bounces = bounces
         smis.filter_type = 'BOX'
         smis.filter_width = 1.0
-    path = os.path.join(out_dir, "hair_%s%s%s.blend" % (material, "_curves" if curves else "",
-                                                         "_direct" if direct else "_sun" if sun_only else ""))
+    path = os.path.join(out_dir, "hair_%s%s%s%s%s%s.blend" % (material, "_curves" if curves else "",
+                                                           "_ribbons" if ribbons else "",
+                                                           "_close" if close else "", "_moving" if moving else "",
+                                                           "_direct" if direct else "_sun" if sun_only else ""))
     bpy.ops.wm.save_as_mainfile(filepath=path)
     return path
 
@@ -245,8 +315,11 @@ def main():
     os.makedirs(out_dir, exist_ok=True)
     for name in args[1:] or ["hair_bsdf"]:
         direct, curves, sun_only = name.endswith("_direct"), "_curves" in name, name.endswith("_sun")
-        material = name.replace("_direct", "").replace("_sun", "").replace("_curves", "")
-        print("wrote", build(out_dir, material, direct, curves, sun_only))
+        ribbons, close, moving = "_ribbons" in name, "_close" in name, "_moving" in name
+        material = name
+        for suffix in ("_direct", "_sun", "_curves", "_ribbons", "_close", "_moving"):
+            material = material.replace(suffix, "")
+        print("wrote", build(out_dir, material, direct, curves, sun_only, ribbons, close, moving))
 
 
 if __name__ == "__main__":

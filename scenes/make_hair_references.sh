@@ -12,7 +12,7 @@ set -e
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 WORK=${1:-/tmp/smis_hair_reference_work}
 [ $# -gt 0 ] && shift
-SCENES=${*:-"diffuse diffuse_curves hair_bsdf_direct principled_color_direct principled_melanin_direct principled_absorption_direct principled_random_direct principled_random_curves_direct principled_color_sun principled_color info_intercept_direct info_geometry_direct info_intercept_curves_direct info_geometry_curves_direct emissive_sun"}
+SCENES=${*:-"diffuse diffuse_curves hair_bsdf_direct principled_color_direct principled_melanin_direct principled_absorption_direct principled_random_direct principled_random_curves_direct principled_color_sun principled_color info_intercept_direct info_geometry_direct info_intercept_curves_direct info_geometry_curves_direct emissive_sun uv_direct uv_curves_direct diffuse_ribbons_close diffuse_close_moving diffuse_curves_close_moving vcol_direct"}
 SPP=${SPP:-256}
 REFS="$ROOT/blender_tests/references"
 BLENDER=${BLENDER:-blender}

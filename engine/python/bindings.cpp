@@ -529,19 +529,48 @@ PYBIND11_MODULE(_smis, m) {
             "None at evenly spaced times over the shutter; ValueError (the mesh unchanged) when they do not fit")
         .def(
             "add_curves",
-            [](Scene& s, FloatArray points, IntArray curve_offsets, uint32_t material, uint32_t first_curve) {
+            [](Scene& s, FloatArray points, IntArray curve_offsets, uint32_t material, uint32_t first_curve,
+               py::object uvs, py::dict attributes) {
                 if (points.ndim() != 2 || points.shape(1) != 4) throw py::value_error("points must be (N, 4): x, y, z, radius");
                 if (curve_offsets.ndim() != 1 || curve_offsets.shape(0) < 1)
                     throw py::value_error("curve_offsets must be (curves + 1,)");
                 size_t np = points.shape(0), nc = curve_offsets.shape(0) - 1;
+                FloatArray uv_array;
+                if (!uvs.is_none()) {
+                    uv_array = uvs.cast<FloatArray>();
+                    if (uv_array.ndim() != 2 || size_t(uv_array.shape(0)) != nc || uv_array.shape(1) != 2)
+                        throw py::value_error("uvs must be (curves, 2)");
+                }
+                std::vector<FloatArray> arrays;
+                std::vector<AttributeInput> inputs;
+                for (auto item : attributes) {
+                    FloatArray arr = item.second.cast<FloatArray>();
+                    if (arr.ndim() != 2 || size_t(arr.shape(0)) != nc || arr.shape(1) < 1 || arr.shape(1) > 4)
+                        throw py::value_error("curve attribute arrays must be (curves, k) with k in 1..4");
+                    inputs.push_back({item.first.cast<std::string>(), arr.data(), int(arr.shape(1))});
+                    arrays.push_back(std::move(arr));
+                }
+                const float* uv_data = uvs.is_none() ? nullptr : uv_array.data();
                 py::gil_scoped_release release;
-                return value_errors(
-                    [&] { return s.add_curves(points.data(), np, curve_offsets.data(), nc, material, first_curve); });
+                return value_errors([&] {
+                    return s.add_curves(points.data(), np, curve_offsets.data(), nc, material, first_curve, uv_data, inputs);
+                });
             },
             py::arg("points"), py::arg("curve_offsets"), py::arg("material"), py::arg("first_curve") = 0,
+            py::arg("uvs") = py::none(), py::arg("attributes") = py::dict(),
             "Hair: Catmull-Rom curves through (N, 4) points (x, y, z, radius), curve c from curve_offsets[c] to "
             "curve_offsets[c + 1] - 1, all with one material; first_curve: the index of curve 0 among the "
-            "object's hair (Hair Info's Random hashes first_curve + c, as Cycles); returns a mesh id for add_instance")
+            "object's hair (Hair Info's Random hashes first_curve + c, as Cycles); uvs: (curves, 2) each strand's "
+            "UV (the render UV map at its root) or None; attributes: {name: (curves, k)} per-strand values shader "
+            "programs read by name; returns a mesh id for add_instance")
+        .def(
+            "set_curve_ribbons",
+            [](Scene& s, uint32_t mesh, uint32_t subdivisions) {
+                value_errors([&] { s.set_curve_ribbons(mesh, subdivisions); });
+            },
+            py::arg("mesh"), py::arg("subdivisions") = 2,
+            "Cycles' Rounded Ribbons for the hair mesh (add_curves): flat strips facing the ray, subdivisions + 1 "
+            "quads per segment, shaded with the round tube's normal")
         .def("attribute_id", [](Scene& s, const std::string& name) { return s.attribute_id(name); },
              "The id shader programs use for a mesh attribute (UV map or colour attribute) by name")
         .def(

@@ -71,11 +71,23 @@ bool inside_segment_tube(const float* p, const Vec3& o) {
 }  // namespace
 
 uint32_t Scene::add_curves(const float* points, size_t np, const int32_t* curve_offsets, size_t nc, uint32_t material,
-                           uint32_t first_curve) {
+                           uint32_t first_curve, const float* curve_uvs, const std::vector<AttributeInput>& attributes) {
     if (committed_) throw std::logic_error("scene already committed");
     if (material >= materials_.size()) throw std::invalid_argument("curves with an unknown material");
+    for (const AttributeInput& a : attributes)
+        if (!a.corners || a.dims < 1 || a.dims > 4) throw std::invalid_argument("curve attribute '" + a.name + "' is malformed");
     Mesh mesh;
     mesh.curves = true;
+    mesh.first_curve = first_curve;
+    auto finite_or_zero = [](float v) { return std::isfinite(v) ? v : 0.0f; };
+    if (curve_uvs)
+        for (size_t c = 0; c < nc; ++c)
+            mesh.curve_uvs.push_back({finite_or_zero(curve_uvs[2 * c]), finite_or_zero(curve_uvs[2 * c + 1])});
+    for (const AttributeInput& a : attributes) {
+        MeshAttribute attr{attribute_id(a.name), a.dims, {}};
+        for (size_t k = 0; k < nc * size_t(a.dims); ++k) attr.corners.push_back(finite_or_zero(a.corners[k]));
+        mesh.attributes.push_back(std::move(attr));
+    }
     for (size_t c = 0; c < nc; ++c) {
         int32_t first = curve_offsets[c], end = curve_offsets[c + 1];
         bool usable = first >= 0 && end <= int32_t(np) && end - first >= 2;
@@ -114,6 +126,24 @@ uint32_t Scene::add_curves(const float* points, size_t np, const int32_t* curve_
     return uint32_t(meshes_.size() - 1);
 }
 
+void Scene::set_curve_ribbons(uint32_t mesh, uint32_t subdivisions) {
+    if (committed_) throw std::logic_error("scene already committed");
+    if (mesh >= meshes_.size() || !meshes_[mesh].curves) throw std::invalid_argument("ribbons of a mesh that is no hair");
+    meshes_[mesh].ribbon_rate = std::min(subdivisions, 64u) + 1;
+}
+
+// Cycles' ribbon normal (curve_shader_setup, CURVE_RIBBON): across the strip facing the ray, the
+// tube's normal at the same offset v in -1..1 (Embree's flat-curve v), so ribbons shade as round
+// fibres: N = v B - sqrt(1 - v^2) normalize(T x B), B = normalize(T x wo).
+inline Vec3 ribbon_normal(const Vec3& tangent, const Vec3& wo, float v, Vec3* across) {
+    Vec3 b = cross(tangent, wo);
+    if (!(length_sq(b) > 0.0f)) b = Frame(wo).s;
+    b = normalize(b);
+    *across = b;
+    float cosine = std::sqrt(std::max(1.0f - v * v, 0.0f));
+    return normalize(b * v - normalize(cross(tangent, b)) * cosine);
+}
+
 void Scene::flatten_curves(Mesh& mesh, const Transform& to_world) {
     // Radii scale with the transform's mean scale (Cycles' uniform-scale approximation).
     float scale = std::cbrt(std::fabs(to_world.determinant3()));
@@ -125,7 +155,9 @@ void Scene::flatten_curves(Mesh& mesh, const Transform& to_world) {
 }
 
 void Scene::build_curve_geometry(RTCScene target, Mesh& mesh, unsigned id, uint32_t visibility) {
-    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE);
+    RTCGeometry geom = rtcNewGeometry(device_, mesh.ribbon_rate ? RTC_GEOMETRY_TYPE_FLAT_CATMULL_ROM_CURVE
+                                                                : RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE);
+    if (mesh.ribbon_rate) rtcSetGeometryTessellationRate(geom, float(mesh.ribbon_rate));
     rtcSetGeometryMask(geom, visibility);
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, mesh.curve_points.data(), 0,
                                4 * sizeof(float), mesh.curve_points.size() / 4);
@@ -172,37 +204,54 @@ void Scene::curve_self_filter(const RTCFilterFunctionNArguments* args) {
     }
 }
 
-// The hit's centre point and tangent in world space (a moving instance: at the shutter's centre).
+// The hit's centre point and tangent in world space (a moving instance: where Embree placed it at the
+// ray's time, so the normal P - C(u) is the tube's; the shader context rebuilds it at the shutter's
+// centre, whose normal's angle about the tangent it keeps).
 void Scene::fill_curve_hit(const Ray& ray, const RTCRayHit& rh, uint32_t instance, SurfaceHit* hit) const {
     const Instance& inst = instances_[instance];
     const Mesh& mesh = meshes_[inst.mesh];
     uint32_t prim = rh.hit.primID;
     CurvePoint c = catmull_rom(&mesh.curve_points[4 * size_t(mesh.indices[prim])], rh.hit.u);
     if (!inst.identity) {
-        c.centre = inst.to_world.point(c.centre);
-        c.tangent = inst.to_world.vector(c.tangent);
+        Transform at = inst.to_world;
+        if (!inst.motion.empty()) rtcGetGeometryTransform(inst.geometry, rh.ray.time, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &at.m[0][0]);
+        c.centre = at.point(c.centre);
+        c.tangent = at.vector(c.tangent);
     }
     Vec3 p = ray.o + ray.d * rh.ray.tfar;
-    Vec3 n = p - c.centre;
-    n = length_sq(n) > 0.0f ? normalize(n) : -ray.d;
-    if (!is_finite(n)) n = Vec3(0.0f, 0.0f, 1.0f);
+    Vec3 n, ng;
+    if (mesh.ribbon_rate) {
+        // A ribbon faces the ray, shaded with the faked round normal; Cycles' Ng = -D serves no
+        // BSDF on curves (bsdf.h takes the closure's N for Ng on curves, "ribbons darken
+        // otherwise"), so the faked normal stands for both, as the tube's normal does.
+        Vec3 across;
+        n = ribbon_normal(length_sq(c.tangent) > 0.0f ? normalize(c.tangent) : Vec3(0.0f, 0.0f, 1.0f),
+                          normalize(-ray.d), clampf(rh.hit.v, -1.0f, 1.0f), &across);
+        ng = n;
+    } else {
+        n = p - c.centre;
+        n = length_sq(n) > 0.0f ? normalize(n) : -ray.d;
+        ng = n;
+    }
+    if (!is_finite(n) || !is_finite(ng)) n = ng = Vec3(0.0f, 0.0f, 1.0f);
     hit->t = rh.ray.tfar;
     hit->p = p;
-    hit->ng = n;
+    hit->ng = ng;
     hit->ns = n;
     hit->material = mesh.materials[prim];
     hit->holdout = inst.holdout;
     hit->light = materials_[hit->material].emissive() ? kStrandEmission : -1;
     if (kWithTextures) {
         hit->attr.object_color = inst.object_color;
+        if (!mesh.curve_uvs.empty()) hit->attr.uv = mesh.curve_uvs[mesh.segment_curves[prim] - mesh.first_curve];
         if (programs_) {
-            // The normal as an angle about the tangent, in the tangent's own frame: with the
-            // segment and u, all curve_shader_context needs to rebuild the hit.
+            // The normal as an angle about the tangent, in the tangent's own frame (a ribbon: its
+            // v across the strip): with the segment and u, all curve_shader_context needs.
             Frame f(length_sq(c.tangent) > 0.0f ? normalize(c.tangent) : Vec3(0.0f, 0.0f, 1.0f));
             hit->attr.instance = instance;
             hit->attr.prim = prim;
             hit->attr.bu = rh.hit.u;
-            hit->attr.bv = std::atan2(dot(n, f.t), dot(n, f.s));
+            hit->attr.bv = mesh.ribbon_rate ? clampf(rh.hit.v, -1.0f, 1.0f) : std::atan2(dot(n, f.t), dot(n, f.s));
         }
     }
 }
@@ -224,11 +273,21 @@ ShaderContext Scene::curve_shader_context(const SurfaceAttribs& at, const Vec3& 
         c.radius *= std::cbrt(std::fabs(inst.to_world.determinant3()));
     }
     Frame f(length_sq(c.tangent) > 0.0f ? normalize(c.tangent) : Vec3(0.0f, 0.0f, 1.0f));
-    Vec3 n = f.s * std::cos(at.bv) + f.t * std::sin(at.bv);
-    ctx.P = c.centre + n * c.radius;
+    Vec3 n;
     ctx.I = wo;
-    ctx.backfacing = dot(wo, n) < 0.0f;
-    ctx.Ng = ctx.N = ctx.backfacing ? -n : n;
+    if (mesh.ribbon_rate) {
+        // The strip facing the ray at v across it; N (and Ng, as fill_curve_hit) the faked normal.
+        Vec3 across;
+        n = ribbon_normal(f.n, wo, at.bv, &across);
+        ctx.P = c.centre + across * (at.bv * c.radius);
+        ctx.backfacing = false;
+        ctx.Ng = ctx.N = n;
+    } else {
+        n = f.s * std::cos(at.bv) + f.t * std::sin(at.bv);
+        ctx.P = c.centre + n * c.radius;
+        ctx.backfacing = dot(wo, n) < 0.0f;
+        ctx.Ng = ctx.N = ctx.backfacing ? -n : n;
+    }
     // Hair Info's Random: Cycles' ATTR_STD_CURVE_RANDOM, hash_uint2_to_float(curve, 0) of the curve's
     // index in its object's hair (blender/curves.cpp, ExportCurveSegments and export_hair_curves).
     ctx.curve = true;
@@ -245,6 +304,10 @@ ShaderContext Scene::curve_shader_context(const SurfaceAttribs& at, const Vec3& 
     ctx.curve_thickness = 2.0f * radius;
     ctx.N_object = inst.identity ? normalize(inst.to_world.normal_to_object(n)) : normalize(inst.to_object.vector(n));
     ctx.dPdu = c.tangent;
+    if (!mesh.curve_uvs.empty()) {
+        ctx.uv = mesh.curve_uvs[mesh.segment_curves[at.prim] - mesh.first_curve];
+        ctx.has_uv = true;
+    }
     set_object_inputs(inst, &ctx);
     float dist = length(ctx.P - camera_.origin());
     float footprint = camera_.pixel_footprint(std::max(dist, 1e-6f));

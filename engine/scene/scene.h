@@ -107,8 +107,16 @@ public:
     // and non-finite points are dropped (counted in mesh_dropped()). Placed by add_instance as a mesh.
     // `first_curve`: the index of curve 0 among its object's hair (Cycles numbers an object's curves
     // across all its particle systems), from which Hair Info's Random is hashed (curves.cpp).
+    // `curve_uvs` (nc x 2, or null): each curve's UV, the render UV map at its root on the emitter,
+    // constant along the strand (Cycles' ATTR_STD_UV of element CURVE); `attributes`: named values
+    // per curve (`corners` nc x dims: UV maps by name, colours), what shader programs read by name.
     uint32_t add_curves(const float* points, size_t np, const int32_t* curve_offsets, size_t nc, uint32_t material,
-                        uint32_t first_curve = 0);
+                        uint32_t first_curve = 0, const float* curve_uvs = nullptr,
+                        const std::vector<AttributeInput>& attributes = {});
+    // Cycles' "Rounded Ribbons" curve shape for the hair `mesh` (add_curves): Embree flat Catmull-Rom
+    // curves, flat strips facing the ray with `subdivisions` + 1 quads per segment (Cycles'
+    // rtcSetGeometryTessellationRate), shaded with a normal faked as the round tube's (curve.h).
+    void set_curve_ribbons(uint32_t mesh, uint32_t subdivisions);
     // The mesh's texture space (Blender's texspace_location / texspace_size), for Generated coordinates.
     void set_mesh_texspace(uint32_t mesh, const Vec3& location, const Vec3& size);
     // Attribute names are interned: shader programs refer to them by id.
@@ -273,7 +281,7 @@ private:
     struct MeshAttribute {
         int32_t id;
         int dims;
-        std::vector<float> corners;  // 3 x dims per (kept) triangle
+        std::vector<float> corners;  // 3 x dims per (kept) triangle; dims per input curve on hair
     };
     struct Mesh {
         std::vector<float> positions;        // 3 floats per vertex (object space; world when flattened)
@@ -307,6 +315,11 @@ private:
         std::vector<uint32_t> segment_curves;
         std::vector<float> curve_intercepts;
         std::vector<float> segment_lengths;
+        // Per input curve (index segment_curves - first_curve): its UV (empty without), and
+        // `attributes` hold dims values per curve instead of per corner.
+        uint32_t first_curve = 0;
+        std::vector<Point2> curve_uvs;
+        uint32_t ribbon_rate = 0;  // set_curve_ribbons: quads per segment; 0: round curves
     };
     // Hair (curves.cpp): rays leaving a hair ignore the curve they start on (Cycles' self skip);
     // the Embree geometry; a sole user's curves moved into world space; a hit and what its program reads.

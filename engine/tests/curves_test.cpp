@@ -111,3 +111,70 @@ TEST(Curves, EmissiveStrandAddsItsEmissionWithMisWeightOne) {
     }
     EXPECT_TRUE(s.occluded(Vec3(0.0f, -1.0f, 0.5f), Vec3(0.0f, 1.0f, 0.0f), 2.0f));
 }
+
+// Hair UVs (add_curves' uvs and attributes): one value per strand, constant along it (Cycles'
+// ATTR_ELEMENT_CURVE), found by the input curve's index even where an earlier curve was dropped.
+TEST(Curves, StrandUvsAndAttributesArePerCurve) {
+    auto s = std::make_shared<Scene>();
+    ProgramBuilder b;
+    uint16_t col = b.alloc(3);
+    ShaderOp& a = b.op(ShaderOpCode::Attribute);
+    a.i[0] = s->attribute_id("second map");
+    a.out[0] = col;
+    ShaderOp& e = b.op(ShaderOpCode::Emission);
+    e.in[1] = col, e.in[2] = b.constant(1.0f);
+    Material mat;
+    mat.name = "attribute";
+    mat.program = b.build();
+    uint32_t m = s->add_material(mat);
+    const float r = 0.02f;
+    // Curve 0 has one point (dropped), curve 1 stands at x = 0, curve 2 at x = 0.5.
+    const float points[] = {3.0f, 0.0f, 0.0f, r, 0.0f, 0.0f, 0.0f, r, 0.0f, 0.0f, 1.0f, r,
+                            0.5f, 0.0f, 0.0f, r, 0.5f, 0.0f, 1.0f, r};
+    const int32_t offsets[] = {0, 1, 3, 5};
+    const float uvs[] = {9.0f, 9.0f, 0.25f, 0.5f, 0.75f, 0.125f};
+    const float second[] = {1.0f, 1.0f, 1.0f, 0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f};
+    uint32_t id = s->add_curves(points, 5, offsets, 3, m, 0, uvs, {{"second map", second, 3}});
+    EXPECT_EQ(s->mesh_dropped(id), 1u);
+    s->add_instance(id, Transform());
+    s->set_camera(camera_at(Vec3(0.0f, -5.0f, 0.5f), 4, 4));
+    s->commit();
+    auto check = [&](float x, float z, int curve) {
+        SurfaceHit h;
+        ASSERT_TRUE(s->intersect(Ray{Vec3(x, -1.0f, z), Vec3(0.0f, 1.0f, 0.0f)}, &h));
+        EXPECT_FLOAT_EQ(h.attr.uv.x, uvs[2 * curve]);
+        EXPECT_FLOAT_EQ(h.attr.uv.y, uvs[2 * curve + 1]);
+        Color c = s->emission_at(h, Vec3(0.0f, -1.0f, 0.0f));
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(c[k], second[3 * curve + k], 1e-6f);
+    };
+    check(0.0f, 0.2f, 1);
+    check(0.0f, 0.8f, 1);
+    check(0.5f, 0.5f, 2);
+}
+
+// Rounded Ribbons (set_curve_ribbons, Cycles' CURVE_RIBBON): the strand is a flat strip facing the
+// ray, met where the ray crosses the centre line's plane, and shaded with the round tube's normal at
+// the same offset across it (Cycles' curve_shader_setup).
+TEST(Curves, RibbonsFaceTheRayAndFakeTheTubesNormal) {
+    auto hit_at = [](bool ribbons, float x) {
+        Scene s;
+        uint32_t m = s.add_material(diffuse(Color(0.5f)));
+        const float r = 0.1f;
+        const float points[] = {0.0f, 0.0f, 0.0f, r, 0.0f, 0.0f, 1.0f, r, 0.0f, 0.0f, 2.0f, r};
+        const int32_t offsets[] = {0, 3};
+        uint32_t id = s.add_curves(points, 3, offsets, 1, m);
+        if (ribbons) s.set_curve_ribbons(id, 2);
+        s.add_instance(id, Transform());
+        s.set_camera(camera_at(Vec3(0.0f, -5.0f, 1.0f), 4, 4));
+        s.commit();
+        SurfaceHit h;
+        EXPECT_TRUE(s.intersect(Ray{Vec3(x, -1.0f, 1.0f), Vec3(0.0f, 1.0f, 0.0f)}, &h));
+        return h;
+    };
+    for (float x : {-0.05f, 0.05f, 0.08f}) {
+        SurfaceHit tube = hit_at(false, x), ribbon = hit_at(true, x);
+        EXPECT_NEAR(tube.p.y, -std::sqrt(0.01f - x * x), 1e-3f);
+        EXPECT_NEAR(ribbon.p.y, 0.0f, 1e-4f);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(ribbon.ns[k], tube.ns[k], 2e-3f) << x;
+    }
+}

@@ -231,7 +231,9 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
             continue
         if kind in ('HAIR', 'CURVES'):
             try:
-                _export_hair(kind, inst, obj, scene, materials, counts, depsgraph.view_layer)
+                _export_hair(kind, inst, obj, scene, materials, counts, depsgraph.view_layer,
+                             hair.ribbon_subdivisions(depsgraph.scene),
+                             motion.of(inst) if motion is not None else None, unblurred)
             except (RuntimeError, ValueError, TypeError) as exc:
                 broken.append("%s (%s)" % (obj.name, exc))
             continue
@@ -259,13 +261,7 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
             args = (mesh_id, instance_matrix(inst), obj.color[:], (inst.random_id & 0xFFFFFFFF) / 4294967295.0,
                     float(obj.pass_index), is_holdout(inst, depsgraph.view_layer), visibility)
             try:
-                try:
-                    scene.add_instance(*args, motion=steps)
-                except ValueError as exc:
-                    if steps is None:
-                        raise
-                    scene.add_instance(*args)
-                    unblurred.append("'%s' (%s)" % (obj.name, exc))
+                _add_moving_instance(scene, args, steps, obj.name, unblurred)
             except ValueError:
                 # A zero scale (a common way to hide an object in an animation) or a non-finite
                 # transform: Cycles renders nothing of the object either.
@@ -282,23 +278,44 @@ def export_instances(depsgraph, scene, materials, reporter, test_break=None, cac
     return counts
 
 
-def _export_hair(kind, inst, obj, scene, materials, counts, view_layer):
-    """A mesh's particle hair or a Curves object as engine curves, one instance per hair system."""
+def _add_moving_instance(scene, args, steps, name, unblurred):
+    """Scene.add_instance with the motion `steps` (or None); motion the engine refuses (a singular
+    step) is dropped and the object named in `unblurred`. A still instance's ValueError propagates."""
+    try:
+        scene.add_instance(*args, motion=steps)
+    except ValueError as exc:
+        if steps is None:
+            raise
+        scene.add_instance(*args)
+        if unblurred is not None:
+            unblurred.append("'%s' (%s)" % (name, exc))
+
+
+def _export_hair(kind, inst, obj, scene, materials, counts, view_layer, ribbons=None, steps=None, unblurred=None):
+    """A mesh's particle hair or a Curves object as engine curves, one instance per hair system;
+    `steps`: the object's matrices over the shutter (transform motion blur, as Cycles blurs a hair
+    object's transform), or None."""
     if kind == 'HAIR':
-        systems = [(hair.particle_strands(obj, p), hair.particle_material(obj, p))
-                   for p in hair.particle_hair_systems(obj)]
+        systems = [(hair.particle_strands(obj, p), hair.particle_material(obj, p),
+                    lambda uv_map, p=p: hair.particle_uvs(obj, p, uv_map)) for p in hair.particle_hair_systems(obj)]
     else:
-        systems = [(hair.curves_strands(obj.data), hair.curves_material(obj))]
+        systems = [(hair.curves_strands(obj.data), hair.curves_material(obj), lambda uv_map: hair.curves_uvs(obj.data))]
     first_curve = 0  # Cycles numbers an object's strands across its particle systems (Hair Info's Random)
-    for (points, offsets), material in systems:
+    for (points, offsets), material, strand_uvs in systems:
         if len(offsets) < 2:
             continue
-        mesh_id = scene.add_curves(points, offsets, materials.id_for(material), first_curve)
+        mat_id = materials.id_for(material)
+        uv_map = materials.uv_map_for([mat_id])
+        uvs, attributes = strand_uvs(uv_map) if uv_map is not None else (None, {})
+        mesh_id = scene.add_curves(points, offsets, mat_id, first_curve, uvs, attributes)
+        if ribbons is not None:
+            scene.set_curve_ribbons(mesh_id, ribbons)
         first_curve += len(offsets) - 1
         counts.meshes += 1
         counts.dropped_curves += scene.mesh_dropped(mesh_id)
-        scene.add_instance(mesh_id, instance_matrix(inst), obj.color[:], (inst.random_id & 0xFFFFFFFF) / 4294967295.0,
-                           float(obj.pass_index), is_holdout(inst, view_layer), instance_ray_visibility(inst))
+        args = (mesh_id, instance_matrix(inst), obj.color[:], (inst.random_id & 0xFFFFFFFF) / 4294967295.0,
+                float(obj.pass_index), is_holdout(inst, view_layer), instance_ray_visibility(inst))
+        _add_moving_instance(scene, args, steps, obj.name, unblurred)
         counts.instances += 1
 
 

@@ -16,6 +16,10 @@ import numpy as np
 
 from .camera import camera_object
 from .instances import GEOMETRY_TYPES, instance_matrix
+
+# Objects whose transform can blur: meshes (their particle hair with them) and Curves objects (hair
+# curves; only meshes deform here).
+MOVING_TYPES = GEOMETRY_TYPES | {'CURVES'}
 from .mesh import mesh_buffers
 
 RAMP_TABLE_SIZE = 256   # Cycles' resolution of the shutter curve
@@ -162,12 +166,12 @@ def collect(engine, depsgraph, warn):
     cam_obj = camera_object(engine, scene)
     for inst in depsgraph.object_instances:
         obj = inst.object
-        if obj.type not in GEOMETRY_TYPES:
+        if obj.type not in MOVING_TYPES:
             continue
         steps = motion_steps(obj.original, inst.parent.original if inst.is_instance and inst.parent else None)
         if steps:
             wanted[instance_key(inst)] = steps
-            if not inst.is_instance and _may_deform(obj):
+            if not inst.is_instance and obj.type in GEOMETRY_TYPES and _may_deform(obj):
                 deforming[obj.original.name_full] = (obj.original, steps)
     camera_steps = motion_steps(cam_obj) if cam_obj is not None else 0
 
@@ -182,7 +186,7 @@ def collect(engine, depsgraph, warn):
             whole = math.floor(t)
             engine.frame_set(int(whole), t - whole)
             for inst in depsgraph.object_instances:
-                if inst.object.type in GEOMETRY_TYPES:
+                if inst.object.type in MOVING_TYPES:
                     entry = seen.get(instance_key(inst))
                     if entry is not None:
                         entry[rel] = instance_matrix(inst)

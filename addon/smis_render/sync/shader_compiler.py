@@ -391,6 +391,8 @@ def _attribute(c, node, ctx):
     if getattr(node, "attribute_type", "GEOMETRY") != "GEOMETRY":
         c.warn_node(node, "reads an object or instancer attribute, which is not supported (0)")
         name = ""
+    # Named attributes travel with the UVs (mesh corners, hair strands): ask the export for them.
+    c.uses_uv = c.uses_uv or bool(name)
     c.op("attribute", [], regs, [_attribute_id(c, name), 0])
     return res
 
