@@ -96,7 +96,12 @@ def reference(name, force, seconds, half_spp=0):
         with open(stem + ".json") as f:
             rec = json.load(f)
         same = rec.get("settings") == settings and rec.get("engines", ["SMIS", "SMIS"]) == engines
-        same = same and (rec.get("half_spp") == half_spp if half_spp else rec.get("half_seconds") == seconds)
+        # A reference of fixed samples (--ref-spp) serves later runs without --ref-spp as well: it is the
+        # load-independent one, and a time-limited one must not silently replace it.
+        if not half_spp and rec.get("half_spp"):
+            same = rec.get("settings") == settings
+        else:
+            same = same and (rec.get("half_spp") == half_spp if half_spp else rec.get("half_seconds") == seconds)
         if same:
             log("%s: cached reference (%d spp)" % (name, rec["spp"]))
             return M.load_exr(stem + ".exr"), rec
