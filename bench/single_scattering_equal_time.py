@@ -34,6 +34,7 @@ import datetime
 import json
 import os
 import re
+import shutil
 import sys
 import time
 
@@ -275,7 +276,11 @@ def summary(path, rows, refs, args, load_start):
                 holds = all(vals[i + 1]["relmse"] < vals[i]["relmse"] for i in range(len(vals) - 1))
                 lines.append("| %d | %s | %s |" % (seed, " | ".join("%.4g / %.4f" % (v["relmse"], v["smape"])
                                                                    for v in vals), "yes" if holds else "**no**"))
-        lines += ["", "Plot: `bench/results/%s_%s.png`." % (args.stem, name), ""]
+        # the plot beside the summary (bench/results is not tracked)
+        plot_name = "%s_%s.png" % (args.stem, name)
+        if os.path.exists(os.path.join(RESULTS, plot_name)):
+            shutil.copyfile(os.path.join(RESULTS, plot_name), os.path.join(os.path.dirname(path), plot_name))
+        lines += ["", "Plot: [%s](%s)." % (plot_name, plot_name), ""]
     with open(path, "w") as f:
         f.write("\n".join(lines))
 
