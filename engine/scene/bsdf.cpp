@@ -134,7 +134,9 @@ void Bsdf::add(const Lobe& lobe) {
     Lobe l = lobe;
     // Keep the lobe routines' inputs sane (Cycles clamps the IOR the same way).
     l.alpha = std::isfinite(l.alpha) ? std::max(l.alpha, 0.0f) : 0.0f;
-    l.eta = std::isfinite(l.eta) ? std::fmax(l.eta, 1e-5f) : 1.0f;
+    // std::max, not std::fmax: the same for a finite eta, and fmax is a libm call (with the spills
+    // around it, a third of add()'s instructions).
+    l.eta = std::isfinite(l.eta) ? std::max(l.eta, 1e-5f) : 1.0f;
     if (lobe_is_delta(l)) ++delta_count_;
     lobes_[count_++] = l;
 }

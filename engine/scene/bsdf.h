@@ -127,7 +127,7 @@ private:
     [[gnu::always_inline]] inline void selection_probabilities(const Vec3& wo_local, float* probs) const;
     Frame frame_;
     Vec3 ng_{0, 0, 1};
-    Lobe lobes_[kMaxLobes];
+    LobeSlots<kMaxLobes> lobes_;
     int count_ = 0;
     int delta_count_ = 0;
     bool bumped_ = false;

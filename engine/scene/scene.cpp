@@ -144,7 +144,7 @@ void Scene::sanitize(Material& material) {
         // Every closure input folded: the material is its closure list, as before programs existed.
         ShaderResult res = material.program->eval_constant();
         material.program.reset();
-        material.lobes.assign(res.lobes, res.lobes + res.count);
+        material.lobes.assign(res.lobes.slot, res.lobes.slot + res.count);
         float keep = transparency_keep(res);
         if (keep > 1e-6f) {
             for (Lobe& l : material.lobes) l.weight *= 1.0f / keep;

@@ -70,7 +70,7 @@ struct LobeTangent {
 };
 
 struct ShaderResult {
-    Lobe lobes[Bsdf::kMaxLobes];
+    LobeSlots<Bsdf::kMaxLobes> lobes;  // the first `count` are set
     int count = 0;
     Color emission{0.0f};
     Color transparent{0.0f};  // Transparent BSDF weights and (1 - alpha) of Principled, summed
