@@ -131,9 +131,11 @@ MSANISO_WALK_KNOWN = {"principled_multi_aniso_dielectric": 0.0125}
 # samples alone, weight 1) the sun-lit part still differs by -9% to +4% per sphere (0.8: -8.7%, IOR 2:
 # -6.0%), and under the World alone (BSDF samples alone) IOR 2 differs by +5.1% at 8 bounces and -5.6% at
 # 64, although the eval, walk and pdf functions agree with Cycles 3.4's own code in a harness (README, the
-# material table). With the setting, renders at the same seed are not repeatable: three 512-spp runs gave
-# 0.37-0.41 / 1.89-2.01 / 1.46-1.48 / 1.74-2.00 / 3.77-3.89 / 4.47-4.67 / 1.77-1.81% (not found; the default
-# is bit-identical run to run). Bounds: the largest 512-spp errors plus a margin, so that a regression fails.
+# material table). Each test run rebuilds the scene (scenes/closures.py), and two builds differ at the level of
+# float rounding (default images: at most 1.3e-5 apart); the walks hash the directions' bits into their
+# random numbers, so with the setting every build is a new noise realisation: three 512-spp runs gave
+# 0.37-0.41 / 1.89-2.01 / 1.46-1.48 / 1.74-2.00 / 3.77-3.89 / 4.47-4.67 / 1.77-1.81% (one .blend rendered twice
+# is bit-identical). Bounds: the largest 512-spp errors plus a margin, so that a regression fails.
 MULTIGLASS_WALK_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "512"))
 MULTIGLASS_WALK_KNOWN = {"glass_multi_0p8": 0.025, "glass_multi_0p6_tinted": 0.02, "glass_multi_1_ior2": 0.025,
                          "principled_multi_glass_0p5": 0.045, "principled_multi_glass_tinted": 0.055,
