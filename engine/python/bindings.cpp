@@ -678,6 +678,12 @@ PYBIND11_MODULE(_smis, m) {
         .def("has_camera", &Scene::has_camera)
         .def("has_spectral_content", &Scene::has_spectral_content)
         .def("set_fast_build", &Scene::set_fast_build)
+        .def("set_light_selection",
+             [](Scene& s, const std::string& mode) {
+                 if (mode != "DEFENSIVE" && mode != "CYCLES_3_4")
+                     throw py::value_error("light selection must be DEFENSIVE or CYCLES_3_4, not " + mode);
+                 s.set_light_selection(mode == "DEFENSIVE" ? LightSelection::Defensive : LightSelection::Cycles34);
+             })
         .def("commit",
              [](Scene& s) {
                  py::gil_scoped_release release;

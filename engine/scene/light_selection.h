@@ -26,4 +26,26 @@ inline constexpr uint32_t kNoEmitter = 0xffffffffu;
 std::vector<float> defensive_light_weights(const std::vector<float>& power, const std::vector<uint32_t>& emitter,
                                            float uniform_share = kUniformEmitterShare);
 
+// Which distribution NEE chooses lights from (Scene::set_light_selection).
+enum class LightSelection {
+    Defensive,  // defensive_light_weights: the default
+    // Cycles 3.4's own (cycles_light_weights), for the setting multiscatter_cycles_walk: Cycles'
+    // multiscatter estimators are inconsistent (their light-sample eval is not their sampled walk), so
+    // Cycles' converged image depends on its MIS weights, hence on how it chooses lights.
+    Cycles34,
+};
+
+// How Cycles 3.4 takes part in a light's choice (before the light tree of 3.5).
+enum class CyclesLightRole : uint8_t {
+    NotSampled,  // never chosen: a World without spatial variation (Cycles disables its MIS), no power
+    Lamp,        // a lamp, or a World that varies over directions (Cycles' background light)
+    Triangle,    // an emissive triangle, chosen by area
+};
+// Cycles 3.4's light distribution (intern/cycles/scene/light.cpp, device_update_distribution, and
+// kernel/light/light.h's pdf_lights / pdf_triangles): every lamp 1 / L, every emissive triangle its
+// share of the triangles' total (world-space) area, not of their power; with both, each half:
+//   pmf_lamp = (T > 0 ? 1/2 : 1) / L,   pmf_triangle_i = (L > 0 ? 1/2 : 1) area_i / sum_j area_j.
+// `area[i]` is read for triangles only. The weights sum to 1 unless nothing is sampled.
+std::vector<float> cycles_light_weights(const std::vector<CyclesLightRole>& role, const std::vector<float>& area);
+
 }  // namespace smis

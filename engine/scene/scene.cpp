@@ -557,7 +557,9 @@ void Scene::finish_lights() {
         // images under a sun match ours only so (test_ray_visibility.py's clamp cases).
         if (lights_[i]->at_infinity()) emitter[i] = kNoEmitter;
     }
-    light_selection_ = DiscreteDistribution(defensive_light_weights(power, emitter));
+    light_powers_ = power;
+    light_emitters_ = std::move(emitter);
+    build_light_selection();
     light_power_ = DiscreteDistribution(power);
     // Media choose per segment (media_light_choice.h), with their own defensive floor.
     media_lights_ = MediaLightChoice(lights_, light_power_);
@@ -567,6 +569,33 @@ void Scene::finish_lights() {
     stats_.lights = lights_.size();
     // sample_direct() returns at once on an empty light table: no shadow rays at all.
     set_skipped("NEE (no lights)", lights_.empty());
+}
+
+void Scene::set_light_selection(LightSelection selection) {
+    light_selection_mode_ = selection;
+    if (committed_) build_light_selection();
+}
+
+void Scene::build_light_selection() {
+    if (light_selection_mode_ == LightSelection::Defensive) {
+        light_selection_ = DiscreteDistribution(defensive_light_weights(light_powers_, light_emitters_));
+        return;
+    }
+    // Cycles 3.4: a World of one colour is not sampled (LightManager::test_enabled_lights disables
+    // background MIS without spatial variation), a World program is its background light; lamps
+    // without strength are disabled (Light::has_contribution); triangles go by area.
+    std::vector<CyclesLightRole> role(lights_.size(), CyclesLightRole::NotSampled);
+    std::vector<float> area(lights_.size(), 0.0f);
+    for (uint32_t i = 0; i < lights_.size(); ++i) {
+        const Light& l = *lights_[i];
+        if (auto* tri = dynamic_cast<const TriangleLight*>(&l)) {
+            role[i] = CyclesLightRole::Triangle;
+            area[i] = tri->area();
+        } else if (!dynamic_cast<const WorldLight*>(&l) && light_powers_[i] > 0.0f) {
+            role[i] = CyclesLightRole::Lamp;
+        }
+    }
+    light_selection_ = DiscreteDistribution(cycles_light_weights(role, area));
 }
 
 void Scene::set_skipped(const char* what, bool skipped) {

@@ -11,6 +11,7 @@
 #include "core/distribution.h"
 #include "scene/boundary_planes.h"
 #include "scene/camera.h"
+#include "scene/light_selection.h"
 #include "scene/lights.h"
 #include "scene/material.h"
 #include "scene/media_light_choice.h"
@@ -153,6 +154,10 @@ public:
     // The interactive viewport rebuilds the scene after every edit: a faster, lower-quality BVH
     // build pays off there (Embree's LOW quality: no spatial splits; slower rays).
     void set_fast_build(bool fast) { fast_build_ = fast; }
+    // How next-event estimation chooses lights (scene/light_selection.h): the defensive mixture by
+    // default, Cycles 3.4's distribution for the setting multiscatter_cycles_walk (the add-on sets it
+    // before commit; after commit it rebuilds the table, nothing may be rendering).
+    void set_light_selection(LightSelection selection);
 
     // --- interactive updates (fast-build scenes, after commit; nothing may be rendering) -------
     // Fast-build scenes keep every mesh in its own Embree prototype, so the viewport can move
@@ -378,6 +383,8 @@ private:
     static void sanitize(Material& material);
     void rebuild_lights();
     void finish_lights();  // world light, selection table, spectral flag: the end of commit()
+    // light_selection_ for light_selection_mode_ from the lights' powers and emitters (finish_lights).
+    void build_light_selection();
     void update_spectral_content();
     void set_skipped(const char* what, bool skipped);  // adds or removes a skipped() entry
     void update_skipped();
@@ -413,6 +420,9 @@ private:
     bool spectral_content_ = false;
     std::vector<uint32_t> hittable_lights_, infinite_lights_;
     DiscreteDistribution light_selection_, light_power_;
+    LightSelection light_selection_mode_ = LightSelection::Defensive;
+    std::vector<float> light_powers_;      // per light, as finish_lights found them
+    std::vector<uint32_t> light_emitters_;  // per light: its emitter for the defensive mixture
     MediaLightChoice media_lights_;
     Camera camera_;
     bool has_camera_ = false, committed_ = false, fast_build_ = false, varying_materials_ = false, programs_ = false;

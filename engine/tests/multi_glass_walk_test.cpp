@@ -204,9 +204,9 @@ TEST(MultiGlassWalk, PrincipledWalkCarriesBaseAndFresnelColours) {
 TEST(MultiGlassWalk, WhiteFurnaceOfTheSampledWalk) {
     // The walk's throughput stays 1 through refractions (an energy density): a white glass returns all
     // the light but for the walks that die after kMaxBounces (a few tenths of a percent at roughness 1).
-    for (float roughness : {0.5f, 1.0f}) {
-        Lobe lobe = glass_walk_lobe(roughness, 1.45f);
-        for (float cos_o : {0.2f, 0.9f}) {
+    for (float roughness : {0.5f, 1.0f}) for (float eta : {1.45f, 2.0f}) {
+        Lobe lobe = glass_walk_lobe(roughness, eta);
+        for (float cos_o : {0.2f, 0.9f, -0.2f, -0.5f, -0.9f}) {
             Rng rng(23, uint64_t(100 * roughness + 10 * cos_o));
             Vec3 wo = dir_from_cos(cos_o, 1.0f);
             st::MeanEstimator furnace, eval_furnace;
@@ -216,7 +216,7 @@ TEST(MultiGlassWalk, WhiteFurnaceOfTheSampledWalk) {
                 Vec3 wi = sample_uniform_sphere({rng.next_float(), rng.next_float()});
                 eval_furnace.add(4.0 * st::kPiD * lobe_eval(lobe, wo, wi).x);
             }
-            std::printf("roughness %.1f cos_o %.1f: sampled walk %.4f +- %.4f; Cycles' eval %.4f +- %.4f\n", roughness,
+            std::printf("eta %.2f roughness %.1f cos_o %.1f: sampled walk %.4f +- %.4f; Cycles' eval %.4f +- %.4f\n", eta, roughness,
                         cos_o, furnace.mean(), furnace.std_error(), eval_furnace.mean(), eval_furnace.std_error());
             EXPECT_LE(furnace.mean(), 1.0 + 1e-6);
             EXPECT_GT(furnace.mean(), 0.98);

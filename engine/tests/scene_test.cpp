@@ -7,6 +7,7 @@
 #include "core/rng.h"
 #include "scene/light_selection.h"
 #include "scene/scene.h"
+#include "stats.h"
 #include "test_scenes.h"
 
 using namespace smis;
@@ -370,10 +371,8 @@ TEST(Scene, LightSelectionGivesEveryEmitterAShareWhateverItsPower) {
     EXPECT_NEAR(sum, 1.0, 1e-5);
 }
 
-// Lights at infinity (a sun, the world) take only their power share, no uniform one: with an equal
-// share clamped sun and world images moved (scene.cpp, where the emitter ids are set).
-TEST(Scene, LightSelectionGivesSunAndWorldOnlyTheirPowerShare) {
-    Scene s;
+// A 100 W point lamp, a sun of strength 3 and a grey World (0.5), as the light-selection tests use them.
+static void add_lamp_sun_and_world(Scene* s) {
     LightDesc lamp;
     lamp.type = "POINT";
     lamp.power = 100.0f;
@@ -381,9 +380,108 @@ TEST(Scene, LightSelectionGivesSunAndWorldOnlyTheirPowerShare) {
     LightDesc sun;
     sun.type = "SUN";
     sun.strength = 3.0f;
-    s.add_light(lamp);
-    s.add_light(sun);
-    s.set_world(Color(0.5f));
+    s->add_light(lamp);
+    s->add_light(sun);
+    s->set_world(Color(0.5f));
+}
+
+// scene/light_selection.h, cycles_light_weights: Cycles 3.4's distribution (scene/light.cpp,
+// device_update_distribution): every lamp 1 / L, every emissive triangle its share of the triangles'
+// area, half each when the scene has both; a World without variation is not chosen.
+TEST(Scene, CyclesLightWeightsSplitLampsUniformlyAndTrianglesByArea) {
+    using R = CyclesLightRole;
+    const std::vector<R> role = {R::Lamp, R::Triangle, R::NotSampled, R::Triangle, R::Lamp, R::Triangle};
+    const std::vector<float> area = {0.0f, 1.0f, 0.0f, 2.0f, 0.0f, 3.0f};
+    std::vector<float> w = cycles_light_weights(role, area);
+    const double expected[] = {0.25, 0.5 / 6, 0.0, 1.0 / 6, 0.25, 1.5 / 6};
+    double sum = 0.0;
+    for (size_t i = 0; i < w.size(); ++i) {
+        EXPECT_NEAR(w[i], expected[i], 1e-6) << i;
+        sum += w[i];
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-6);
+    // Lamps alone share all of it, triangles alone too; nothing sampled: all zero.
+    EXPECT_EQ(cycles_light_weights({R::Lamp, R::NotSampled, R::Lamp}, {0, 0, 0}),
+              (std::vector<float>{0.5f, 0.0f, 0.5f}));
+    std::vector<float> tri = cycles_light_weights({R::Triangle, R::Triangle}, {1.0f, 3.0f});
+    EXPECT_NEAR(tri[0], 0.25, 1e-6);
+    EXPECT_NEAR(tri[1], 0.75, 1e-6);
+    EXPECT_EQ(cycles_light_weights({R::NotSampled}, {0.0f}), (std::vector<float>{0.0f}));
+}
+
+// The scene's table for LightSelection::Cycles34 (the setting multiscatter_cycles_walk): a point lamp,
+// a sun, two emissive triangles of areas 0.5 and 1.5 and a grey World. Cycles samples the lamps 1/4
+// each, the triangles 1/2 by area, never the World; NEE draws lights with exactly these frequencies
+// (chi-square against the formula, not against the table's own pmf); back to Defensive after commit
+// restores the default table.
+TEST(Scene, CyclesLightSelectionIsCyclesDistributionAndSamplesIt) {
+    auto build = [](LightSelection mode) {
+        auto s = std::make_unique<Scene>();
+        s->set_light_selection(mode);
+        add_lamp_sun_and_world(s.get());
+        // Triangles (0,0)-(1,0)-(1,1) (area 0.5) and (0,0)-(1,1)-(-2,1) (area 1.5).
+        const float v[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, -2, 1, 0};
+        const int32_t t[] = {0, 1, 2, 0, 2, 3};
+        Material glow;
+        glow.emission = Color(4.0f);
+        s->add_instance(s->add_mesh(v, 4, t, 2, nullptr, nullptr, {s->add_material(glow)}), translation(0, 0, -5));
+        s->set_camera(looking_down_minus_z(8, 8));
+        s->commit();
+        return s;
+    };
+    std::unique_ptr<Scene> s = build(LightSelection::Cycles34);
+    ASSERT_EQ(s->lights().size(), 5u);
+    std::vector<double> expected(5);
+    double sum = 0.0;
+    int worlds = 0;
+    for (uint32_t i = 0; i < 5; ++i) {
+        const Light& l = s->light(i);
+        if (auto* tri = dynamic_cast<const TriangleLight*>(&l)) expected[i] = 0.5 * tri->area() / 2.0;
+        else if (l.is_background()) expected[i] = 0.0, ++worlds;
+        else expected[i] = 0.25;
+        EXPECT_NEAR(s->light_pmf(i), expected[i], 1e-6) << i;
+        sum += s->light_pmf(i);
+    }
+    EXPECT_EQ(worlds, 1);
+    EXPECT_NEAR(sum, 1.0, 1e-6);
+    // The triangles' areas as built, so the area split is really tested.
+    std::vector<double> tri_pmfs;
+    for (uint32_t i = 0; i < 5; ++i)
+        if (dynamic_cast<const TriangleLight*>(&s->light(i))) tri_pmfs.push_back(expected[i]);
+    ASSERT_EQ(tri_pmfs.size(), 2u);
+    EXPECT_NEAR(std::min(tri_pmfs[0], tri_pmfs[1]), 0.125, 1e-6);
+    EXPECT_NEAR(std::max(tri_pmfs[0], tri_pmfs[1]), 0.375, 1e-6);
+
+    // NEE's draws (Scene::light_selection, as sample_direct uses it) against the formula.
+    Rng rng(7, 3);
+    const int n = 200000;
+    std::vector<int> counts(5, 0);
+    for (int k = 0; k < n; ++k) ++counts[s->light_selection().sample(rng.next_float())];
+    double chi2 = 0.0;
+    int dof = -1;
+    for (uint32_t i = 0; i < 5; ++i) {
+        if (expected[i] == 0.0) {
+            EXPECT_EQ(counts[i], 0) << i;
+            continue;
+        }
+        const double e = n * expected[i];
+        chi2 += (counts[i] - e) * (counts[i] - e) / e;
+        ++dof;
+    }
+    EXPECT_GT(stats::chi2_survival(chi2, dof), 1e-3) << "chi2 " << chi2;
+
+    // Back to the default after commit: the table a fresh default scene builds.
+    std::unique_ptr<Scene> fresh = build(LightSelection::Defensive);
+    s->set_light_selection(LightSelection::Defensive);
+    for (uint32_t i = 0; i < 5; ++i) EXPECT_EQ(s->light_pmf(i), fresh->light_pmf(i)) << i;
+    EXPECT_GT(fresh->light_pmf(4) + fresh->light_pmf(3) + fresh->light_pmf(2), 0.0f);
+}
+
+// Lights at infinity (a sun, the world) take only their power share, no uniform one: with an equal
+// share clamped sun and world images moved (scene.cpp, where the emitter ids are set).
+TEST(Scene, LightSelectionGivesSunAndWorldOnlyTheirPowerShare) {
+    Scene s;
+    add_lamp_sun_and_world(&s);
     const uint32_t quad = s.add_mesh(kQuad, 4, kQuadTris, 2, nullptr, nullptr, {s.add_material(Material{})});
     s.add_instance(quad, translation(0, 0, -3));
     s.set_camera(looking_down_minus_z(8, 8));
