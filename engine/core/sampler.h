@@ -148,12 +148,17 @@ public:
     LightNumbers first_light() {
         if (stratified()) {
             const auto& seeds = pixel_->first_vertex_seeds();
-            return {group(seeds.choices).x, group(seeds.light_point)};
+            const Point2 choices = group(seeds.choices);
+            lobe_choice_ = choices.y;  // the lobe's half of the group, kept for first_lobe()
+            return {choices.x, group(seeds.light_point)};
         }
         const float choice = rng_.next_float();
         return {choice, next_2d()};
     }
-    float first_lobe() { return stratified() ? group(pixel_->first_vertex_seeds().choices).y : rng_.next_float(); }
+    float first_lobe() {
+        if (!stratified()) return rng_.next_float();
+        return lobe_choice_ >= 0.0f ? lobe_choice_ : group(pixel_->first_vertex_seeds().choices).y;
+    }
     Point2 first_direction() { return stratified() ? group(pixel_->first_vertex_seeds().direction) : next_2d(); }
 
     // Everything without a name: the PCG stream.
@@ -188,6 +193,8 @@ private:
     Rng rng_;
     const PixelSampler* pixel_ = nullptr;
     uint32_t sample_ = 0;
+    // The two choices share one group (light, lobe): first_light() computes both; -1 until then.
+    float lobe_choice_ = -1.0f;
 };
 
 inline Sampler PixelSampler::start(uint32_t s) const { return Sampler(*this, s); }
