@@ -35,8 +35,9 @@ public:
         return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31));
     }
     // Uniform in [0, 1): 24 random mantissa bits, never rounds up to 1. The first values can come
-    // from a prefix (set_prefix) instead of the PCG stream: the Sampler (core/sampler.h) puts the
-    // first vertex's named groups there for the path tracers that do not ask for them by name yet.
+    // from a prefix (set_prefix) instead of the PCG stream: path-space filtering's extra samples at
+    // x1, and the first vertex's named groups for the integrators that do not ask the Sampler
+    // (core/sampler.h) for them by name yet (Sampler::stream_with_first_vertex_prefix).
     float next_float() {
         if (kWithStratified && prefix_left_ != 0) return next_prefix();
         return static_cast<float>(next_u32() >> 8) * 0x1p-24f;
@@ -61,14 +62,16 @@ public:
         for (int i = 0; i < n; ++i) prefix_[n + m - 1 - i] = v[i];
     }
     // A pixel sample's first scattering segment in a medium draws from stratified groups of its own
-    // (volume.h, segment_numbers), not from the prefix, which stays for the first surface vertex:
-    // the camera marks the sample (with the key and index of its deferred prefix), and the first
-    // segment takes the mark, once.
-    void mark_scattering_segment() { scattering_segment_ = deferred_ != nullptr; }
+    // (volume.h, segment_numbers): the Sampler marks its stream with the pixel's key and the
+    // sample's index, and the first segment takes the mark, once.
+    void mark_scattering_segment(uint64_t key, uint32_t sample) {
+        scattering_segment_ = true;
+        segment_key_ = key, segment_sample_ = sample;
+    }
     bool take_scattering_segment(uint64_t* key, uint32_t* sample) {
         if (!scattering_segment_) return false;
         scattering_segment_ = false;
-        *key = key_, *sample = sample_;
+        *key = segment_key_, *sample = segment_sample_;
         return true;
     }
     double next_double() {
@@ -88,8 +91,8 @@ private:
     uint64_t state_ = 0, inc_ = 1;
     uint8_t prefix_left_ = 0, deferred_left_ = 0;
     bool scattering_segment_ = false;
-    uint32_t sample_ = 0;
-    uint64_t key_ = 0;
+    uint32_t sample_ = 0, segment_sample_ = 0;
+    uint64_t key_ = 0, segment_key_ = 0;
     DeferredValues deferred_ = nullptr;
     float prefix_[kMaxPrefix];
 };

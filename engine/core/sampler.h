@@ -10,9 +10,11 @@
 // the order asked: those images stay what they were before the Sampler, and there is nothing to
 // stratify that an order could spoil.
 //
-// The path tracers do not yet ask for the first vertex by name: the Sampler still hands those
-// three groups to the sample's Rng as a deferred prefix (first_vertex_values, Rng::set_prefix), so
-// the first six numbers the path draws after the camera are them, as before.
+// The path tracers' loop (path_loop.h) asks for the first vertex's numbers through a VertexSampler
+// (below). The integrators that do not ask by name yet (path-space filtering, ReSTIR, photon planes,
+// the auxiliary passes) take the sample's stream with the first vertex's groups as its deferred
+// prefix (stream_with_first_vertex_prefix): there the first six numbers drawn after the camera are
+// them, whoever draws them.
 #pragma once
 #include <cstdint>
 
@@ -65,8 +67,8 @@ inline Point2 direction(uint64_t key, uint32_t s) { return group_2d(key, s, samp
 }  // namespace first_vertex
 
 // The first vertex's values as the Rng's deferred prefix (Rng::DeferredValues), last first, in the
-// order the path tracers draw them: light choice, light point (2D), lobe choice, direction (2D).
-// The two choices share one group, computed once.
+// order the path loop asks for them: light choice, light point (2D), lobe choice, direction (2D).
+// The two choices share one group, computed once. Only for stream_with_first_vertex_prefix.
 inline void first_vertex_values(uint64_t key, uint32_t s, float* out) {
     const Point2 choices = first_vertex::group_2d(key, s, sample_groups::kFirstChoices);
     const Point2 point = first_vertex::group_2d(key, s, sample_groups::kFirstLightPoint);
@@ -85,7 +87,9 @@ class Sampler;
 
 // What a pixel's samples share: the stream's key and the scrambles of the camera's groups, hashed
 // once per pixel (where most camera rays leave the scene, these hashes were a tenth of a sample's
-// cost). The Samplers it starts refer to it: it must outlive them.
+// cost), and those of the first vertex's groups, hashed once per pixel too, when a sample first
+// asks for them (a pixel whose rays all leave the scene pays nothing). The Samplers it starts refer
+// to it: it must outlive them, and belong to one thread.
 class PixelSampler {
 public:
     // (fx, fy): the pixel in the full frame. `lens` and `time`: whether the camera draws them.
@@ -97,15 +101,33 @@ public:
         if (lens) lens_ = stratified::GroupSeeds(key_, sample_groups::kLens);
         if (time) time_ = stratified::GroupSeeds(key_, sample_groups::kTime);
     }
+    PixelSampler(const PixelSampler&) = delete;  // Samplers point to it
+    PixelSampler& operator=(const PixelSampler&) = delete;
     inline Sampler start(uint32_t s) const;
     bool stratified() const { return stratified_; }
     uint64_t key() const { return key_; }
 
 private:
     friend class Sampler;
+    // The first vertex's group scrambles (stratified only).
+    struct FirstVertexSeeds {
+        stratified::GroupSeeds choices, light_point, direction;
+    };
+    const FirstVertexSeeds& first_vertex_seeds() const {
+        if (!first_seeded_) seed_first_vertex();
+        return first_;
+    }
+    [[gnu::noinline]] void seed_first_vertex() const {
+        first_ = {stratified::GroupSeeds(key_, sample_groups::kFirstChoices),
+                  stratified::GroupSeeds(key_, sample_groups::kFirstLightPoint),
+                  stratified::GroupSeeds(key_, sample_groups::kFirstDirection)};
+        first_seeded_ = true;
+    }
     uint64_t stream_, key_ = 0;
     bool stratified_;
+    mutable bool first_seeded_ = false;
     stratified::GroupSeeds pixel_, lens_, time_;
+    mutable FirstVertexSeeds first_;
 };
 
 // Sample s of a pixel: its named groups and its own PCG stream (a pure function of the pixel, the
@@ -114,9 +136,7 @@ class Sampler {
 public:
     Sampler() = default;
     Sampler(const PixelSampler& pixel, uint32_t s) : rng_(pixel_sample_rng(pixel.stream_, s)), pixel_(&pixel), sample_(s) {
-        if (!pixel.stratified_) return;
-        rng_.set_prefix(nullptr, 0, first_vertex_values, 6, pixel.key_, s);
-        rng_.mark_scattering_segment();
+        if (pixel.stratified_) rng_.mark_scattering_segment(pixel.key_, s);
     }
 
     Point2 pixel() { return camera_group(pixel_ ? &pixel_->pixel_ : nullptr); }
@@ -126,36 +146,84 @@ public:
         return rng_.next_float();
     }
     LightNumbers first_light() {
-        if (stratified()) return first_vertex::light(pixel_->key_, sample_);
+        if (stratified()) {
+            const auto& seeds = pixel_->first_vertex_seeds();
+            const Point2 choices = group(seeds.choices);
+            lobe_choice_ = choices.y;  // the lobe's half of the group, kept for first_lobe()
+            return {choices.x, group(seeds.light_point)};
+        }
         const float choice = rng_.next_float();
         return {choice, next_2d()};
     }
-    float first_lobe() { return stratified() ? first_vertex::lobe(pixel_->key_, sample_) : rng_.next_float(); }
-    Point2 first_direction() { return stratified() ? first_vertex::direction(pixel_->key_, sample_) : next_2d(); }
+    float first_lobe() {
+        if (!stratified()) return rng_.next_float();
+        return lobe_choice_ >= 0.0f ? lobe_choice_ : group(pixel_->first_vertex_seeds().choices).y;
+    }
+    Point2 first_direction() { return stratified() ? group(pixel_->first_vertex_seeds().direction) : next_2d(); }
 
-    // Everything without a name: the PCG stream (still behind the first vertex's deferred prefix).
+    // Everything without a name: the PCG stream.
     float next_float() { return rng_.next_float(); }
     Point2 next_2d() {
         const float x = rng_.next_float();  // two statements: x is drawn first
         return {x, rng_.next_float()};
     }
-    // For code that takes the stream as an Rng (all of it beyond the camera, for now).
+    // For code that takes the stream as an Rng (all of it beyond the camera and the first vertex).
     Rng& rng() { return rng_; }
+    // The stream with the first vertex's groups as its first six numbers (first_vertex_values), for
+    // the integrators that do not ask for them by name yet: whatever they draw first after the
+    // camera takes them.
+    Rng stream_with_first_vertex_prefix() const {
+        Rng r = rng_;
+        if (stratified()) r.set_prefix(nullptr, 0, first_vertex_values, 6, pixel_->key_, sample_);
+        return r;
+    }
     uint32_t sample_index() const { return sample_; }
 
 private:
     bool stratified() const { return kWithStratified && pixel_ && pixel_->stratified_; }
+    Point2 group(const stratified::GroupSeeds& seeds) const {
+        float v[2];
+        stratified::sample_2d(sample_, seeds, v);
+        return {v[0], v[1]};
+    }
     Point2 camera_group(const stratified::GroupSeeds* seeds) {
         if (!stratified()) return next_2d();
-        float v[2];
-        stratified::sample_2d(sample_, *seeds, v);
-        return {v[0], v[1]};
+        return group(*seeds);
     }
     Rng rng_;
     const PixelSampler* pixel_ = nullptr;
     uint32_t sample_ = 0;
+    // The two choices share one group (light, lobe): first_light() computes both; -1 until then.
+    float lobe_choice_ = -1.0f;
 };
 
 inline Sampler PixelSampler::start(uint32_t s) const { return Sampler(*this, s); }
+
+// One path vertex's light sample and BSDF sample ask for their numbers by name through this view:
+// light() (the light choice and the point on it), lobe() and direction(). A camera path's first
+// vertex asks the pixel sample's Sampler for its named groups (first_light, first_lobe,
+// first_direction), so no draw before it, a scattering segment's or a resampling candidate's,
+// shifts them; every other vertex (first = null) draws them from the path's stream, in the order
+// asked, as it always did. `stream` is the path's stream, the Sampler's own for a camera path.
+class VertexSampler {
+public:
+    explicit VertexSampler(Rng& stream, Sampler* first = nullptr) : stream_(&stream), first_(first) {}
+    LightNumbers light() const {
+        if (first_) return first_->first_light();
+        const float choice = stream_->next_float();
+        return {choice, stream_2d()};
+    }
+    float lobe() const { return first_ ? first_->first_lobe() : stream_->next_float(); }
+    Point2 direction() const { return first_ ? first_->first_direction() : stream_2d(); }
+    Rng& stream() const { return *stream_; }
+
+private:
+    Point2 stream_2d() const {
+        const float x = stream_->next_float();  // x first
+        return {x, stream_->next_float()};
+    }
+    Rng* stream_;
+    Sampler* first_;
+};
 
 }  // namespace smis

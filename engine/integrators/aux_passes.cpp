@@ -77,8 +77,7 @@ void add_aux_sample(RenderContext& ctx, int x, int y, uint32_t s, const FirstHit
     if (!ctx.film.has_aux()) return;
     AuxSample a = recorded.aux;
     if (!recorded.ready) {
-        Rng camera_rng;
-        const Ray ray = camera_ray(ctx, x, y, s, &camera_rng);
+        const Ray ray = camera_ray(ctx, x, y, s);
         if (ctx.settings.aux_shading) {
             Rng rng = aux_rng(ctx, x, y, s);
             a = first_hit_aux(ctx.scene, ray, rng);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "core/sampler.h"
 #include "core/sampling.h"
 #include "film/film.h"
 #include "film/pixel_filter.h"
@@ -96,19 +97,19 @@ public:
     void render_pass(RenderContext& ctx, uint32_t s0, uint32_t s1) override;
 
 protected:
-    // Radiance along a camera ray; `rng` is the sample's own stream.
-    virtual Color Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+    // Radiance along a camera ray; `sampler` holds the sample's named numbers and its own stream.
+    virtual Color Li(const Scene& scene, const RenderSettings& settings, Ray ray, Sampler& sampler,
                      LocalCounters& counters) const = 0;
     // Radiance of sample `s` of film pixel (px, py) along `ray`: Li() unless the integrator
     // stratifies a dimension over the samples of a pixel (core/pixel_sequence.h), which needs them.
     virtual Color pixel_sample(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s, const Ray& ray,
-                               Rng& rng, LocalCounters& counters) const {
-        return Li(ctx.scene, ctx.settings, ray, rng, counters);
+                               Sampler& sampler, LocalCounters& counters) const {
+        return Li(ctx.scene, ctx.settings, ray, sampler, counters);
     }
 
 private:
     // Sample `s` of window pixel (x, y) along `ray`: pixel_sample() or Li().
-    Color sample(const RenderContext& ctx, int x, int y, uint32_t s, const Ray& ray, Rng& rng,
+    Color sample(const RenderContext& ctx, int x, int y, uint32_t s, const Ray& ray, Sampler& sampler,
                  LocalCounters& local) const;
 };
 

@@ -5,8 +5,9 @@
 
 namespace smis {
 
-Color PathIntegrator::Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+Color PathIntegrator::Li(const Scene& scene, const RenderSettings& settings, Ray ray, Sampler& sampler,
                          LocalCounters& counters) const {
+    Rng& rng = sampler.rng();
     PathState camera = camera_path_state(ray.o);
     camera.first_vertex_ahead = true;
     camera.medium = scene.camera_medium();
@@ -17,7 +18,7 @@ Color PathIntegrator::Li(const Scene& scene, const RenderSettings& settings, Ray
         intersect_through(scene, ray, camera.medium, &hit, &media);
         return single_scattering(scene, ray, media, rng, counters);
     }
-    return trace_path(scene, settings, ray, camera, rng, counters);
+    return trace_path(scene, settings, ray, camera, rng, counters, &sampler);
 }
 
 }  // namespace smis

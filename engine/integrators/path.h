@@ -13,7 +13,7 @@ public:
     }
 
 protected:
-    Color Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+    Color Li(const Scene& scene, const RenderSettings& settings, Ray ray, Sampler& sampler,
              LocalCounters& counters) const override;
 };
 

@@ -10,7 +10,7 @@
 //   transparency_beta()             the RGB throughput that Film Transparent and holdouts count
 //   is_black()                      no wavelength / channel carries anything any more
 //   prepare(sp)                     the hit's BSDF as the spectrum samples it (dispersion)
-//   direct(L, clamped, ...)         next-event estimation at the vertex
+//   direct(L, clamped, ..., u, ...) next-event estimation at the vertex, its light numbers u.light()
 //   scatter(sp, bs)                 the throughput after the BSDF sample; false ends the path
 //   after_scatter(state, bs)        after the Light Path state moved on
 //   roulette(depth, eta, rng)       Russian roulette on the throughput; false ends the path
@@ -32,16 +32,17 @@ namespace smis {
 
 // sample_direct (path_tracing.h) with the shadow ray's transmittance in media given by
 // transmittance(shadow ray, medium it starts in) -> Color: the RGB one, or for a spectral path a
-// stand-in (1 or 0) while it keeps its wavelengths' own.
+// stand-in (1 or 0) while it keeps its wavelengths' own. The light choice and point: u.light().
 template <class Transmittance>
-DirectSample sample_direct_through(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
-                                   LocalCounters& counters, int32_t medium, int light_samples, int bsdf_samples,
-                                   Transmittance&& transmittance) {
+DirectSample sample_direct_through(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                                   VertexSampler numbers, LocalCounters& counters, int32_t medium, int light_samples,
+                                   int bsdf_samples, Transmittance&& transmittance) {
     DirectSample ds;
     const DiscreteDistribution& selection = scene.light_selection();
     // Draw the random numbers even when unused, so later decisions of the path keep their streams.
-    float u_select = rng.next_float();
-    Point2 u{rng.next_float(), rng.next_float()};
+    const LightNumbers drawn = numbers.light();
+    const float u_select = drawn.choice;
+    const Point2 u = drawn.point;
     if (sp.bsdf.is_delta() || selection.empty()) return ds;
     uint32_t li = static_cast<uint32_t>(selection.sample(u_select));
     float pmf = selection.pmf(li);
@@ -87,11 +88,14 @@ DirectSample sample_direct_through(const Scene& scene, const RenderSettings& set
 // scattering (walks, the diffuse ancestor), so scenes without pay nothing. The policy is the loop's
 // own (pass a temporary). Always inlined into its caller, so the path tracer's plain loop sits in
 // trace_path as it did before the policy (cornell, 8 spp, callgrind: +0.48% instructions against
-// the loop before the policy when called, +0.24% inlined).
+// the loop before the policy when called, +0.24% inlined). `camera`: the pixel sample's Sampler
+// when the path starts at the camera (rng is then its stream), else null: the path's first vertex
+// asks it for its light, lobe and direction numbers by name (VertexSampler, core/sampler.h), so
+// nothing drawn before that vertex (a scattering segment, resampling candidates) shifts them.
 template <class Spectrum, bool kMedia, bool kRules>
 [[gnu::always_inline]] inline Color trace_path_loop(const Scene& scene, const RenderSettings& settings, Ray ray,
                                                     PathState state, Rng& rng, LocalCounters& counters,
-                                                    Spectrum path) {
+                                                    Spectrum path, Sampler* camera = nullptr) {
     auto clamped = [&](const Color& c, bool direct) {
         return kRules ? clamp_contribution(settings, c, direct, state.clamp_beta) : c;
     };
@@ -145,6 +149,8 @@ template <class Spectrum, bool kMedia, bool kRules>
         }
         if (sp.bsdf.empty()) break;
         path.prepare(sp);
+        const VertexSampler numbers(rng, camera);
+        camera = nullptr;  // the vertices after this one draw from the stream
         if constexpr (Spectrum::kEndsAtFirstVertex) {
             // Path-space filtering's prefix (psf_rgb.cpp, psf_spectral.cpp): the policy records the
             // first non-specular vertex x1 and the path ends there.
@@ -164,13 +170,13 @@ template <class Spectrum, bool kMedia, bool kRules>
             }
             state.light_pdf_scale = resample ? resampled_light_pdf_scale(settings) : 1.0f;
             if (resample) path.resampled_direct(L, clamped, scene, settings, sp, rng, state);
-            else path.direct(L, clamped, scene, settings, sp, rng, counters, state);
+            else path.direct(L, clamped, scene, settings, sp, numbers, counters, state);
         } else {
             state.light_pdf_scale = 1.0f;
-            path.direct(L, clamped, scene, settings, sp, rng, counters, state);
+            path.direct(L, clamped, scene, settings, sp, numbers, counters, state);
         }
 
-        BsdfSample bs = sample_bsdf(sp, rng);
+        BsdfSample bs = sample_bsdf(sp, numbers);
         if constexpr (kRules && Spectrum::kSubsurfaceWalks) {
             if (picks_subsurface(sp, bs)) {
                 if (!path.subsurface(L, clamped, scene, settings, sp, bs, rng, counters, state)) break;

@@ -38,9 +38,9 @@ ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const
                               &sp.holdout);
 }
 
-DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
+DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, VertexSampler u,
                            LocalCounters& counters, int32_t medium, int light_samples, int bsdf_samples) {
-    return sample_direct_through(scene, settings, sp, rng, counters, medium, light_samples, bsdf_samples,
+    return sample_direct_through(scene, settings, sp, u, counters, medium, light_samples, bsdf_samples,
                                  [&](const ShadowRay& shadow, int32_t towards) {
                                      return shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, towards);
                                  });
@@ -133,26 +133,28 @@ namespace {
 
 template <bool kMedia, bool kRules>
 Color trace_path_impl(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,
-                      LocalCounters& counters) {
-    return trace_path_loop<RgbThroughput, kMedia, kRules>(scene, settings, ray, state, rng, counters, RgbThroughput{});
+                      LocalCounters& counters, Sampler* camera) {
+    return trace_path_loop<RgbThroughput, kMedia, kRules>(scene, settings, ray, state, rng, counters, RgbThroughput{},
+                                                          camera);
 }
 
 // The loops with the light path rules, out of line: they leave trace_path's inlining budget to
 // the plain loop, which every path of a scene without them takes (cornell, 8 spp: 1,376.1M
 // instructions in the render loop against 1,377.8M before subsurface scattering).
 [[gnu::noinline]] Color trace_path_with_rules(const Scene& scene, const RenderSettings& settings, Ray ray,
-                                              PathState state, Rng& rng, LocalCounters& counters) {
-    return scene.has_media() ? trace_path_impl<true, true>(scene, settings, ray, state, rng, counters)
-                             : trace_path_impl<false, true>(scene, settings, ray, state, rng, counters);
+                                              PathState state, Rng& rng, LocalCounters& counters, Sampler* camera) {
+    return scene.has_media() ? trace_path_impl<true, true>(scene, settings, ray, state, rng, counters, camera)
+                             : trace_path_impl<false, true>(scene, settings, ray, state, rng, counters, camera);
 }
 
 }  // namespace
 
 Color trace_path(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,
-                 LocalCounters& counters) {
-    if (uses_light_path_rules(scene, settings)) return trace_path_with_rules(scene, settings, ray, state, rng, counters);
-    return scene.has_media() ? trace_path_impl<true, false>(scene, settings, ray, state, rng, counters)
-                             : trace_path_impl<false, false>(scene, settings, ray, state, rng, counters);
+                 LocalCounters& counters, Sampler* camera) {
+    if (uses_light_path_rules(scene, settings))
+        return trace_path_with_rules(scene, settings, ray, state, rng, counters, camera);
+    return scene.has_media() ? trace_path_impl<true, false>(scene, settings, ray, state, rng, counters, camera)
+                             : trace_path_impl<false, false>(scene, settings, ray, state, rng, counters, camera);
 }
 
 }  // namespace smis

@@ -4,6 +4,7 @@
 #pragma once
 #include <type_traits>
 
+#include "core/sampler.h"
 #include "integrators/integrator.h"
 #include "scene/lobe_ray_types.h"
 
@@ -305,10 +306,16 @@ inline void light_path_lobes(const RenderSettings& s, const PathState& st, Shadi
 // carries transmittance; without, it is ignored and the shadow ray is a plain occlusion test.
 // `light_samples` and `bsdf_samples`: how many light and BSDF samples the vertex takes (Veach's
 // multi-sample MIS: each density counted that many times in the weights); `weighted` is then one
-// light sample's share, to be summed over the light samples.
-DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
-                           LocalCounters& counters, int32_t medium = -1, int light_samples = 1,
+// light sample's share, to be summed over the light samples. The light choice and point are u.light()
+// (core/sampler.h); the Rng overload draws them from the stream.
+DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                           VertexSampler u, LocalCounters& counters, int32_t medium = -1, int light_samples = 1,
                            int bsdf_samples = 1);
+inline DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
+                                  LocalCounters& counters, int32_t medium = -1, int light_samples = 1,
+                                  int bsdf_samples = 1) {
+    return sample_direct(scene, settings, sp, VertexSampler(rng), counters, medium, light_samples, bsdf_samples);
+}
 
 // The light index for_each_emission_along passes for emission found on a strand (no light).
 constexpr uint32_t kStrandLight = ~0u;
@@ -393,19 +400,21 @@ Color trace_subsurface(const Scene& scene, const RenderSettings& settings, Shadi
                        PathState state, Color beta, Rng& rng, LocalCounters& counters);
 
 // Radiance arriving at ray.o along -ray.d: the path tracer from `state` on (NEE + BSDF sampling with
-// MIS, Russian roulette, Cycles' bounce limit).
+// MIS, Russian roulette, Cycles' bounce limit). `camera`: the pixel sample's Sampler when the path
+// starts at the camera (rng is then its stream): the first vertex asks it for its numbers by name.
 Color trace_path(const Scene& scene, const RenderSettings& settings, Ray ray, PathState state, Rng& rng,
-                 LocalCounters& counters);
+                 LocalCounters& counters, Sampler* camera = nullptr);
 
 // Russian roulette after a few bounces on the largest throughput component max_beta: returns the
 // probability with which the path survives (divide the throughput by it), or 0 to stop the path.
-// A BSDF sample at sp from the path's own stream: the lobe choice first, then the 2D point (one
-// order everywhere, so every integrator consumes the stream the same way).
-inline BsdfSample sample_bsdf(const ShadingPoint& sp, Rng& rng) {
-    float u_lobe = rng.next_float();
-    Point2 u{rng.next_float(), rng.next_float()};
-    return sp.bsdf.sample(sp.wo, u, u_lobe);
+// A BSDF sample at sp with the vertex's named numbers (core/sampler.h): the lobe choice first, then
+// the 2D point (one order everywhere, so every vertex that draws from the stream consumes it the
+// same way). The Rng overload draws them from the stream.
+inline BsdfSample sample_bsdf(const ShadingPoint& sp, VertexSampler u) {
+    const float u_lobe = u.lobe();
+    return sp.bsdf.sample(sp.wo, u.direction(), u_lobe);
 }
+inline BsdfSample sample_bsdf(const ShadingPoint& sp, Rng& rng) { return sample_bsdf(sp, VertexSampler(rng)); }
 
 float russian_roulette_survival(int depth, float max_beta, float eta_scale, Rng& rng);
 // The same for an RGB throughput: returns false to stop, else rescales beta.

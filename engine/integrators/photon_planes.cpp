@@ -281,8 +281,7 @@ template <class Fn>
 void crossings_per_segment(const RenderContext& ctx, const PhotonPlaneSet& set, int x, int y, Fn&& fn) {
     thread_local std::vector<PlaneHit> hits;
     uint64_t parallel = 0;
-    Rng rng;
-    const Ray ray = camera_ray(ctx, x, y, 0, &rng);
+    const Ray ray = camera_ray(ctx, x, y, 0);
     SurfaceHit first;
     RayMedia media;
     intersect_through(ctx.scene, ray, ctx.scene.camera_medium(), &first, &media);
@@ -453,8 +452,11 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
         RenderContext& pass = m == 0 ? ctx : later;
         for_each_pixel_in_tiles(pass, [&](int x, int y, LocalCounters& local) {
             const size_t i = size_t(y) * w + x;
-            Rng rng;
-            Ray ray = camera_ray(ctx, x, y, s * M + m, &rng);
+            // The camera path's first vertex asks the sample's Sampler for its numbers by name (path_loop.h).
+            const PixelCamera pixel(ctx, x, y);
+            Sampler sampler;
+            Ray ray = pixel.ray(s * M + m, &sampler);
+            Rng& rng = sampler.rng();
             local.sample_transparency = 0.0f;
             PathState camera = camera_path_state(ray.o);
             camera.medium = scene.camera_medium();
@@ -470,7 +472,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             Color surfaces(0.0f);
             if (!settings.camera_volume_only) {
                 RecordPasses recording(local, record_passes ? &pixel_passes : nullptr);
-                surfaces = guard_sample(trace_path(scene, settings, ray, camera, rng, local), local);
+                surfaces = guard_sample(trace_path(scene, settings, ray, camera, rng, local, &sampler), local);
             }
             auto t_gather = Clock::now();
             path_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(t_gather - t_path).count());

@@ -98,9 +98,9 @@ public:
     // z1's light sample, kept as an estimator and clamped as this pixel's path would be (neighbours
     // reuse it under their own throughput); after z1, the path tracer's.
     template <class Clamp>
-    void direct(Color&, Clamp&&, const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
-                LocalCounters& counters, const PathState& state) {
-        const DirectSample ds = sample_direct(scene, settings, sp, rng, counters, state.medium);
+    void direct(Color&, Clamp&&, const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                VertexSampler u, LocalCounters& counters, const PathState& state) {
+        const DirectSample ds = sample_direct(scene, settings, sp, u, counters, state.medium);
         if (!ds.valid) return;
         if (at_z1()) {
             SuffixSample& out = parts_->out;

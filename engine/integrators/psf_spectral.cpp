@@ -213,16 +213,16 @@ public:
     // mixture of the prefix: x1 and z1 are non-Dirac here, r unchanged), kept as an estimator and
     // clamped as this pixel's path would be (neighbours reuse it under their own throughput).
     template <class Clamp>
-    void direct(Color&, Clamp&&, const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
-                LocalCounters& counters, const PathState& state) {
+    void direct(Color&, Clamp&&, const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
+                VertexSampler u, LocalCounters& counters, const PathState& state) {
         if (!at_z1()) {
             return into_tail(settings, state.depth == 0, [&](Color& unused) {
-                tail_.direct(unused, unclamped, scene, settings, sp, rng, counters, state);
+                tail_.direct(unused, unclamped, scene, settings, sp, u, counters, state);
             });
         }
         bool shadowed = false;
         const DirectSample ds = sample_direct_through(
-            scene, settings, sp, rng, counters, state.medium, 1, 1, [&](const ShadowRay& shadow, int32_t medium) {
+            scene, settings, sp, u, counters, state.medium, 1, 1, [&](const ShadowRay& shadow, int32_t medium) {
                 shadowed = true;
                 return tail_.shadow_transmittances(scene, shadow.o, shadow.d, shadow.tmax, medium) ? Color(1.0f)
                                                                                                     : Color(0.0f);
@@ -425,7 +425,7 @@ PathRecord PsfSpectrum::Impl::trace_record(size_t k, const Scene& scene, const R
     auto share = [&](const Color& c, bool) { return clamp_sample_share(settings, c, light_samples, st.depth == 0); };
     auto add_light_sample = [&] {
         at_x1.at_material(sp);
-        at_x1.direct(rec.fixed, share, scene, settings, sp, rng, counters, st, light_samples, own_samples);
+        at_x1.direct(rec.fixed, share, scene, settings, sp, VertexSampler(rng), counters, st, light_samples, own_samples);
     };
     add_light_sample();
     BsdfSample bs = sample_bsdf(sp, rng);

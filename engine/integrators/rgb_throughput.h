@@ -44,8 +44,8 @@ struct RgbThroughput {
     }
     template <class Clamp>
     void direct(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
-                Rng& rng, LocalCounters& counters, const PathState& state) const {
-        DirectSample ds = sample_direct(scene, settings, sp, rng, counters, state.medium);
+                VertexSampler u, LocalCounters& counters, const PathState& state) const {
+        DirectSample ds = sample_direct(scene, settings, sp, u, counters, state.medium);
         if (ds.valid) L += clamped(beta * direct_eval(sp, ds) * ds.weighted, state.depth == 0);
     }
     template <class Clamp>
@@ -75,7 +75,7 @@ public:
     static constexpr bool kResampledLights = false;
     using CameraPrefix::CameraPrefix;
     template <class Clamp>
-    void direct(Color&, Clamp&&, const Scene&, const RenderSettings&, const ShadingPoint&, Rng&, LocalCounters&,
+    void direct(Color&, Clamp&&, const Scene&, const RenderSettings&, const ShadingPoint&, VertexSampler, LocalCounters&,
                 const PathState&) const {}
 };
 

@@ -16,34 +16,35 @@ std::map<std::string, double> SpectralPathIntegrator::stats() const {
     return {{"wavelengths_per_path", double(sampler_.count())}};
 }
 
-Color SpectralPathIntegrator::Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+Color SpectralPathIntegrator::Li(const Scene& scene, const RenderSettings& settings, Ray ray, Sampler& sampler,
                                  LocalCounters& counters) const {
+    Rng& rng = sampler.rng();
     float u = rng.next_float();
     float v = rng.next_float();
-    return trace(scene, settings, ray, u, v, rng, rng, counters);
+    return trace(scene, settings, ray, u, v, rng, rng, counters, nullptr, &sampler);
 }
 
 // The offsets of sample s: wavelength_offsets (spectral_throughput.h).
 Color SpectralPathIntegrator::pixel_sample(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s,
-                                           const Ray& ray, Rng& rng, LocalCounters& counters) const {
-    return sample_path(ctx, px, py, s, ray, rng, counters, nullptr);
+                                           const Ray& ray, Sampler& sampler, LocalCounters& counters) const {
+    return sample_path(ctx, px, py, s, ray, sampler.rng(), counters, nullptr, &sampler);
 }
 
 Color SpectralPathIntegrator::sample_path(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s,
                                           const Ray& ray, Rng& rng, LocalCounters& counters,
-                                          SpectralRestirRecord* restir) const {
+                                          SpectralRestirRecord* restir, Sampler* camera) const {
     // The wavelengths draw from a stream of their own, so that in every mode the path is driven by
     // the pixel sample's stream and its stratified prefix (core/stratified.h) alike: modes differ
     // only in how they choose wavelengths.
     Rng wavelength_rng = pixel_sample_rng(px, py, s, ctx.settings.seed ^ kWavelengthStream);
     float u, v;
     wavelength_offsets(sampler_, ctx.settings, px, py, s, wavelength_rng, &u, &v);
-    return trace(ctx.scene, ctx.settings, ray, u, v, wavelength_rng, rng, counters, restir);
+    return trace(ctx.scene, ctx.settings, ray, u, v, wavelength_rng, rng, counters, restir, camera);
 }
 
 Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& settings, Ray ray, float u, float v,
                                     Rng& wavelength_rng, Rng& rng, LocalCounters& counters,
-                                    SpectralRestirRecord* restir) const {
+                                    SpectralRestirRecord* restir, Sampler* camera) const {
     SpectralPath p;
     if (fixed_wavelength_ > 0.0f) p.start_at(fixed_wavelength_);
     else p.start(sampler_, u, v, wavelength_rng);
@@ -54,9 +55,9 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
     state.medium = scene.camera_medium();
     return scene.has_media()
                ? trace_path_loop<SpectralThroughput, true, true>(scene, settings, ray, state, rng, counters,
-                                                                 SpectralThroughput(spectral_, p, restir))
+                                                                 SpectralThroughput(spectral_, p, restir), camera)
                : trace_path_loop<SpectralThroughput, false, true>(scene, settings, ray, state, rng, counters,
-                                                                  SpectralThroughput(spectral_, p, restir));
+                                                                  SpectralThroughput(spectral_, p, restir), camera);
 }
 
 int SpectralPathIntegrator::wavelength_count() const { return fixed_wavelength_ > 0.0f ? 1 : sampler_.count(); }
@@ -69,7 +70,7 @@ Color SpectralPathIntegrator::trace_restir_pixel(const RenderContext& ctx, uint3
     vertex.r = Reservoir{};
     vertex.eval = CandidateEval{};
     SpectralRestirRecord record{vertex, lambda, weight};
-    return sample_path(ctx, px, py, s, ray, rng, counters, &record);
+    return sample_path(ctx, px, py, s, ray, rng, counters, &record, nullptr);
 }
 
 Color SpectralPathIntegrator::shade_restir_vertex(const Scene& scene, const RestirPixel& vertex, const float* lambda,

@@ -39,20 +39,22 @@ public:
 
 protected:
     // A wavelength offset from rng (a lone camera ray)...
-    Color Li(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+    Color Li(const Scene& scene, const RenderSettings& settings, Ray ray, Sampler& sampler,
              LocalCounters& counters) const override;
     // ... or stratified over the samples of the pixel (settings.spectral_pixel_sequence).
-    Color pixel_sample(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s, const Ray& ray, Rng& rng,
-                       LocalCounters& counters) const override;
+    Color pixel_sample(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s, const Ray& ray,
+                       Sampler& sampler, LocalCounters& counters) const override;
 
 private:
     // The path for the wavelength set of offset `u` and conditioning choice `v` (WavelengthSampler);
     // the modes' other wavelength draws come from `wavelength_rng`, the path's from `rng`.
-    // `restir`: record the first non-specular vertex for ReSTIR instead of lighting it.
+    // `restir`: record the first non-specular vertex for ReSTIR instead of lighting it. `camera`: the
+    // pixel sample's Sampler (rng its stream), whose first-vertex numbers the path asks for by name
+    // (path_loop.h); null for ReSTIR's paths, whose stream carries them as its prefix.
     Color trace(const Scene& scene, const RenderSettings& settings, Ray ray, float u, float v, Rng& wavelength_rng,
-                Rng& rng, LocalCounters& counters, SpectralRestirRecord* restir = nullptr) const;
+                Rng& rng, LocalCounters& counters, SpectralRestirRecord* restir, Sampler* camera) const;
     Color sample_path(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s, const Ray& ray, Rng& rng,
-                      LocalCounters& counters, SpectralRestirRecord* restir) const;
+                      LocalCounters& counters, SpectralRestirRecord* restir, Sampler* camera) const;
 
     spectral::SpectralScene spectral_;
     spectral::WavelengthSampler sampler_;

@@ -310,11 +310,11 @@ public:
     // and each wavelength's own multiplies f.
     template <class Clamp>
     void direct(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
-                Rng& rng, LocalCounters& counters, const PathState& state, int light_samples = 1,
+                VertexSampler u, LocalCounters& counters, const PathState& state, int light_samples = 1,
                 int bsdf_samples = 1) {
         bool shadowed = false;
         DirectSample ds = sample_direct_through(
-            scene, settings, sp, rng, counters, state.medium, light_samples, bsdf_samples, [&](const ShadowRay& shadow, int32_t medium) {
+            scene, settings, sp, u, counters, state.medium, light_samples, bsdf_samples, [&](const ShadowRay& shadow, int32_t medium) {
                 shadowed = true;
                 return shadow_transmittances(scene, shadow.o, shadow.d, shadow.tmax, medium) ? Color(1.0f) : Color(0.0f);
             });
@@ -389,7 +389,7 @@ public:
         if (!exited) return false;
         std::copy(ch.beta, ch.beta + p_.n, p_.beta);
         sm_ = &subsurface_exit_material();
-        direct(L, clamped, scene, settings, sp, rng, counters, state);
+        direct(L, clamped, scene, settings, sp, VertexSampler(rng), counters, state);
         bs = sample_bsdf(sp, rng);
         return true;
     }

@@ -98,13 +98,20 @@ private:
     PixelSampler pixel_;
 };
 
+// Sample s's camera ray alone (the auxiliary passes' own ray, photon planes' crossing estimates).
+inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s) {
+    Sampler sampler;
+    return PixelCamera(ctx, x, y).ray(s, &sampler);
+}
+
 // Sample s's camera ray with its stream as an Rng, for the integrators that do not ask for anything
-// by name yet (path-space filtering, ReSTIR, photon planes, the passes): the Sampler's named groups
-// end with the temporary PixelCamera, its stream (with the first vertex's prefix) is copied out.
+// by name yet (path-space filtering, ReSTIR): the Sampler's named groups
+// end with the temporary PixelCamera, its stream is copied out with the first vertex's groups as
+// its prefix (Sampler::stream_with_first_vertex_prefix).
 inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s, Rng* rng) {
     Sampler sampler;
     const Ray ray = PixelCamera(ctx, x, y).ray(s, &sampler);
-    *rng = sampler.rng();
+    *rng = sampler.stream_with_first_vertex_prefix();
     return ray;
 }
 

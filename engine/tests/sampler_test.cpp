@@ -5,6 +5,8 @@
 #include <vector>
 
 #include "core/sampler.h"
+#include "integrators/path_tracing.h"
+#include "test_scenes.h"
 
 namespace smis {
 namespace {
@@ -72,19 +74,67 @@ TEST(Sampler, NamedGroupsDoNotShiftEachOtherOrTheStream) {
     }
 }
 
-// Until the path tracers ask for the first vertex by name, the sample's Rng hands out the same
-// groups as its first six numbers, in the order the path tracers draw them (light choice, light
-// point, lobe, direction): the images the prefix made are the images the names make.
-TEST(Sampler, TheStreamStartsWithTheFirstVertexGroups) {
-    const PixelSampler pixel(11, 2, 3, true, false, false);
+// The sample's own stream carries nothing of the names: its first numbers are the PCG stream's.
+// The integrators that do not ask by name yet take the stream with the first vertex's groups as its
+// first six numbers, in the order the path loop asks for them (light choice, light point, lobe,
+// direction): their images are the ones the names make in the path tracers.
+TEST(Sampler, TheStreamIsPlainAndTheBridgeStartsWithTheFirstVertexGroups) {
+    const uint32_t fx = 11, fy = 2, seed = 3;
+    const PixelSampler pixel(fx, fy, seed, true, false, false);
     for (uint32_t s = 0; s < 16; ++s) {
         Sampler named = pixel.start(s);
         const LightNumbers light = named.first_light();
         const float lobe = named.first_lobe();
         const Point2 dir = named.first_direction();
         const float expected[6] = {light.choice, light.point.x, light.point.y, lobe, dir.x, dir.y};
-        Sampler stream = pixel.start(s);
-        for (int i = 0; i < 6; ++i) EXPECT_EQ(stream.rng().next_float(), expected[i]) << "sample " << s << " value " << i;
+        Rng bridge = pixel.start(s).stream_with_first_vertex_prefix();
+        for (int i = 0; i < 6; ++i) EXPECT_EQ(bridge.next_float(), expected[i]) << "sample " << s << " value " << i;
+        Sampler plain = pixel.start(s);
+        Rng reference = pixel_sample_rng(fx, fy, s, seed);
+        for (int i = 0; i < 6; ++i) EXPECT_EQ(plain.rng().next_float(), reference.next_float()) << "sample " << s;
+        EXPECT_EQ(bridge.next_float(), pixel_sample_rng(fx, fy, s, seed).next_float()) << "sample " << s;  // then the stream
+    }
+}
+
+// A path vertex's numbers (VertexSampler): the camera path's first vertex gets the Sampler's named
+// groups whatever was drawn from the stream before it, and the stream after it is untouched by
+// them; every other vertex draws light choice, light point, lobe and direction from the stream in
+// that order.
+TEST(Sampler, TheFirstVertexAsksByNameAndOtherVerticesDrawTheStream) {
+    for (bool stratified : {true, false}) {
+        const PixelSampler pixel(4, 9, 1, stratified, false, false);
+        for (uint32_t s = 0; s < 8; ++s) {
+            Sampler named = pixel.start(s);
+            const LightNumbers light = named.first_light();
+            const float lobe = named.first_lobe();
+            const Point2 dir = named.first_direction();
+
+            Sampler sampler = pixel.start(s);
+            Rng& stream = sampler.rng();
+            if (stratified) stream.next_float();  // an integrator's extra draw before the first vertex
+            Rng after = stream;
+            const VertexSampler first(stream, &sampler);
+            const LightNumbers l = first.light();
+            const float lo = first.lobe();
+            const Point2 d = first.direction();
+            EXPECT_EQ(l.choice, light.choice) << "sample " << s;
+            EXPECT_EQ(l.point.x, light.point.x) << "sample " << s;
+            EXPECT_EQ(l.point.y, light.point.y) << "sample " << s;
+            EXPECT_EQ(lo, lobe) << "sample " << s;
+            EXPECT_EQ(d.x, dir.x) << "sample " << s;
+            EXPECT_EQ(d.y, dir.y) << "sample " << s;
+            if (stratified) {
+                EXPECT_EQ(stream.next_float(), after.next_float()) << "sample " << s;
+            }
+
+            const VertexSampler later(stream);
+            Rng reference = stream;
+            const LightNumbers l2 = later.light();
+            const float lo2 = later.lobe();
+            const Point2 d2 = later.direction();
+            const float drawn[6] = {l2.choice, l2.point.x, l2.point.y, lo2, d2.x, d2.y};
+            for (float v : drawn) EXPECT_EQ(v, reference.next_float()) << "sample " << s;
+        }
     }
 }
 
@@ -103,6 +153,46 @@ TEST(Sampler, TheRandomPatternDrawsNamesFromTheStreamInOrder) {
         for (float v : drawn) EXPECT_EQ(v, reference.next_float()) << "sample " << s;
         EXPECT_EQ(sampler.next_float(), reference.next_float());
     }
+}
+
+// The first vertex's deferred prefix is gone from the path tracer: an integrator that draws an
+// extra number from the stream before the first vertex no longer shifts that vertex's light, lobe
+// and direction numbers. At bounce limit 0 a camera path's radiance is its first vertex's alone (its
+// light sample, and the emission its BSDF sample finds), so with the named groups it is the same
+// with or without the extra draw. The same paths drawing from the stream (no Sampler) are shifted.
+TEST(Sampler, AnExtraDrawBeforeTheFirstVertexDoesNotShiftIt) {
+    auto scene = testing::small_room(16, 16);
+    RenderSettings st;
+    st.max_bounces = 0;
+    LocalCounters counters;
+    int samples = 0, shifted_without_names = 0, distinct = 0;
+    for (uint32_t x : {3u, 8u, 12u}) {
+        const PixelSampler pixel(x, 7, st.seed, /*stratified=*/true, false, false);
+        const Ray ray = scene->camera().generate_ray(x + 0.5f, 7.5f);
+        PathState state = camera_path_state(ray.o);
+        state.first_vertex_ahead = true;
+        Color previous(-1.0f);
+        for (uint32_t s = 0; s < 16; ++s, ++samples) {
+            Sampler plain = pixel.start(s), extra = pixel.start(s);
+            const Color a = trace_path(*scene, st, ray, state, plain.rng(), counters, &plain);
+            extra.next_float();
+            const Color b = trace_path(*scene, st, ray, state, extra.rng(), counters, &extra);
+            EXPECT_EQ(a.x, b.x) << "pixel " << x << " sample " << s;
+            EXPECT_EQ(a.y, b.y) << "pixel " << x << " sample " << s;
+            EXPECT_EQ(a.z, b.z) << "pixel " << x << " sample " << s;
+            distinct += !(a == previous);
+            previous = a;
+
+            Sampler stream_plain = pixel.start(s), stream_extra = pixel.start(s);
+            const Color c = trace_path(*scene, st, ray, state, stream_plain.rng(), counters);
+            stream_extra.next_float();
+            const Color d = trace_path(*scene, st, ray, state, stream_extra.rng(), counters);
+            shifted_without_names += !(c == d);
+        }
+    }
+    // Not a vacuous comparison: the radiance depends on the sample's numbers.
+    EXPECT_GT(distinct, samples / 2);
+    EXPECT_GT(shifted_without_names, samples / 2);
 }
 
 }  // namespace

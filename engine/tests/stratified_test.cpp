@@ -78,9 +78,9 @@ TEST(Stratified, OneSampleAcrossPixelsIsUniformAndGroupsIndependent) {
 
 // In a scene seen through a medium, the camera ray's first scattering segment (volume.h,
 // segment_numbers) takes its numbers from stratified groups of its own: over a pixel's first 16
-// samples (light choice, distance), the light point and the focus each form a (0, 4, 2)-net; and the
-// stratified prefix stays whole for the first surface vertex after it (light choice, light point,
-// lobe, direction as first_vertex_values gives them). A second segment draws from the stream.
+// samples (light choice, distance), the light point and the focus each form a (0, 4, 2)-net. A second
+// segment draws from the stream; integrators that take the first vertex's groups as the stream's
+// prefix (Sampler::stream_with_first_vertex_prefix) still find them whole after the first segment.
 TEST(Stratified, TheFirstScatteringSegmentHasGroupsOfItsOwnAndTheFirstVertexKeepsThePrefix) {
     auto scene = testing::small_room(8, 8);
     RenderSettings st;
@@ -98,7 +98,7 @@ TEST(Stratified, TheFirstScatteringSegmentHasGroupsOfItsOwnAndTheFirstVertexKeep
     for (uint32_t s = 0; s < (1u << k); ++s) {
         Sampler sampler;
         pixel.ray(s, &sampler);
-        Rng& rng = sampler.rng();
+        Rng rng = sampler.stream_with_first_vertex_prefix();
         const SegmentNumbers n = segment_numbers(rng);
         choice_dist.insert(choice_dist.end(), {n.select, n.dist});
         light.insert(light.end(), {n.light.x, n.light.y});
