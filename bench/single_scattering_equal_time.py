@@ -180,6 +180,8 @@ def mean_rows(rows):
 
 
 def plot(path, name, rows, ref_rec):
+    if not any(r["scene"] == name and r["kind"] == "time" for r in rows):
+        return  # an --order-only run has no equal-time rows to plot
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -278,9 +280,10 @@ def summary(path, rows, refs, args, load_start):
                                                                    for v in vals), "yes" if holds else "**no**"))
         # the plot beside the summary (bench/results is not tracked)
         plot_name = "%s_%s.png" % (args.stem, name)
-        if os.path.exists(os.path.join(RESULTS, plot_name)):
+        if any(r["scene"] == name and r["kind"] == "time" for r in rows):
             shutil.copyfile(os.path.join(RESULTS, plot_name), os.path.join(os.path.dirname(path), plot_name))
-        lines += ["", "Plot: [%s](%s)." % (plot_name, plot_name), ""]
+            lines += ["", "Plot: [%s](%s)." % (plot_name, plot_name)]
+        lines.append("")
     with open(path, "w") as f:
         f.write("\n".join(lines))
 
