@@ -107,11 +107,7 @@ def _hair_info_diffuse(which):
             nt.links.new(info.outputs["Thickness"], thick.inputs[0])
             nt.links.new(info.outputs["Length"], comb.inputs["X"])
             nt.links.new(thick.outputs[0], comb.inputs["Y"])
-            tn = nt.nodes.new("ShaderNodeVectorMath")
-            tn.operation = 'MULTIPLY_ADD'
-            tn.inputs[1].default_value = (0.25, 0.25, 0.25)
-            tn.inputs[2].default_value = (0.25, 0.25, 0.25)
-            nt.links.new(info.outputs["Tangent Normal"], tn.inputs[0])
+            tn = _multiply_add(nt, info.outputs["Tangent Normal"], (0.25, 0.25, 0.25), (0.25, 0.25, 0.25))
             add = nt.nodes.new("ShaderNodeVectorMath")
             add.operation = 'ADD'
             nt.links.new(comb.outputs[0], add.inputs[0])
@@ -119,6 +115,16 @@ def _hair_info_diffuse(which):
             nt.links.new(add.outputs[0], em.inputs["Color"])
         return em
     return build
+
+
+def _multiply_add(nt, vector, scale, offset):
+    """A Vector Math node: vector x scale + offset."""
+    node = nt.nodes.new("ShaderNodeVectorMath")
+    node.operation = 'MULTIPLY_ADD'
+    node.inputs[1].default_value = scale
+    node.inputs[2].default_value = offset
+    nt.links.new(vector, node.inputs[0])
+    return node
 
 
 def _emissive(nt):
@@ -146,11 +152,7 @@ def _uv_diffuse(nt):
     """A Diffuse BSDF coloured by the strand's UV (Texture Coordinate > UV: the emitter's UV map at the
     strand's root): (u, v, 0.3), so red grows across the plane and green along it."""
     coord = nt.nodes.new("ShaderNodeTexCoord")
-    mad = nt.nodes.new("ShaderNodeVectorMath")
-    mad.operation = 'MULTIPLY_ADD'
-    mad.inputs[1].default_value = (1.0, 1.0, 0.0)
-    mad.inputs[2].default_value = (0.0, 0.0, 0.3)
-    nt.links.new(coord.outputs["UV"], mad.inputs[0])
+    mad = _multiply_add(nt, coord.outputs["UV"], (1.0, 1.0, 0.0), (0.0, 0.0, 0.3))
     diffuse = nt.nodes.new("ShaderNodeBsdfDiffuse")
     nt.links.new(mad.outputs[0], diffuse.inputs["Color"])
     return diffuse

@@ -52,29 +52,22 @@ struct LightNumbers {
     Point2 point;
 };
 
-// The stratified first-vertex groups of sample s of the pixel with key `key`.
-namespace first_vertex {
-inline Point2 group_2d(uint64_t key, uint32_t s, uint32_t group) {
-    float v[2];
-    stratified::sample_2d(s, key, group, v);
-    return {v[0], v[1]};
-}
-inline LightNumbers light(uint64_t key, uint32_t s) {
-    return {group_2d(key, s, sample_groups::kFirstChoices).x, group_2d(key, s, sample_groups::kFirstLightPoint)};
-}
-inline float lobe(uint64_t key, uint32_t s) { return group_2d(key, s, sample_groups::kFirstChoices).y; }
-inline Point2 direction(uint64_t key, uint32_t s) { return group_2d(key, s, sample_groups::kFirstDirection); }
-}  // namespace first_vertex
-
 // The first vertex's values as the Rng's deferred prefix (Rng::DeferredValues), last first, in the
 // order the path loop asks for them: light choice, light point (2D), lobe choice, direction (2D).
 // The two choices share one group, computed once. Only for stream_with_first_vertex_prefix.
 inline void first_vertex_values(uint64_t key, uint32_t s, float* out) {
-    const Point2 choices = first_vertex::group_2d(key, s, sample_groups::kFirstChoices);
-    const Point2 point = first_vertex::group_2d(key, s, sample_groups::kFirstLightPoint);
-    const Point2 direction = first_vertex::direction(key, s);
-    out[5] = choices.x, out[4] = point.x, out[3] = point.y;
-    out[2] = choices.y, out[1] = direction.x, out[0] = direction.y;
+    float choices[2], point[2], direction[2];
+    stratified::sample_2d(s, key, sample_groups::kFirstChoices, choices);
+    stratified::sample_2d(s, key, sample_groups::kFirstLightPoint, point);
+    stratified::sample_2d(s, key, sample_groups::kFirstDirection, direction);
+    out[5] = choices[0], out[4] = point[0], out[3] = point[1];
+    out[2] = choices[1], out[1] = direction[0], out[0] = direction[1];
+}
+
+// Two numbers of a stream, x drawn first (two statements: the order is fixed).
+inline Point2 next_2d(Rng& rng) {
+    const float x = rng.next_float();
+    return {x, rng.next_float()};
 }
 
 // The first scattering segment's six numbers (volume.h, segment_numbers): (select, dist), the light
@@ -163,10 +156,7 @@ public:
 
     // Everything without a name: the PCG stream.
     float next_float() { return rng_.next_float(); }
-    Point2 next_2d() {
-        const float x = rng_.next_float();  // two statements: x is drawn first
-        return {x, rng_.next_float()};
-    }
+    Point2 next_2d() { return smis::next_2d(rng_); }
     // For code that takes the stream as an Rng (all of it beyond the camera and the first vertex).
     Rng& rng() { return rng_; }
     // The stream with the first vertex's groups as its first six numbers (first_vertex_values), for
@@ -211,17 +201,13 @@ public:
     LightNumbers light() const {
         if (first_) return first_->first_light();
         const float choice = stream_->next_float();
-        return {choice, stream_2d()};
+        return {choice, next_2d(*stream_)};
     }
     float lobe() const { return first_ ? first_->first_lobe() : stream_->next_float(); }
-    Point2 direction() const { return first_ ? first_->first_direction() : stream_2d(); }
+    Point2 direction() const { return first_ ? first_->first_direction() : next_2d(*stream_); }
     Rng& stream() const { return *stream_; }
 
 private:
-    Point2 stream_2d() const {
-        const float x = stream_->next_float();  // x first
-        return {x, stream_->next_float()};
-    }
     Rng* stream_;
     Sampler* first_;
 };

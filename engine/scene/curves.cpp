@@ -135,11 +135,12 @@ void Scene::set_curve_ribbons(uint32_t mesh, uint32_t subdivisions) {
 // Cycles' ribbon normal (curve_shader_setup, CURVE_RIBBON): across the strip facing the ray, the
 // tube's normal at the same offset v in -1..1 (Embree's flat-curve v), so ribbons shade as round
 // fibres: N = v B - sqrt(1 - v^2) normalize(T x B), B = normalize(T x wo).
-inline Vec3 ribbon_normal(const Vec3& tangent, const Vec3& wo, float v, Vec3* across) {
+// `across` (if given): the unit direction across the strip, B.
+inline Vec3 ribbon_normal(const Vec3& tangent, const Vec3& wo, float v, Vec3* across = nullptr) {
     Vec3 b = cross(tangent, wo);
     if (!(length_sq(b) > 0.0f)) b = Frame(wo).s;
     b = normalize(b);
-    *across = b;
+    if (across) *across = b;
     float cosine = std::sqrt(std::max(1.0f - v * v, 0.0f));
     return normalize(b * v - normalize(cross(tangent, b)) * cosine);
 }
@@ -219,31 +220,29 @@ void Scene::fill_curve_hit(const Ray& ray, const RTCRayHit& rh, uint32_t instanc
         c.tangent = at.vector(c.tangent);
     }
     Vec3 p = ray.o + ray.d * rh.ray.tfar;
-    Vec3 n, ng;
+    // The normal stands for the geometric one too (Ng = N), on tubes and ribbons alike.
+    Vec3 n;
     if (mesh.ribbon_rate) {
         // A ribbon faces the ray, shaded with the faked round normal; Cycles' Ng = -D serves no
         // BSDF on curves (bsdf.h takes the closure's N for Ng on curves, "ribbons darken
         // otherwise"), so the faked normal stands for both, as the tube's normal does.
-        Vec3 across;
         n = ribbon_normal(length_sq(c.tangent) > 0.0f ? normalize(c.tangent) : Vec3(0.0f, 0.0f, 1.0f),
-                          normalize(-ray.d), clampf(rh.hit.v, -1.0f, 1.0f), &across);
-        ng = n;
+                          normalize(-ray.d), clampf(rh.hit.v, -1.0f, 1.0f));
     } else {
         n = p - c.centre;
         n = length_sq(n) > 0.0f ? normalize(n) : -ray.d;
-        ng = n;
     }
-    if (!is_finite(n) || !is_finite(ng)) n = ng = Vec3(0.0f, 0.0f, 1.0f);
+    if (!is_finite(n)) n = Vec3(0.0f, 0.0f, 1.0f);
     hit->t = rh.ray.tfar;
     hit->p = p;
-    hit->ng = ng;
+    hit->ng = n;
     hit->ns = n;
     hit->material = mesh.materials[prim];
     hit->holdout = inst.holdout;
     hit->light = materials_[hit->material].emissive() ? kStrandEmission : -1;
     if (kWithTextures) {
         hit->attr.object_color = inst.object_color;
-        if (!mesh.curve_uvs.empty()) hit->attr.uv = mesh.curve_uvs[mesh.segment_curves[prim] - mesh.first_curve];
+        if (!mesh.curve_uvs.empty()) hit->attr.uv = mesh.curve_uvs[mesh.input_curve(prim)];
         if (programs_) {
             // The normal as an angle about the tangent, in the tangent's own frame (a ribbon: its
             // v across the strip): with the segment and u, all curve_shader_context needs.
@@ -305,7 +304,7 @@ ShaderContext Scene::curve_shader_context(const SurfaceAttribs& at, const Vec3& 
     ctx.N_object = inst.identity ? normalize(inst.to_world.normal_to_object(n)) : normalize(inst.to_object.vector(n));
     ctx.dPdu = c.tangent;
     if (!mesh.curve_uvs.empty()) {
-        ctx.uv = mesh.curve_uvs[mesh.segment_curves[at.prim] - mesh.first_curve];
+        ctx.uv = mesh.curve_uvs[mesh.input_curve(at.prim)];
         ctx.has_uv = true;
     }
     set_object_inputs(inst, &ctx);

@@ -28,11 +28,15 @@ std::vector<float> defensive_light_weights(const std::vector<float>& power, cons
 }
 
 std::vector<float> cycles_light_weights(const std::vector<CyclesLightRole>& role, const std::vector<float>& area) {
+    // Triangles without a finite positive area are never chosen.
+    auto sampled_triangle = [&](size_t i) {
+        return role[i] == CyclesLightRole::Triangle && area[i] > 0.0f && std::isfinite(area[i]);
+    };
     size_t lamps = 0;
     double triangle_area = 0.0;
     for (size_t i = 0; i < role.size(); ++i) {
         if (role[i] == CyclesLightRole::Lamp) ++lamps;
-        if (role[i] == CyclesLightRole::Triangle && area[i] > 0.0f && std::isfinite(area[i])) triangle_area += area[i];
+        if (sampled_triangle(i)) triangle_area += area[i];
     }
     // Cycles' pdf_lights and pdf_triangles: half each when the scene has both.
     const double lamp_share = lamps == 0 ? 0.0 : (triangle_area > 0.0 ? 0.5 : 1.0) / double(lamps);
@@ -40,8 +44,7 @@ std::vector<float> cycles_light_weights(const std::vector<CyclesLightRole>& role
     std::vector<float> w(role.size(), 0.0f);
     for (size_t i = 0; i < role.size(); ++i) {
         if (role[i] == CyclesLightRole::Lamp) w[i] = float(lamp_share);
-        else if (role[i] == CyclesLightRole::Triangle && area[i] > 0.0f && std::isfinite(area[i]))
-            w[i] = float(triangle_share * area[i]);
+        else if (sampled_triangle(i)) w[i] = float(triangle_share * area[i]);
     }
     return w;
 }

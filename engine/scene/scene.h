@@ -325,6 +325,8 @@ private:
         uint32_t first_curve = 0;
         std::vector<Point2> curve_uvs;
         uint32_t ribbon_rate = 0;  // set_curve_ribbons: quads per segment; 0: round curves
+        // The input curve (add_curves' index) of segment `prim`: where its UV and attributes are.
+        size_t input_curve(uint32_t prim) const { return segment_curves[prim] - first_curve; }
     };
     // Hair (curves.cpp): rays leaving a hair ignore the curve they start on (Cycles' self skip);
     // the Embree geometry; a sole user's curves moved into world space; a hit and what its program reads.

@@ -127,14 +127,13 @@ bool Scene::attribute(const ShaderContext& ctx, int32_t id, float* out) const {
         out[3] = 1.0f;
         if (mesh.curves) {
             // One value per curve, constant along it (Cycles' ATTR_ELEMENT_CURVE).
-            const float* v = &a.corners[size_t(mesh.segment_curves[ctx.prim] - mesh.first_curve) * a.dims];
+            const float* v = &a.corners[mesh.input_curve(ctx.prim) * a.dims];
             for (int k = 0; k < a.dims; ++k) out[k] = v[k];
-            if (a.dims == 1) out[1] = out[2] = out[0];
-            return true;
+        } else {
+            float w = 1.0f - ctx.bu - ctx.bv;
+            const float* c = &a.corners[size_t(ctx.prim) * 3 * a.dims];
+            for (int k = 0; k < a.dims; ++k) out[k] = c[k] * w + c[a.dims + k] * ctx.bu + c[2 * a.dims + k] * ctx.bv;
         }
-        float w = 1.0f - ctx.bu - ctx.bv;
-        const float* c = &a.corners[size_t(ctx.prim) * 3 * a.dims];
-        for (int k = 0; k < a.dims; ++k) out[k] = c[k] * w + c[a.dims + k] * ctx.bu + c[2 * a.dims + k] * ctx.bv;
         if (a.dims == 1) out[1] = out[2] = out[0];
         return true;
     }

@@ -124,6 +124,15 @@ def _particle_modifier(obj, psys):
     return next(m for m in obj.modifiers if m.type == 'PARTICLE_SYSTEM' and m.particle_system == psys)
 
 
+def _strand_roots(psys):
+    """[(particle_no, particle)] per strand in particle_strands' order (the children when there are
+    any, else the parents): what uv_on_emitter / mcol_on_emitter take for the strand's root. Cycles'
+    particle iterator stays on the first particle for children."""
+    parents, children = len(psys.particles), len(psys.child_particles)
+    first = parents if psys.settings.child_type != 'NONE' and children else 0
+    return [(pa, psys.particles[pa if pa < parents else 0]) for pa in range(first, parents + children)]
+
+
 def particle_uvs(obj, psys, uv_map):
     """(uvs (strands, 2) float32 of the map `uv_map` ('' = the render-active one), {name: (strands, 2)}
     of every map) at the strands' roots on the emitter, in particle_strands' order; (None, {}) when
@@ -131,23 +140,19 @@ def particle_uvs(obj, psys, uv_map):
     layers = list(getattr(obj.data, "uv_layers", ()))
     if not layers:
         return None, {}
-    parents, children = len(psys.particles), len(psys.child_particles)
-    st = psys.settings
-    first = parents if st.child_type != 'NONE' and children else 0
+    roots = _strand_roots(psys)
     mod = _particle_modifier(obj, psys)
     per_map = {}
     for uv_no, layer in enumerate(layers):
-        uv = np.empty((parents + children - first, 2), dtype=np.float32)
-        for k, pa in enumerate(range(first, parents + children)):
-            # Cycles' particle iterator stays on the first particle for children.
-            particle = psys.particles[pa if pa < parents else 0]
+        uv = np.empty((len(roots), 2), dtype=np.float32)
+        for k, (pa, particle) in enumerate(roots):
             uv[k] = psys.uv_on_emitter(mod, particle=particle, particle_no=pa, uv_no=uv_no)
         per_map[layer.name] = uv
     default = per_map.get(uv_map) if uv_map else None
     if default is None:
         active = next((l for l in layers if l.active_render), layers[0])
         default = per_map[active.name]
-    per_map.update(_particle_colors(obj, psys, mod, first, parents, children))
+    per_map.update(_particle_colors(obj, psys, mod, roots))
     return default, per_map
 
 
@@ -155,15 +160,14 @@ def _srgb_to_linear(c):
     return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
 
 
-def _particle_colors(obj, psys, mod, first, parents, children):
+def _particle_colors(obj, psys, mod, roots):
     """{name: (strands, 4)}: the emitter's byte colour layers (mesh.vertex_colors) at each strand's
-    root, by name, as Cycles' ObtainCacheParticleVcol reads them (mcol_on_emitter, sRGB bytes) and
-    stores them (color_srgb_to_linear, alpha 1)."""
+    root (`roots`: _strand_roots), by name, as Cycles' ObtainCacheParticleVcol reads them
+    (mcol_on_emitter, sRGB bytes) and stores them (color_srgb_to_linear, alpha 1)."""
     out = {}
     for vcol_no, layer in enumerate(getattr(obj.data, "vertex_colors", ())):
-        col = np.ones((parents + children - first, 4), dtype=np.float32)
-        for k, pa in enumerate(range(first, parents + children)):
-            particle = psys.particles[pa if pa < parents else 0]
+        col = np.ones((len(roots), 4), dtype=np.float32)
+        for k, (pa, particle) in enumerate(roots):
             col[k, :3] = psys.mcol_on_emitter(mod, particle=particle, particle_no=pa, vcol_no=vcol_no)
         col[:, :3] = _srgb_to_linear(col[:, :3])
         out[layer.name] = col
