@@ -50,6 +50,13 @@ inline float pow24_unit(float x) {
     return y * y * y;
 }
 
+// std::lround of x in [0, 2^24) without the library call (texture loads round four values a texel):
+// x - trunc(x) is exact there, so comparing the fraction with 0.5 rounds halves up as lround does.
+inline uint32_t round_half_up(float x) {
+    const auto k = static_cast<uint32_t>(x);
+    return k + (x - static_cast<float>(k) >= 0.5f ? 1u : 0u);
+}
+
 }  // namespace
 
 float srgb_to_linear(float v) {
@@ -89,7 +96,7 @@ Texture::Texture(const float* rgba, int width, int height, const std::string& co
         if (mode == AlphaMode::None) t[3] = 1.0f;
         if (premultiply) {
             // In 8 bits, truncating, as Cycles' loader does; then read back as k / 255.
-            auto byte = [](float v) { return static_cast<uint32_t>(std::lround(clampf(v, 0.0f, 1.0f) * 255.0f)); };
+            auto byte = [](float v) { return round_half_up(clampf(v, 0.0f, 1.0f) * 255.0f); };
             uint32_t a = byte(t[3]);
             for (int c = 0; c < 3; ++c) t[c] = static_cast<float>(byte(t[c]) * a / 255u) * (1.0f / 255.0f);
             t[3] = static_cast<float>(a) * (1.0f / 255.0f);
@@ -99,15 +106,20 @@ Texture::Texture(const float* rgba, int width, int height, const std::string& co
     finished_ = options.interp == Interp::Closest;
     if (finished_)
         for (size_t i = 0; i < rgba_.size(); i += 4) finish(&rgba_[i]);
+}
 
-    double sum[3] = {0.0, 0.0, 0.0};
-    for (size_t i = 0; i < rgba_.size(); i += 4) {
-        float v[4] = {rgba_[i], rgba_[i + 1], rgba_[i + 2], rgba_[i + 3]};
-        if (!finished_) finish(v);
-        for (int c = 0; c < 3; ++c) sum[c] += std::max(v[c], 0.0f);
-    }
-    double n = double(width) * height;
-    mean_ = vmax(Color(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)), Color(1e-6f));
+Color Texture::mean() const {
+    std::call_once(mean_once_, [this] {
+        double sum[3] = {0.0, 0.0, 0.0};
+        for (size_t i = 0; i < rgba_.size(); i += 4) {
+            float v[4] = {rgba_[i], rgba_[i + 1], rgba_[i + 2], rgba_[i + 3]};
+            if (!finished_) finish(v);
+            for (int c = 0; c < 3; ++c) sum[c] += std::max(v[c], 0.0f);
+        }
+        double n = double(width_) * height_;
+        mean_ = vmax(Color(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)), Color(1e-6f));
+    });
+    return mean_;
 }
 
 std::shared_ptr<Texture> Texture::missing() {

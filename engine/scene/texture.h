@@ -28,6 +28,7 @@
 // byte images in colour spaces other than sRGB / linear / data (Cycles converts those at load).
 #pragma once
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -76,8 +77,9 @@ public:
     // stand-in for a missing image, a 1 x 1 colour image.
     bool constant() const { return width_ == 1 && height_ == 1 && options_.wrap != Wrap::Clip; }
     // Mean RGB over the texels (for light selection by power); at least a tiny positive value so
-    // that a dark texture's emitters can still be chosen.
-    Color mean() const { return mean_; }
+    // that a dark texture's emitters can still be chosen. Computed on the first call: only emission
+    // textures need it, and decoding every texel at load costs more than the rest of loading.
+    Color mean() const;
 
 private:
     int wrap_index(int i, int n) const;  // -1: outside (Clip)
@@ -89,7 +91,8 @@ private:
     bool unpremultiply_; // lookups divide RGB by alpha
     bool finished_;      // texels already hold node outputs (Closest: no interpolation in between)
     std::vector<float> rgba_;
-    Color mean_{0.0f};
+    mutable std::once_flag mean_once_;
+    mutable Color mean_{0.0f};
 };
 
 // The sRGB transfer function's inverse (IEC 61966-2-1), as Cycles decodes sRGB (0 for negatives).

@@ -103,6 +103,48 @@ TEST(Texture, FastSrgbDecodeMatchesPow) {
     EXPECT_TRUE(std::isnan(srgb_to_linear(std::nanf(""))));
 }
 
+// Byte images with straight alpha are premultiplied in 8 bits at load, each channel rounded as
+// std::lround rounds (halves up): checked on every value whose 255 multiple is a half, its float
+// neighbours and a dense sweep, through Closest lookups of a linear image (texels returned as stored).
+TEST(Texture, BytePremultiplyRoundsAsLround) {
+    std::vector<float> values;
+    for (int k = 0; k < 255; ++k) {
+        const float half = (float(k) + 0.5f) / 255.0f;
+        values.insert(values.end(), {half, std::nextafter(half, 0.0f), std::nextafter(half, 1.0f)});
+    }
+    for (int i = 0; i <= 4000; ++i) values.push_back(float(i) / 4000.0f);
+    const float alphas[] = {1.0f, 0.5f, 101.5f / 255.0f, 0.2f};
+    auto byte = [](float v) { return static_cast<uint32_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+    for (float alpha : alphas) {
+        std::vector<float> rgba;
+        for (float v : values) rgba.insert(rgba.end(), {v, v, v, alpha});
+        Texture::Options o{Texture::Interp::Closest, Texture::Wrap::Repeat, Texture::AlphaMode::Straight, true, false};
+        const int n = static_cast<int>(values.size());
+        Texture t(rgba.data(), n, 1, "linear", o);
+        const uint32_t a = byte(alpha);
+        for (int i = 0; i < n; ++i) {
+            const float expected = static_cast<float>(byte(values[i]) * a / 255u) * (1.0f / 255.0f);
+            ASSERT_EQ(t.lookup({(float(i) + 0.5f) / float(n), 0.5f}).rgb.x, expected) << values[i] << " alpha " << alpha;
+        }
+        ASSERT_EQ(t.lookup({0.5f / float(n), 0.5f}).alpha, static_cast<float>(a) * (1.0f / 255.0f));
+    }
+}
+
+// The mean light selection weighs textured emitters by is the average of the decoded texels (node
+// outputs, negatives counted as 0), computed on first use and the same on every call.
+TEST(Texture, MeanIsTheAverageOfDecodedTexels) {
+    const float texels[] = {0.5f, 0.0f, 1.0f, 1.0f, 0.25f, 0.75f, 0.02f, 1.0f, -0.5f, 0.9f, 0.1f, 1.0f};
+    Texture t(texels, 3, 1, "sRGB", false, Texture::Wrap::Repeat);
+    for (int c = 0; c < 3; ++c) {
+        double sum = 0.0;
+        for (int i = 0; i < 3; ++i) sum += std::max(srgb_to_linear(texels[4 * i + c]), 0.0f);
+        EXPECT_FLOAT_EQ(t.mean()[c], float(sum / 3.0)) << c;
+    }
+    EXPECT_EQ(t.mean().x, t.mean().x);
+    const float dark[] = {0.0f, 0.0f, 0.0f, 1.0f};
+    EXPECT_GT(Texture(dark, 1, 1, "linear", false, Texture::Wrap::Repeat).mean().x, 0.0f);
+}
+
 TEST(Texture, MaterialLobeTakesTheTextureAndObjectColour) {
     Material m;
     Lobe diffuse;
