@@ -41,30 +41,37 @@ ShaderContext Scene::triangle_shader_context(const SurfaceAttribs& at, const Vec
     Vec3 a = load3(&mesh.positions[3 * idx[0]]), b = load3(&mesh.positions[3 * idx[1]]),
          cc = load3(&mesh.positions[3 * idx[2]]);
     float w = 1.0f - at.bu - at.bv;
-    float mirror = inst.to_world.determinant3() < 0.0f ? -1.0f : 1.0f;
+    // Flat meshes (no corner normals, the common case) shade with the geometric normal: ns is ng
+    // throughout, so its transform, normalisation and repairs below are skipped, not redone.
+    const bool smooth = !mesh.corner_normals.empty();
     Vec3 ng = cross(b - a, cc - a);
     Vec3 ns = ng;
-    if (!mesh.corner_normals.empty()) {
+    if (smooth) {
         const Vec3* cn = &mesh.corner_normals[3 * at.prim];
         ns = cn[0] * w + cn[1] * at.bu + cn[2] * at.bv;
     }
     // Flattened meshes (identity instances) hold world-space normals, |det| M^-T times the object's.
     if (full) {
-        if (!mesh.corner_normals.empty())
+        if (smooth)
             c.N_object = inst.identity ? inst.to_world.normal_to_object(ns) / std::fabs(inst.to_world.determinant3()) : ns;
         else
             c.N_object = normalize(inst.identity ? inst.to_world.normal_to_object(ng) : ng);
     }
     Vec3 p = a * w + b * at.bu + cc * at.bv;
     if (!inst.identity) {
+        const float mirror = inst.to_world.determinant3() < 0.0f ? -1.0f : 1.0f;
         p = inst.to_world.point(p);
         ng = inst.to_world.normal(ng) * mirror;
-        ns = inst.to_world.normal(ns) * mirror;
+        if (smooth) ns = inst.to_world.normal(ns) * mirror;
     }
     ng = normalize(ng);
-    ns = normalize(ns);
-    if (!is_finite(ns) || dot(ns, ng) == 0.0f) ns = ng;
-    if (dot(ns, ng) < 0.0f) ns = -ns;
+    if (smooth) {
+        ns = normalize(ns);
+        if (!is_finite(ns) || dot(ns, ng) == 0.0f) ns = ng;
+        if (dot(ns, ng) < 0.0f) ns = -ns;
+    } else {
+        ns = ng;
+    }
     c.P = p;
     c.I = wo;
     c.backfacing = dot(wo, ng) < 0.0f;
@@ -93,7 +100,8 @@ ShaderContext Scene::triangle_shader_context(const SurfaceAttribs& at, const Vec
             dpdv = (e2 * du1 - e1 * du2) / det;
             // The UV winding of the object's own mesh (Normal Map works in object space): a flattened
             // mirrored mesh had two corners swapped at commit, which flipped its winding.
-            c.tangent_sign = (det < 0.0f ? -1.0f : 1.0f) * (inst.identity ? mirror : 1.0f);
+            const float mirror = inst.identity && inst.to_world.determinant3() < 0.0f ? -1.0f : 1.0f;
+            c.tangent_sign = (det < 0.0f ? -1.0f : 1.0f) * mirror;
         }
     }
     c.dPdu = dpdu;
