@@ -122,24 +122,17 @@ MSANISO_WALK_KNOWN = {"principled_multi_aniso_dielectric": 0.0125}
 # stochastic light-sample eval mf_eval_glass, its sampled walk's colours, its MIS density mf_glass_pdf), the
 # Principled rough transmission the same closure with Fresnel colours on its reflections, and Cycles 3.4's
 # light choice (scene/light_selection.h, Cycles34: the sun always, the grey World never light-sampled, as
-# Cycles disables background MIS for a World without variation). Measured at 1024 spp against Cycles at
-# 2 x 1024 (default in brackets): 0.37% (roughness 0.3; 11.1%), 1.71% (0.8; 2.8%), 1.40% (0.6 coloured;
-# 5.7%), 1.80% (1, IOR 2; 30.1%), Principled 3.86% (0.5 white; 19.7%), 3.06% (0.8 coloured; 8.9%), 1.66%
-# (Specular Tint 1; 6.1%); at 512 spp 0.37 / 2.01 / 1.47 / 1.81 / 3.76 / 4.47 / 1.78%. (With our own
-# light choice, which also light-samples the World: 0.39 / 1.68 / 1.42 / 0.87 / 3.71 / 3.24 / 1.46% at 1024.)
-# What is left is not the MIS weights: with the sun's Multiple Importance off in both renderers (light
-# samples alone, weight 1) the sun-lit part still differs by -9% to +4% per sphere (0.8: -8.7%, IOR 2:
-# -6.0%), and under the World alone (BSDF samples alone) IOR 2 differs by +5.1% at 8 bounces and -5.6% at
-# 64, although the eval, walk and pdf functions agree with Cycles 3.4's own code in a harness (README, the
-# material table). Each test run rebuilds the scene (scenes/closures.py), and two builds differ at the level of
-# float rounding (default images: at most 1.3e-5 apart); the walks hash the directions' bits into their
-# random numbers, so with the setting every build is a new noise realisation: three 512-spp runs gave
-# 0.37-0.41 / 1.89-2.01 / 1.46-1.48 / 1.74-2.00 / 3.77-3.89 / 4.47-4.67 / 1.77-1.81% (one .blend rendered twice
-# is bit-identical). Bounds: the largest 512-spp errors plus a margin, so that a regression fails.
+# Cycles disables background MIS for a World without variation). Cycles draws the walks of a vertex from one
+# LCG seeded 16 further at each bounce, so the walks along a path are correlated (lobes/multi_glass_walk.h,
+# seed_cycles_glass_walk; its light sample's eval moves the LCG on before the BSDF sample), and a walk
+# lobe's bumped sample keeps the walk's weight (Bsdf::shadowed_value). Measured against Cycles at 2 x 1024
+# (default in brackets), 1024 spp: 0.12% (roughness 0.3; 11.1%), 0.69% (0.8; 2.8%), 0.33% (0.6 coloured;
+# 5.7%), 0.48% (1, IOR 2; 30.1%), Principled 0.43% (0.5 white; 19.7%), 0.65% (0.8 coloured; 8.9%), 0.66%
+# (Specular Tint 1; 6.1%); 512 spp: 0.14 / 0.90 / 0.35 / 0.44 / 0.69 / 0.86 / 0.73%. Before the LCG (each
+# walk its own numbers) 0.37 / 1.71 / 1.40 / 1.80 / 3.86 / 3.06 / 1.66% at 1024: one IOR-2 sphere under the
+# World alone was 7% darker than Cycles at 1 bounce and 10.6% brighter at 8.
 MULTIGLASS_WALK_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "512"))
-MULTIGLASS_WALK_KNOWN = {"glass_multi_0p8": 0.025, "glass_multi_0p6_tinted": 0.02, "glass_multi_1_ior2": 0.025,
-                         "principled_multi_glass_0p5": 0.045, "principled_multi_glass_tinted": 0.055,
-                         "principled_multi_glass_specular_tint": 0.0225}
+MULTIGLASS_WALK_KNOWN = {}
 # The Principled set with the setting: its Multiscatter GGX metal (Metallic 1) as Cycles' one reflection
 # closure: 0.28% at 1024 spp with Cycles' light choice (0.32% with ours; 1.87% by default at 2048). The sharp-reflection glass (not converted) converges
 # slowly (0.93% at 2048 spp, 0.99% at 1024): bound 1.25%.

@@ -52,6 +52,7 @@ DirectSample sample_direct_through(const Scene& scene, const RenderSettings& set
     ds.hidden = ~light.visibility & kRayBounceTypes;
     if (ds.hidden && hidden_light_lights_nothing(sp.bsdf, ds.hidden)) return ds;
     LightSample ls = light.sample_at(sp.hit.p, u, sp.hit.time);
+    if (ls.valid()) sp.light_wi = ls.wi;
     if (!ls.valid()) {
         // A light seen from behind is simply dark; only numerical failures count as rejected.
         if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;
@@ -107,6 +108,9 @@ template <class Spectrum, bool kMedia, bool kRules>
     // Cycles' per-bounce numbers for the Principled Hair's longitudinal sample, on request only: they
     // are correlated between bounces, which biases multi-bounce hair (lobes/principled_hair.h).
     if (programs && settings.hair_cycles_sampling) sray.path_key = shader_path_key(ray.o, ray.d);
+    // Cycles' multiscatter glass walks draw from a per-vertex LCG whose seeds along a path are 16 apart
+    // (lobes/multi_glass_walk.h, seed_cycles_glass_walk): the key stands for Cycles' per-path part.
+    const uint32_t walk_key = kRules && settings.multiscatter_cycles_walk ? shader_path_key(ray.o, ray.d) : 0u;
     for (;; ++state.depth) {
         SurfaceHit hit;
         bool found;
@@ -145,6 +149,7 @@ template <class Spectrum, bool kMedia, bool kRules>
         if (holdout_ends_path(state, sp, path.transparency_beta(), counters)) break;
         if constexpr (kRules) {
             light_path_lobes(settings, state, sp);
+            if (walk_key) sp.bsdf.change_lobes([&](Lobe& l) { seed_cycles_glass_walk(l, walk_key, state.depth); });
             if (state.diffuse_ancestor && scene.has_subsurface()) sp.bsdf.subsurface_as_diffuse();
         }
         if (sp.bsdf.empty()) break;
@@ -176,6 +181,8 @@ template <class Spectrum, bool kMedia, bool kRules>
             path.direct(L, clamped, scene, settings, sp, numbers, counters, state);
         }
 
+        // Cycles' glass walks sample from the LCG state their light sample's eval left.
+        if (walk_key && !(sp.light_wi == Vec3(0.0f, 0.0f, 0.0f))) after_cycles_light_eval(sp.bsdf, sp.wo, sp.light_wi);
         BsdfSample bs = sample_bsdf(sp, numbers);
         if constexpr (kRules && Spectrum::kSubsurfaceWalks) {
             if (picks_subsurface(sp, bs)) {

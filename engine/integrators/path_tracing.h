@@ -18,6 +18,10 @@ struct ShadingPoint {
     bool backfacing;  // the ray arrived from the back of the triangle (inside a closed glass object)
     Color holdout{0.0f};  // the Holdout closures' weight (node-tree materials)
     Bsdf bsdf;
+    // The direction of the vertex's light sample, whether or not it reaches the light (zero: none
+    // drawn): Cycles evaluates the BSDF before its shadow test, and that eval moves the LCG its
+    // multiscatter glass walks share (multiscatter_cycles_walk; lobes/multi_glass_walk.h).
+    mutable Vec3 light_wi{0.0f, 0.0f, 0.0f};
 };
 // `ray` describes the ray that found the hit, for materials whose nodes read the Light Path
 // (null: a camera ray).
@@ -294,6 +298,19 @@ inline void cycles_multiscatter_lobes(const RenderSettings& s, ShadingPoint& sp)
         to_cycles_glass_walk(l, &glass);
     });
     sp.bsdf = sp.bsdf.only([](const Lobe& l) { return !replaced_by_cycles_walk(l) && !replaced_by_cycles_glass_walk(l); });
+}
+// Cycles evaluates the BSDF towards the vertex's light sample (world-space wo, wi) before its shadow
+// test (shade_surface.h, integrate_surface_direct_light), and its BSDF sample then draws on from where
+// that eval left the LCG: the glass walk lobes' states move on by the numbers their eval takes.
+inline void after_cycles_light_eval(Bsdf& bsdf, const Vec3& wo, const Vec3& wi) {
+    const Vec3 o = bsdf.frame().to_local(wo), i = bsdf.frame().to_local(wi);
+    bsdf.change_lobes([&](Lobe& l) {
+        uint32_t state;
+        if (l.kind != LobeKind::MultiGlassWalk || !cycles_lcg_of(l, &state)) return;
+        CyclesLcg rand{state};
+        MultiGlassWalkLobe::walk_eval_with(l, o, i, l.f0, rand);
+        set_cycles_lcg(l, rand.x);
+    });
 }
 // The Light Paths rules that change a vertex's lobes: the caustics toggles, Filter Glossy, and
 // Cycles' multiscatter estimator on request.

@@ -223,3 +223,75 @@ TEST(MultiGlassWalk, WhiteFurnaceOfTheSampledWalk) {
         }
     }
 }
+
+namespace {
+// The fraction of a uniform World's light that a slab of the glass (relative IOR eta) returns to a
+// view tilted 10 degrees from its normal within max_bounces bounces (Cycles' meaning), the lobe's walks
+// given Cycles' per-vertex LCG states along each path (cycles_path) or their own numbers.
+double slab_light(float roughness, float eta, int max_bounces, bool cycles_path, int paths) {
+    Rng rng(41, cycles_path);
+    double sum = 0.0;
+    for (int p = 0; p < paths; ++p) {
+        const uint32_t key = rng.next_u32();
+        Vec3 wo = normalize(Vec3(0.1763f, 0.0f, 1.0f));  // tan 10 degrees
+        for (int depth = 0; depth <= max_bounces; ++depth) {
+            Lobe lobe = glass_walk_lobe(roughness, depth == 0 ? eta : 1.0f / eta);  // inside: the back face
+            if (cycles_path) seed_cycles_glass_walk(lobe, key, depth);
+            BsdfSample bs = lobe_sample(lobe, wo, {rng.next_float(), rng.next_float()}, rng.next_float());
+            if (!bs.valid()) break;
+            if (depth == 0 ? !bs.transmission : bs.transmission) {  // back out of the slab
+                sum += bs.value.x / bs.pdf;
+                break;
+            }
+            // On to the opposite face, whose frame faces the way the ray came from.
+            wo = Vec3(-bs.wi.x, -bs.wi.y, std::fabs(bs.wi.z));
+        }
+    }
+    return sum / paths;
+}
+}  // namespace
+
+TEST(MultiGlassWalk, CyclesLcgStatesAreItsSeedsAlongAPath) {
+    // Cycles' seed at the vertex `depth` bounces along a path: rng_hash + rng_offset + sample * scramble,
+    // rng_offset = 16 (depth + 1), then lcg_init's step.
+    for (uint32_t key : {0u, 12345u, 0xfffffff0u})
+        for (int depth : {0, 1, 7}) {
+            uint32_t x = key + 16u * uint32_t(depth + 1);
+            EXPECT_EQ(cycles_lcg_state(key, depth), 1103515245u * x + 12345u);
+        }
+    // A seeded lobe draws its walks from that state, not from its sample's numbers: its BSDF sample is
+    // the walk run on the LCG, its eval Cycles' eval run on it.
+    Lobe lobe = glass_walk_lobe(1.0f, 2.0f);
+    uint32_t state = 0;
+    EXPECT_FALSE(cycles_lcg_of(lobe, &state));
+    for (int depth = 0; depth < 50; ++depth) {
+        seed_cycles_glass_walk(lobe, 987654321u, depth);
+        ASSERT_TRUE(cycles_lcg_of(lobe, &state));
+        ASSERT_EQ(state, cycles_lcg_state(987654321u, depth));
+        const Vec3 wo = dir_from_cos(0.3f + 0.01f * depth, 0.5f), wi = dir_from_cos(-0.6f, 2.0f);
+        BsdfSample a = lobe_sample(lobe, wo, {0.1f, 0.2f}, 0.3f), b = lobe_sample(lobe, wo, {0.7f, 0.9f}, 0.6f);
+        CyclesLcg lcg{state};
+        ggx_walk::GlassExit e = ggx_walk::glass_walk(wo, lobe.alpha, lobe.eta, lcg);
+        ASSERT_EQ(a.valid(), e.bounces > 0);
+        if (a.valid()) {
+            ASSERT_EQ(a.wi.x, b.wi.x);
+            ASSERT_EQ(a.wi.z, e.dir.z);
+        }
+        CyclesLcg lcg2{state};
+        ggx_walk::GlassColours c;
+        c.eta = lobe.eta;
+        ASSERT_EQ(lobe_eval(lobe, wo, wi).x, ggx_walk::cycles_glass_eval(wo, wi, lobe.alpha, lobe.eta, c, lcg2).x);
+    }
+}
+
+TEST(MultiGlassWalk, CorrelatedLcgAlongAPathDarkensASlabAsInCycles) {
+    // Walks at successive vertices drawn from Cycles' seeds 16 apart are correlated: a slab of the IOR 2,
+    // roughness 1 glass under a uniform World returns less light within 3 bounces than with independent
+    // walks. Cycles 3.4 rendered that slab (a 100 x 100 x 1 box, orthographic view tilted 10 degrees,
+    // World 0.25, max bounces 3, 16 x 16 px, 1024 spp, seed 3): mean 0.12302, i.e. 0.4921 of the World.
+    const int paths = 200000;
+    const double cycles = slab_light(1.0f, 2.0f, 3, true, paths), independent = slab_light(1.0f, 2.0f, 3, false, paths);
+    std::printf("slab, 3 bounces: Cycles' LCG %.4f, independent walks %.4f, Cycles 3.4's render 0.4921\n", cycles, independent);
+    EXPECT_NEAR(cycles, 0.4921, 0.01);
+    EXPECT_GT(independent, 0.55);
+}

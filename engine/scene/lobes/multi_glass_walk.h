@@ -22,6 +22,32 @@
 
 namespace smis {
 
+// Cycles 3.4 draws every walk of a shading point (its light samples' mf_eval_glass, its BSDF sample's
+// mf_sample_glass) from the point's LCG (sample/lcg.h), seeded in shade_surface.h with rng_hash +
+// rng_offset + sample * 0xb4bc3953, where rng_offset grows by PRNG_BOUNCE_NUM = 16 per bounce. Seeds 16
+// apart give sequences a fixed step apart (mod 1), so the walks at successive vertices of a path are
+// correlated, and Cycles' image of light that crosses a rough glass object is not its walk's: a slab of
+// the IOR 2, roughness 1 glass under a uniform World, 3 bounces, 12.3% darker than independent walks
+// (the walk itself with these numbers is Cycles' to the last bit). With the setting, the path gives each
+// vertex's glass walk lobe the state Cycles would (seed_cycles_glass_walk); the lobe keeps it in
+// kind_colour.y (high 16 bits + 1, so 0 = none) and kind_colour.z (low 16 bits), exact in floats.
+struct CyclesLcg {
+    uint32_t x;
+    float operator()() {
+        x = 1103515245u * x + 12345u;
+        return float(x) * (1.0f / float(0xFFFFFFFFu));  // as Cycles' lcg_step_float (1 possible)
+    }
+};
+inline uint32_t cycles_lcg_state(uint32_t path_key, int depth) {
+    uint32_t x = path_key + 16u * uint32_t(depth + 1);  // rng_offset: 16 at the camera ray's hit
+    return 1103515245u * x + 12345u;                     // lcg_init's step
+}
+inline bool cycles_lcg_of(const Lobe& l, uint32_t* state) {
+    if (!(l.kind_colour.y >= 1.0f)) return false;
+    *state = (uint32_t(l.kind_colour.y - 1.0f) << 16) | uint32_t(l.kind_colour.z);
+    return true;
+}
+
 struct MultiGlassWalkLobe : LobeDefaults<MultiGlassWalkLobe> {
     static constexpr LobeKind kKind = LobeKind::MultiGlassWalk;
     static constexpr const char* kName = "multi_glass_walk";
@@ -65,12 +91,22 @@ struct MultiGlassWalkLobe : LobeDefaults<MultiGlassWalkLobe> {
         return ggx_walk::cycles_glass_pdf(wo * s.sign, wi * s.sign, lobe.alpha, s.etap);
     }
     // Cycles' stochastic eval for walk colour c (its Fresnel colours on reflections only).
+    // Its numbers from the lobe's Cycles LCG state when the path gave one, else from the two directions.
     static Color walk_eval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, const Color& c) {
+        uint32_t lcg;
+        if (cycles_lcg_of(lobe, &lcg)) {
+            CyclesLcg rand{lcg};
+            return walk_eval_with(lobe, wo, wi, c, rand);
+        }
+        walk_lobe_detail::HashRand rand{
+            walk_lobe_detail::key_of({wo.x, wo.y, wo.z, wi.x, wi.y, wi.z, lobe.alpha, lobe.eta})};
+        return walk_eval_with(lobe, wo, wi, c, rand);
+    }
+    template <class Rand>
+    static Color walk_eval_with(const Lobe& lobe, const Vec3& wo, const Vec3& wi, const Color& c, Rand& rand) {
         Side s;
         if (!side_of(lobe, wo, &s)) return Color(0.0f);
         Vec3 o = wo * s.sign, i = wi * s.sign;
-        walk_lobe_detail::HashRand rand{
-            walk_lobe_detail::key_of({wo.x, wo.y, wo.z, wi.x, wi.y, wi.z, lobe.alpha, lobe.eta})};
         return ggx_walk::cycles_glass_eval(o, i, lobe.alpha, s.etap, colours(lobe, s.etap, i.z > 0.0f, c), rand);
     }
     static EvalPdf eval_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
@@ -81,20 +117,33 @@ struct MultiGlassWalkLobe : LobeDefaults<MultiGlassWalkLobe> {
         return walk_lobe_detail::terms<MultiGlassWalkLobe>(lobe, wo, wi);
     }
 
+    // Cycles' sampled walk from the view o (o.z > 0) at relative IOR etap: its exit, its colours per bounce.
+    template <class Rand>
+    static ggx_walk::GlassExit walk(const Lobe& lobe, const Vec3& o, float etap, Rand& rand, Color* throughput) {
+        const ggx_walk::GlassColours c = colours(lobe, etap, true, lobe.f0);
+        bool first = true;
+        return ggx_walk::glass_walk(o, lobe.alpha, etap, rand, [&](float cos_i, bool refracted) {
+            *throughput *= ggx_walk::walk_bounce_colour(c, cos_i, refracted, first);
+            first = false;
+        });
+    }
+
     // Cycles' mf_sample_glass: the walk from the view, its colours per bounce.
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float u_event) {
         BsdfSample out;
         Side s;
         if (is_delta(lobe) || !side_of(lobe, wo, &s)) return out;
         Vec3 o = wo * s.sign;
-        walk_lobe_detail::HashRand rand{walk_lobe_detail::key_of({u.x, u.y, u_event, o.x, o.y, o.z})};
-        const ggx_walk::GlassColours c = colours(lobe, s.etap, true, lobe.f0);
         Color throughput(1.0f);
-        bool first = true;
-        ggx_walk::GlassExit e = ggx_walk::glass_walk(o, lobe.alpha, s.etap, rand, [&](float cos_i, bool refracted) {
-            throughput *= ggx_walk::walk_bounce_colour(c, cos_i, refracted, first);
-            first = false;
-        });
+        uint32_t lcg;
+        ggx_walk::GlassExit e;
+        if (cycles_lcg_of(lobe, &lcg)) {
+            CyclesLcg rand{lcg};
+            e = walk(lobe, o, s.etap, rand, &throughput);
+        } else {
+            walk_lobe_detail::HashRand rand{walk_lobe_detail::key_of({u.x, u.y, u_event, o.x, o.y, o.z})};
+            e = walk(lobe, o, s.etap, rand, &throughput);
+        }
         if (e.bounces == 0 || !(e.dir.z != 0.0f)) return out;  // the walk died (Cycles: no light)
         out.pdf = ggx_walk::cycles_glass_pdf(o, e.dir, lobe.alpha, s.etap);
         out.wi = e.dir * s.sign;
@@ -129,10 +178,21 @@ inline void to_cycles_glass_walk(Lobe& l, Lobe** converted) {
         !(std::fabs(l.eta - 1.0f) >= kIndexMatchedEps))
         return;
     l.kind = LobeKind::MultiGlassWalk;
+    l.kind_colour.y = l.kind_colour.z = 0.0f;  // no Cycles LCG state until the path gives one
     *converted = &l;
 }
 inline bool replaced_by_cycles_glass_walk(const Lobe& l) {
     return l.kind == LobeKind::GlassMultiple && l.variant == kReplacedByGlassWalk;
 }
+// The state of Cycles' LCG at the vertex `depth` bounces along the path whose key stands for Cycles'
+// rng_hash + sample * 0xb4bc3953 (a hash of the camera ray), on a glass walk lobe.
+inline void set_cycles_lcg(Lobe& l, uint32_t state) {
+    l.kind_colour.y = float(state >> 16) + 1.0f;
+    l.kind_colour.z = float(state & 0xffffu);
+}
+inline void seed_cycles_glass_walk(Lobe& l, uint32_t path_key, int depth) {
+    if (l.kind == LobeKind::MultiGlassWalk) set_cycles_lcg(l, cycles_lcg_state(path_key, depth));
+}
+
 
 }  // namespace smis
