@@ -106,6 +106,9 @@ struct PathState {
     // renders as diffuse from here on (Bsdf::subsurface_as_diffuse). Integrators without subsurface
     // walks start their paths with it set. (Here, in padding: a larger PathState cost every path.)
     bool diffuse_ancestor = false;
+    // The vertex being shaded continues by GlowDirections' mixture (glow_directions.h), so its light
+    // sample weighs against that density; set by the path loop per vertex (also in padding).
+    bool glow_vertex = false;
     // The previous vertex's light-sampling density, for MIS, as a multiple of the NEE density
     // (pmf x light pdf): M for resampled light sampling (RIS, ReSTIR), see reservoir_contribution;
     // n_light / n_bsdf for n_light light and n_bsdf BSDF samples (path-space filtering's
@@ -308,9 +311,11 @@ inline void light_path_lobes(const RenderSettings& s, const PathState& st, Shadi
 // multi-sample MIS: each density counted that many times in the weights); `weighted` is then one
 // light sample's share, to be summed over the light samples. The light choice and point are u.light()
 // (core/sampler.h); the Rng overload draws them from the stream.
+// `glow`: the vertex continues by GlowDirections' mixture (glow_directions.h), whose density then
+// stands for the BSDF's in the MIS weight.
 DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
                            VertexSampler u, LocalCounters& counters, int32_t medium = -1, int light_samples = 1,
-                           int bsdf_samples = 1);
+                           int bsdf_samples = 1, bool glow = false);
 inline DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
                                   LocalCounters& counters, int32_t medium = -1, int light_samples = 1,
                                   int bsdf_samples = 1) {
