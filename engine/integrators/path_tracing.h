@@ -106,9 +106,6 @@ struct PathState {
     // renders as diffuse from here on (Bsdf::subsurface_as_diffuse). Integrators without subsurface
     // walks start their paths with it set. (Here, in padding: a larger PathState cost every path.)
     bool diffuse_ancestor = false;
-    // The vertex being shaded continues by GlowDirections' mixture (glow_directions.h), so its light
-    // sample weighs against that density; set by the path loop per vertex (also in padding).
-    bool glow_vertex = false;
     // The previous vertex's light-sampling density, for MIS, as a multiple of the NEE density
     // (pmf x light pdf): M for resampled light sampling (RIS, ReSTIR), see reservoir_contribution;
     // n_light / n_bsdf for n_light light and n_bsdf BSDF samples (path-space filtering's
@@ -124,6 +121,10 @@ struct PathState {
     // throughput there counts as transparency (alpha = 1 - its mean, Film::resolve); a holdout
     // object it meets is such a hole whatever the film (add_transparency). Any other bounce clears it.
     bool transparent_background = false;
+    // The vertex being shaded continues by GlowDirections' mixture (glow_directions.h), so its light
+    // sample weighs against that density; set by the path loop per vertex. (In padding: PathState
+    // keeps its size.)
+    bool glow_vertex = false;
     // Cycles' path flags of the ray this state starts with (ray_visibility.h): kRayCamera, or the
     // last bounce's type (a Transparent lobe keeps the flags), and the bounces of each type so far
     // for the per-type limits (RenderSettings::max_diffuse_bounces ...).
