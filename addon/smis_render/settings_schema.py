@@ -461,6 +461,9 @@ SETTINGS = [
     Setting("camera_volume_only", "bool", False, prop=None,
             why="Benchmarks of the volume estimators: render only the camera rays' single scattering (PATH: from "
                 "every light; photon planes: from the rectangular lights they cover)."),
+    Setting("glow_directions", "bool", True, prop=None,
+            why="Tests and benchmarks: off, the path tracers continue from surfaces in fog by BSDF sampling alone, "
+                "without the directions aimed at radius-0 lights there (integrators/glow_directions.h)."),
 ]
 
 BY_KEY = {s.key: s for s in SETTINGS}

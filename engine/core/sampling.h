@@ -79,6 +79,25 @@ inline Vec3 sample_uniform_cone(Point2 u, float one_minus_cos) {
 }
 inline float uniform_cone_pdf(float one_minus_cos) { return 1.0f / (2.0f * kPi * one_minus_cos); }
 
+// Directions around +z whose polar angle theta is uniform in [0, theta_max] and azimuth uniform: in
+// solid angle (d omega = sin theta d theta d phi) the density is
+//   p(omega) = 1 / (2 pi theta_max sin theta)   for theta < theta_max, else 0,
+// which is ~ 1 / (2 pi theta_max theta) near the axis and integrates to 1 exactly. It matches the
+// 1 / theta profile of the light scattered by a medium towards a point light seen along +z
+// (integrators/glow_directions.h). *pdf is 0 for the axis itself (theta = 0, probability zero).
+inline Vec3 sample_glow_cone(Point2 u, float theta_max, float* pdf) {
+    const float theta = u.x * theta_max;
+    const float sin_t = std::sin(theta), cos_t = std::cos(theta);
+    const float phi = 2.0f * kPi * u.y;
+    *pdf = sin_t > 0.0f ? 1.0f / (2.0f * kPi * theta_max * sin_t) : 0.0f;
+    return {std::cos(phi) * sin_t, std::sin(phi) * sin_t, cos_t};
+}
+// The density of sample_glow_cone at the direction with cos theta = cos_t, sin theta = sin_t >= 0.
+inline float glow_cone_pdf(float cos_t, float sin_t, float theta_max) {
+    if (!(sin_t > 0.0f) || !(std::atan2(sin_t, cos_t) < theta_max)) return 0.0f;
+    return 1.0f / (2.0f * kPi * theta_max * sin_t);
+}
+
 // Uniform point on a triangle as barycentrics (b1, b2) (Heitz 2019 low-distortion map); pdf 1/area.
 inline Point2 sample_uniform_triangle(Point2 u) {
     float b0, b1;

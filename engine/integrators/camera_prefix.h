@@ -23,6 +23,7 @@ template <class Spectrum>
 class CameraPrefix : public Spectrum {
 public:
     static constexpr bool kEndsAtFirstVertex = true;
+    static constexpr bool kGlowDirections = false;  // the path ends at x1, before any light-aimed continuation
     template <class... Args>
     explicit CameraPrefix(PrefixEnd* end, Args&&... args) : Spectrum(std::forward<Args>(args)...), end_(end) {}
     void prepare(ShadingPoint& sp) {

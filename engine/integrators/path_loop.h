@@ -15,6 +15,9 @@
 //   after_scatter(state, bs)        after the Light Path state moved on
 //   roulette(depth, eta, rng)       Russian roulette on the throughput; false ends the path
 //   finish(counters)                per-path diagnostics
+// and says whether its direct() weighs its light sample against GlowDirections' mixture when the
+// loop sets state.glow_vertex (kGlowDirections: then the loop continues such vertices by the
+// mixture, glow_directions.h),
 // and says, as constants, whether it takes RIS at the first vertex (kResampledLights) and subsurface
 // walks (kSubsurfaceWalks; without, the caller starts the path with the diffuse ancestor set, so
 // Subsurface lobes render as their diffuse fallback), and whether the path ends at its first
@@ -25,6 +28,7 @@
 #pragma once
 #include "integrators/aux_passes.h"
 #include "integrators/direct_lighting.h"
+#include "integrators/glow_directions.h"
 #include "integrators/path_tracing.h"
 #include "integrators/volume.h"
 
@@ -33,10 +37,11 @@ namespace smis {
 // sample_direct (path_tracing.h) with the shadow ray's transmittance in media given by
 // transmittance(shadow ray, medium it starts in) -> Color: the RGB one, or for a spectral path a
 // stand-in (1 or 0) while it keeps its wavelengths' own. The light choice and point: u.light().
+// `glow`: the vertex continues by GlowDirections' mixture, the BSDF-side density of the MIS weight.
 template <class Transmittance>
 DirectSample sample_direct_through(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
                                    VertexSampler numbers, LocalCounters& counters, int32_t medium, int light_samples,
-                                   int bsdf_samples, Transmittance&& transmittance) {
+                                   int bsdf_samples, Transmittance&& transmittance, bool glow = false) {
     DirectSample ds;
     const DiscreteDistribution& selection = scene.light_selection();
     // Draw the random numbers even when unused, so later decisions of the path keep their streams.
@@ -71,9 +76,12 @@ DirectSample sample_direct_through(const Scene& scene, const RenderSettings& set
     }
     float light_pdf = pmf * ls.pdf;
     const float n = float(light_samples);
-    float w = ls.delta || !light.use_mis ? 1.0f : mis_weight(settings.mis, n * light_pdf,
-                         float(bsdf_samples) * (ds.hidden ? hidden_light_pdf(sp.bsdf, ds.hidden, sp.wo, ls.wi)
-                                                          : sp.bsdf.pdf(sp.wo, ls.wi)));
+    float w = 1.0f;
+    if (!ls.delta && light.use_mis) {
+        float bsdf_pdf = ds.hidden ? hidden_light_pdf(sp.bsdf, ds.hidden, sp.wo, ls.wi) : sp.bsdf.pdf(sp.wo, ls.wi);
+        if (glow) bsdf_pdf = glow_light_mis_pdf(scene, sp, medium, ds.hidden, bsdf_pdf, ls.wi);
+        w = mis_weight(settings.mis, n * light_pdf, float(bsdf_samples) * bsdf_pdf);
+    }
     ds.wi = ls.wi;
     ds.light = li;
     ds.weighted = ls.L * tr * (w / (n * light_pdf));
@@ -165,6 +173,17 @@ template <class Spectrum, bool kMedia, bool kRules>
             }
         }
 
+        // Light-aimed continuations at vertices in fog (glow_directions.h), for the policies that weigh
+        // their light sample with state.glow_vertex (kGlowDirections), and not where RIS or ReSTIR
+        // weigh it (their weights take the BSDF's density alone). Only in scenes with media.
+        [[maybe_unused]] GlowDirections glow;
+        if constexpr (kMedia && Spectrum::kGlowDirections) {
+            const bool resampled = Spectrum::kResampledLights && kWithResampledLights && state.first_vertex_ahead &&
+                                   !sp.bsdf.is_delta() && settings.direct_light != DirectLightStrategy::Nee;
+            if (!resampled && !scene.glow_lights().empty() && settings.glow_directions)
+                glow = GlowDirections(scene, sp, state.medium);
+            state.glow_vertex = glow.on();
+        }
         if constexpr (Spectrum::kResampledLights) {
             bool resample = false;
             if (kWithResampledLights && state.first_vertex_ahead && !sp.bsdf.is_delta()) {
@@ -183,7 +202,20 @@ template <class Spectrum, bool kMedia, bool kRules>
 
         // Cycles' glass walks sample from the LCG state their light sample's eval left.
         if (walk_key && !(sp.light_wi == Vec3(0.0f, 0.0f, 0.0f))) after_cycles_light_eval(sp.bsdf, sp.wo, sp.light_wi);
-        BsdfSample bs = sample_bsdf(sp, numbers);
+        BsdfSample bs;
+        if constexpr (kMedia && Spectrum::kGlowDirections) {
+            if (glow.on()) {
+                // The vertex's lobe and direction numbers in sample_bsdf's order, then one from the
+                // stream for the technique and the light.
+                const float u_lobe = numbers.lobe();
+                const Point2 u_dir = numbers.direction();
+                if (!glow.sample(sp, u_lobe, u_dir, rng.next_float(), &bs)) break;
+            } else {
+                bs = sample_bsdf(sp, numbers);
+            }
+        } else {
+            bs = sample_bsdf(sp, numbers);
+        }
         if constexpr (kRules && Spectrum::kSubsurfaceWalks) {
             if (picks_subsurface(sp, bs)) {
                 if (!path.subsurface(L, clamped, scene, settings, sp, bs, rng, counters, state)) break;

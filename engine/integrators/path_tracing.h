@@ -125,6 +125,10 @@ struct PathState {
     // throughput there counts as transparency (alpha = 1 - its mean, Film::resolve); a holdout
     // object it meets is such a hole whatever the film (add_transparency). Any other bounce clears it.
     bool transparent_background = false;
+    // The vertex being shaded continues by GlowDirections' mixture (glow_directions.h), so its light
+    // sample weighs against that density; set by the path loop per vertex. (In padding: PathState
+    // keeps its size.)
+    bool glow_vertex = false;
     // Cycles' path flags of the ray this state starts with (ray_visibility.h): kRayCamera, or the
     // last bounce's type (a Transparent lobe keeps the flags), and the bounces of each type so far
     // for the per-type limits (RenderSettings::max_diffuse_bounces ...).
@@ -325,9 +329,11 @@ inline void light_path_lobes(const RenderSettings& s, const PathState& st, Shadi
 // multi-sample MIS: each density counted that many times in the weights); `weighted` is then one
 // light sample's share, to be summed over the light samples. The light choice and point are u.light()
 // (core/sampler.h); the Rng overload draws them from the stream.
+// `glow`: the vertex continues by GlowDirections' mixture (glow_directions.h), whose density then
+// stands for the BSDF's in the MIS weight.
 DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
                            VertexSampler u, LocalCounters& counters, int32_t medium = -1, int light_samples = 1,
-                           int bsdf_samples = 1);
+                           int bsdf_samples = 1, bool glow = false);
 inline DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, Rng& rng,
                                   LocalCounters& counters, int32_t medium = -1, int light_samples = 1,
                                   int bsdf_samples = 1) {

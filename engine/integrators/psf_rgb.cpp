@@ -62,6 +62,7 @@ class RgbSuffix : public RgbThroughput {
 public:
     static constexpr bool kResampledLights = false;
     static constexpr bool kSubsurfaceWalks = false;  // the suffix starts with the diffuse ancestor set
+    static constexpr bool kGlowDirections = false;   // its direct() weighs by the BSDF's density alone
     // bsdf_weight: x1's share of this sample (prefix throughput times f / p over own_samples);
     // path_weight: the whole path's throughput up to z1; eta_scale: the refraction scaling up to x1's
     // bounce included.

@@ -168,6 +168,7 @@ class SpectralSuffix {
 public:
     static constexpr bool kResampledLights = false;
     static constexpr bool kSubsurfaceWalks = false;  // the suffix starts with the diffuse ancestor set
+    static constexpr bool kGlowDirections = false;   // its direct() weighs by the BSDF's density alone
     static constexpr bool kEndsAtFirstVertex = false;
     // w: the whole path's throughput up to z1 per wavelength; eta1: the radiance scaling of x1's
     // sample; L_out, nee: the record's per-wavelength storage (nee may be null).

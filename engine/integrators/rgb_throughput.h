@@ -21,6 +21,7 @@ struct RgbThroughput {
     static constexpr bool kResampledLights = true;
     static constexpr bool kEndsAtFirstVertex = false;
     static constexpr bool kSubsurfaceWalks = true;
+    static constexpr bool kGlowDirections = true;
     Color beta{1.0f};
 
     template <class Clamp>
@@ -45,7 +46,7 @@ struct RgbThroughput {
     template <class Clamp>
     void direct(Color& L, Clamp&& clamped, const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
                 VertexSampler u, LocalCounters& counters, const PathState& state) const {
-        DirectSample ds = sample_direct(scene, settings, sp, u, counters, state.medium);
+        DirectSample ds = sample_direct(scene, settings, sp, u, counters, state.medium, 1, 1, state.glow_vertex);
         if (ds.valid) L += clamped(beta * direct_eval(sp, ds) * ds.weighted, state.depth == 0);
     }
     template <class Clamp>

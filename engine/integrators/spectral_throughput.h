@@ -259,6 +259,7 @@ class SpectralThroughput {
 public:
     static constexpr bool kResampledLights = true;
     static constexpr bool kSubsurfaceWalks = true;
+    static constexpr bool kGlowDirections = true;
     static constexpr bool kEndsAtFirstVertex = false;
     SpectralThroughput(const SpectralScene& spectral, SpectralPath& p, SpectralRestirRecord* restir = nullptr)
         : spectral_(spectral), p_(p), restir_(restir) {}
@@ -317,7 +318,8 @@ public:
             scene, settings, sp, u, counters, state.medium, light_samples, bsdf_samples, [&](const ShadowRay& shadow, int32_t medium) {
                 shadowed = true;
                 return shadow_transmittances(scene, shadow.o, shadow.d, shadow.tmax, medium) ? Color(1.0f) : Color(0.0f);
-            });
+            },
+            state.glow_vertex);
         if (ds.valid && (ds.hidden ? eval_spectral(lit_lobes(sp, ds), *sm_, p_, ds.wi, f_)
                                    : eval_spectral(sp, *sm_, p_, ds.wi, f_))) {
             float lum = luminance(ds.weighted);

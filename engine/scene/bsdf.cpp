@@ -259,6 +259,31 @@ float Bsdf::pdf(const FixedWo& fixed, const Vec3& wi) const {
     return std::isfinite(sum) ? sum : 0.0f;
 }
 
+int Bsdf::lobe_at(const Vec3& wo, const Vec3& wi, float u) const {
+    if (count_ <= 1) return 0;
+    const FixedWo fixed = fix_wo(wo);
+    const Vec3 wi_l = frame_.to_local(wi);
+    float p[kMaxLobes], sum = 0.0f;
+    for (int i = 0; i < count_; ++i) {
+        const Lobe& lobe = lobes_[i];
+        const float scale = fixed.pdf_scale[i];
+        p[i] = fixed.probs[i] *
+               visit_lobe(lobe.kind, [&](auto k) { return decltype(k)::fixed_wo_pdf(lobe, scale, fixed.wo_local, wi_l); });
+        if (!(p[i] > 0.0f) || !std::isfinite(p[i])) p[i] = 0.0f;
+        sum += p[i];
+    }
+    if (!(sum > 0.0f)) return 0;
+    float below = 0.0f;
+    int last = 0;
+    for (int i = 0; i < count_; ++i) {
+        if (p[i] == 0.0f) continue;
+        last = i;
+        below += p[i];
+        if (u * sum < below) return i;
+    }
+    return last;
+}
+
 float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
     if (count_ == 0) return 0.0f;
     if (count_ == 1) return pdf_one_lobe(wo, wi);

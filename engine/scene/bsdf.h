@@ -84,6 +84,8 @@ public:
     // True when every lobe is a Dirac: NEE is pointless there. Counted in add(), since every
     // vertex of every path asks.
     bool is_delta() const { return count_ > 0 && delta_count_ == count_; }
+    // Some lobe is a Dirac (a mixture with a mirror or smooth glass lobe).
+    bool has_delta() const { return delta_count_ > 0; }
 
     // World-space interface; wo, wi point away from the surface.
     Color eval(const Vec3& wo, const Vec3& wi) const;
@@ -103,6 +105,11 @@ public:
     FixedWo fix_wo(const Vec3& wo) const;
     float pdf(const FixedWo& fixed, const Vec3& wi) const;
     BsdfSample sample(const Vec3& wo, Point2 u, float u_lobe) const;
+    // The lobe sample() would have picked, given that it returned direction wi: lobe i with
+    // probability prob_i pdf_i(wi) / pdf(wi), chosen with u in [0, 1). For a direction found by
+    // another technique (integrators/glow_directions.h), so that its ray is labelled (diffuse,
+    // glossy, transmission) as BSDF sampling would label the same direction. 0 when no lobe has density there.
+    int lobe_at(const Vec3& wo, const Vec3& wi, float u) const;
     // Sum of lobe weights (colour), used for albedo passes and furnace tests.
     Color albedo_weight() const;
     const Frame& frame() const { return frame_; }

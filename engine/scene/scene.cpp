@@ -563,12 +563,28 @@ void Scene::finish_lights() {
     light_power_ = DiscreteDistribution(power);
     // Media choose per segment (media_light_choice.h), with their own defensive floor.
     media_lights_ = MediaLightChoice(lights_, light_power_);
+    find_glow_lights(light_powers_);
     hidden_lights_ = false;
     for (const auto& l : lights_)
         hidden_lights_ = hidden_lights_ || l->visibility != kRayAllVisibility || !l->visible_to_camera || !l->use_mis;
     stats_.lights = lights_.size();
     // sample_direct() returns at once on an empty light table: no shadow rays at all.
     set_skipped("NEE (no lights)", lights_.empty());
+}
+
+void Scene::find_glow_lights(const std::vector<float>& power) {
+    glow_lights_.clear();
+    if (!has_media()) return;
+    for (uint32_t i = 0; i < lights_.size(); ++i) {
+        const Light& l = *lights_[i];
+        LightPoint p;
+        if (!l.point(&p) || !(l.visibility & kRayVolumeScatter) || !(power[i] > 0.0f)) continue;
+        const int32_t m = medium_at(p.position);
+        if (m >= 0 && media_[m].scatters()) glow_lights_.push_back({i, p.position, power[i], m});
+    }
+    std::stable_sort(glow_lights_.begin(), glow_lights_.end(),
+                     [](const GlowLight& a, const GlowLight& b) { return a.power > b.power; });
+    if (glow_lights_.size() > size_t(kMaxGlowLights)) glow_lights_.resize(kMaxGlowLights);
 }
 
 void Scene::set_light_selection(LightSelection selection) {

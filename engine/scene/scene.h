@@ -11,6 +11,7 @@
 #include "core/distribution.h"
 #include "scene/boundary_planes.h"
 #include "scene/camera.h"
+#include "scene/glow_lights.h"
 #include "scene/light_selection.h"
 #include "scene/lights.h"
 #include "scene/material.h"
@@ -246,6 +247,8 @@ public:
     float light_power_pmf(uint32_t i) const { return light_power_.pmf(i); }
     // Single scattering's light choice per ray segment in a medium (media_light_choice.h).
     const MediaLightChoice& media_lights() const { return media_lights_; }
+    // Point and spot lights without radius inside scattering media (glow_lights.h); empty without.
+    const std::vector<GlowLight>& glow_lights() const { return glow_lights_; }
     const std::vector<uint32_t>& infinite_lights() const { return infinite_lights_; }
     const SceneStats& stats() const { return stats_; }
     // What the scene analysis found unused after commit(), for the stats line ("skipped: ...").
@@ -385,6 +388,7 @@ private:
     static void sanitize(Material& material);
     void rebuild_lights();
     void finish_lights();  // world light, selection table, spectral flag: the end of commit()
+    void find_glow_lights(const std::vector<float>& power);  // glow_lights_, at the end of finish_lights
     // light_selection_ for light_selection_mode_ from the lights' powers and emitters (finish_lights).
     void build_light_selection();
     void update_spectral_content();
@@ -426,6 +430,7 @@ private:
     std::vector<float> light_powers_;      // per light, as finish_lights found them
     std::vector<uint32_t> light_emitters_;  // per light: its emitter for the defensive mixture
     MediaLightChoice media_lights_;
+    std::vector<GlowLight> glow_lights_;
     Camera camera_;
     bool has_camera_ = false, committed_ = false, fast_build_ = false, varying_materials_ = false, programs_ = false;
     bool has_subsurface_ = false;
