@@ -104,17 +104,6 @@ inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s) {
     return PixelCamera(ctx, x, y).ray(s, &sampler);
 }
 
-// Sample s's camera ray with its stream as an Rng, for the integrators that do not ask for anything
-// by name yet (path-space filtering, ReSTIR): the Sampler's named groups
-// end with the temporary PixelCamera, its stream is copied out with the first vertex's groups as
-// its prefix (Sampler::stream_with_first_vertex_prefix).
-inline Ray camera_ray(const RenderContext& ctx, int x, int y, uint32_t s, Rng* rng) {
-    Sampler sampler;
-    const Ray ray = PixelCamera(ctx, x, y).ray(s, &sampler);
-    *rng = sampler.stream_with_first_vertex_prefix();
-    return ray;
-}
-
 // Stage timings of the multi-stage integrators (reported through Integrator::stats()).
 using StageClock = std::chrono::steady_clock;
 inline double seconds_since(StageClock::time_point t0) {
