@@ -196,9 +196,9 @@ void PathSpaceFilteringIntegrator::iterate(RenderContext& ctx, uint32_t s) {
         kWithStratified && settings.sampling_pattern == SamplingPattern::Stratified && (settings.psf_light_samples > 1 || max_extra > 0);
     auto t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
-        const PixelCamera camera(ctx, x, y);
+        const PixelCamera camera = pixel_camera(ctx, x, y);
         Sampler sampler;
-        const Ray ray = camera.ray(s, &sampler);
+        const Ray ray = pixel_camera_ray(camera, s, &sampler);
         const size_t k = size_t(y) * w + x;
         PixelStrata strata{};
         if (extra_strata) strata = {camera.pixel_sampler().key(), s, b.extra_bsdf_taken[k]};

@@ -204,9 +204,9 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         const size_t i = size_t(y) * w + x;
         RestirPixel& me = cur[i];
-        const PixelCamera camera(ctx, x, y);
+        const PixelCamera camera = pixel_camera(ctx, x, y);
         Sampler sampler;
-        const Ray ray = camera.ray(s, &sampler);
+        const Ray ray = pixel_camera_ray(camera, s, &sampler);
         local.sample_transparency = 0.0f;
         me.passes = ctx.film.has_aux() ? FirstHitPasses(ctx, x, y, s) : FirstHitPasses();
         {
