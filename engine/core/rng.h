@@ -36,30 +36,17 @@ public:
     }
     // Uniform in [0, 1): 24 random mantissa bits, never rounds up to 1. The first values can come
     // from a prefix (set_prefix) instead of the PCG stream: path-space filtering's extra samples at
-    // x1, and the first vertex's named groups for the integrators that do not ask the Sampler
-    // (core/sampler.h) for them by name yet (Sampler::stream_with_first_vertex_prefix).
+    // x1 (integrators/tiles.h).
     float next_float() {
-        if (kWithStratified && prefix_left_ != 0) return next_prefix();
+        if (kWithStratified && prefix_left_ != 0) return prefix_[--prefix_left_];
         return static_cast<float>(next_u32() >> 8) * 0x1p-24f;
     }
-    // Computes the deferred part of a prefix (set_prefix): its m values, last first, into out[0..m)
-    // (out[m - 1] is drawn first).
-    using DeferredValues = void (*)(uint64_t key, uint32_t sample, float* out);
     // The next n (<= kMaxPrefix) calls of next_float() return v[0..n); the PCG stream is untouched.
-    // With `deferred`, the m values after those come from deferred(key, sample, out), called the
-    // first time one of them is drawn: values a path never draws (a camera ray that leaves the scene
-    // draws no light or BSDF sample) cost nothing.
-    static constexpr int kMaxPrefix = 10;
-    void set_prefix(const float* v, int n, DeferredValues deferred = nullptr, int m = 0, uint64_t key = 0,
-                    uint32_t sample = 0) {
-        if (!deferred) m = 0;
-        n = n + m < kMaxPrefix ? n : kMaxPrefix - m;
-        prefix_left_ = static_cast<uint8_t>(n + m);
-        deferred_left_ = static_cast<uint8_t>(m);
-        deferred_ = deferred, key_ = key, sample_ = sample;
-        // Stored last first, so that next_prefix() counts down one counter; the deferred values
-        // take the first m slots when they are computed.
-        for (int i = 0; i < n; ++i) prefix_[n + m - 1 - i] = v[i];
+    static constexpr int kMaxPrefix = 3;
+    void set_prefix(const float* v, int n) {
+        n = n < kMaxPrefix ? n : kMaxPrefix;
+        prefix_left_ = static_cast<uint8_t>(n);
+        for (int i = 0; i < n; ++i) prefix_[n - 1 - i] = v[i];  // last first: next_float() counts down
     }
     // A pixel sample's first scattering segment in a medium draws from stratified groups of its own
     // (volume.h, segment_numbers): the Sampler marks its stream with the pixel's key and the
@@ -80,20 +67,11 @@ public:
     }
 
 private:
-    float next_prefix() {
-        if (prefix_left_ == deferred_left_) compute_deferred();
-        return prefix_[--prefix_left_];
-    }
-    [[gnu::noinline]] void compute_deferred() {
-        deferred_(key_, sample_, prefix_);  // the first m slots, last first as stored
-        deferred_left_ = 0;                 // never equal to a nonzero prefix_left_ again
-    }
     uint64_t state_ = 0, inc_ = 1;
-    uint8_t prefix_left_ = 0, deferred_left_ = 0;
+    uint8_t prefix_left_ = 0;
     bool scattering_segment_ = false;
-    uint32_t sample_ = 0, segment_sample_ = 0;
-    uint64_t key_ = 0, segment_key_ = 0;
-    DeferredValues deferred_ = nullptr;
+    uint32_t segment_sample_ = 0;
+    uint64_t segment_key_ = 0;
     float prefix_[kMaxPrefix];
 };
 

@@ -10,11 +10,9 @@
 // the order asked: those images stay what they were before the Sampler, and there is nothing to
 // stratify that an order could spoil.
 //
-// The path tracers' loop (path_loop.h) asks for the first vertex's numbers through a VertexSampler
-// (below). The integrators that do not ask by name yet (path-space filtering, ReSTIR, photon planes,
-// the auxiliary passes) take the sample's stream with the first vertex's groups as its deferred
-// prefix (stream_with_first_vertex_prefix): there the first six numbers drawn after the camera are
-// them, whoever draws them.
+// The path loop (path_loop.h) asks for the first vertex's numbers through a VertexSampler (below):
+// the path tracers, photon planes' camera paths, and the camera prefixes of path-space filtering and
+// ReSTIR, which hand the view on to x1 when x1 is the first vertex (camera_prefix.h).
 #pragma once
 #include <cstdint>
 
@@ -51,18 +49,6 @@ struct LightNumbers {
     float choice = 0;
     Point2 point;
 };
-
-// The first vertex's values as the Rng's deferred prefix (Rng::DeferredValues), last first, in the
-// order the path loop asks for them: light choice, light point (2D), lobe choice, direction (2D).
-// The two choices share one group, computed once. Only for stream_with_first_vertex_prefix.
-inline void first_vertex_values(uint64_t key, uint32_t s, float* out) {
-    float choices[2], point[2], direction[2];
-    stratified::sample_2d(s, key, sample_groups::kFirstChoices, choices);
-    stratified::sample_2d(s, key, sample_groups::kFirstLightPoint, point);
-    stratified::sample_2d(s, key, sample_groups::kFirstDirection, direction);
-    out[5] = choices[0], out[4] = point[0], out[3] = point[1];
-    out[2] = choices[1], out[1] = direction[0], out[0] = direction[1];
-}
 
 // Two numbers of a stream, x drawn first (two statements: the order is fixed).
 inline Point2 next_2d(Rng& rng) {
@@ -159,14 +145,6 @@ public:
     Point2 next_2d() { return smis::next_2d(rng_); }
     // For code that takes the stream as an Rng (all of it beyond the camera and the first vertex).
     Rng& rng() { return rng_; }
-    // The stream with the first vertex's groups as its first six numbers (first_vertex_values), for
-    // the integrators that do not ask for them by name yet: whatever they draw first after the
-    // camera takes them.
-    Rng stream_with_first_vertex_prefix() const {
-        Rng r = rng_;
-        if (stratified()) r.set_prefix(nullptr, 0, first_vertex_values, 6, pixel_->key_, sample_);
-        return r;
-    }
     uint32_t sample_index() const { return sample_; }
 
 private:
@@ -206,6 +184,8 @@ public:
     float lobe() const { return first_ ? first_->first_lobe() : stream_->next_float(); }
     Point2 direction() const { return first_ ? first_->first_direction() : next_2d(*stream_); }
     Rng& stream() const { return *stream_; }
+    // The Sampler this vertex asks by name; null when it draws from the stream.
+    Sampler* names() const { return first_; }
 
 private:
     Rng* stream_;

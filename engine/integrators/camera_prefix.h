@@ -17,6 +17,10 @@ struct PrefixEnd {
     PathState state;        // the path's state at x1
     float distance = 0.0f;  // the camera path's length up to x1 (the last hit when not reached)
     float eta_scale = 1.0f; // the prefix's refractions' radiance scaling (Russian roulette leaves it out)
+    // x1's light and BSDF numbers: the pixel sample's Sampler when x1 is the camera path's first
+    // vertex (it asks for them by name, core/sampler.h), null when a vertex before it took the names
+    // (x1 then draws from the stream): VertexSampler(stream, x1_names).
+    Sampler* x1_names = nullptr;
 };
 
 template <class Spectrum>
@@ -34,9 +38,10 @@ public:
         Spectrum::after_scatter(state, bs);
         if (bs.transmission) end_->eta_scale *= sqr(bs.eta);
     }
-    void first_vertex(const ShadingPoint&, const PathState& state) {
+    void first_vertex(const ShadingPoint&, const PathState& state, const VertexSampler& numbers) {
         end_->reached = true;
         end_->state = state;
+        end_->x1_names = numbers.names();
     }
 
 private:

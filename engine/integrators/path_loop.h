@@ -21,10 +21,10 @@
 // and says, as constants, whether it takes RIS at the first vertex (kResampledLights) and subsurface
 // walks (kSubsurfaceWalks; without, the caller starts the path with the diffuse ancestor set, so
 // Subsurface lobes render as their diffuse fallback), and whether the path ends at its first
-// non-specular vertex, handed to first_vertex(sp, state) (kEndsAtFirstVertex). Only the policies'
-// headers include this file: rgb_throughput.h (the path tracer, RGB path-space filtering's prefix and
-// suffix in psf_rgb.cpp) and spectral_throughput.h (the spectral path tracer, spectral path-space
-// filtering's prefix and suffix in psf_spectral.cpp).
+// non-specular vertex, handed to first_vertex(sp, state, numbers) with that vertex's numbers
+// (kEndsAtFirstVertex). Only the policies' headers include this file: rgb_throughput.h (the path
+// tracer, RGB path-space filtering's prefix and suffix in psf_rgb.cpp) and spectral_throughput.h
+// (the spectral path tracer, spectral path-space filtering's prefix and suffix in psf_spectral.cpp).
 #pragma once
 #include "integrators/aux_passes.h"
 #include "integrators/direct_lighting.h"
@@ -168,7 +168,7 @@ template <class Spectrum, bool kMedia, bool kRules>
             // Path-space filtering's prefix (psf_rgb.cpp, psf_spectral.cpp): the policy records the
             // first non-specular vertex x1 and the path ends there.
             if (state.first_vertex_ahead && !sp.bsdf.is_delta()) {
-                path.first_vertex(sp, state);
+                path.first_vertex(sp, state, numbers);
                 break;
             }
         }

@@ -196,14 +196,12 @@ void PathSpaceFilteringIntegrator::iterate(RenderContext& ctx, uint32_t s) {
         kWithStratified && settings.sampling_pattern == SamplingPattern::Stratified && (settings.psf_light_samples > 1 || max_extra > 0);
     auto t0 = StageClock::now();
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
-        Rng rng;
-        Ray ray = camera_ray(ctx, x, y, s, &rng);
+        const PixelCamera camera = pixel_camera(ctx, x, y);
+        Sampler sampler;
+        const Ray ray = pixel_camera_ray(camera, s, &sampler);
         const size_t k = size_t(y) * w + x;
         PixelStrata strata{};
-        if (extra_strata)
-            strata = {stratified_pixel_key(uint32_t(x + scene.camera().window_x0()),
-                                           uint32_t(y + scene.camera().window_y0()), settings.seed),
-                      s, b.extra_bsdf_taken[k]};
+        if (extra_strata) strata = {camera.pixel_sampler().key(), s, b.extra_bsdf_taken[k]};
         const int extra = b.extra_paths[k];
         local.sample_transparency = 0.0f;
         RecordAttribs* record_attribs = attribs.empty() ? nullptr : &attribs[k];
@@ -212,10 +210,10 @@ void PathSpaceFilteringIntegrator::iterate(RenderContext& ctx, uint32_t s) {
         constexpr bool dirac_z1_per_pixel = W::kExact;
         if (!b.passes.empty()) b.passes[k] = FirstHitPasses(ctx, x, y, s);
         RecordPasses recording(local, b.passes.empty() ? nullptr : &b.passes[k]);
-        records[k] = spectrum_ ? spectrum_->trace_record(media, k, scene, settings, ray, rng, local, scene.camera(),
+        records[k] = spectrum_ ? spectrum_->trace_record(media, k, scene, settings, ray, sampler, local, scene.camera(),
                                                          record_attribs, &models[k], record_strata, extra,
                                                          record_extras, dirac_z1_per_pixel, media ? &record_media[k] : nullptr)
-                   : trace_rgb_record(media, scene, settings, ray, rng, local, scene.camera(), record_attribs,
+                   : trace_rgb_record(media, scene, settings, ray, sampler, local, scene.camera(), record_attribs,
                                       &models[k], record_strata, extra, record_extras, dirac_z1_per_pixel,
                                       media ? &record_media[k] : nullptr);
         records[k].transparency = local.sample_transparency;

@@ -37,8 +37,8 @@ public:
         L += trace_subsurface(scene, settings, sp, bs, at_entry, beta, rng, counters);
         return false;
     }
-    void first_vertex(const ShadingPoint& sp, const PathState& state) {
-        RgbCameraPrefix::first_vertex(sp, state);
+    void first_vertex(const ShadingPoint& sp, const PathState& state, const VertexSampler& numbers) {
+        RgbCameraPrefix::first_vertex(sp, state, numbers);
         end_->sp = sp;
         end_->beta = beta;
     }
@@ -214,18 +214,20 @@ SuffixSample trace_suffix(const Scene& scene, const RenderSettings& settings, co
 }
 
 template <bool kMedia>
-PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray ray, Sampler& sampler,
                         LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
                         TechniqueDensity* model, const PixelStrata* strata, int extra_paths, PrivateSuffix* extra,
                         bool dirac_z1_per_pixel, RecordMedia* media) {
     PathRecord rec;
+    Rng& rng = sampler.rng();
     *model = TechniqueDensity{};
     for (int m = 0; m < extra_paths; ++m) extra[m] = PrivateSuffix{};
     PathState st = camera_path_state(ray.o);
     st.first_vertex_ahead = true;
     if constexpr (kMedia) st.medium = scene.camera_medium();
     RgbPrefixEnd end;
-    rec.fixed = trace_path_loop<RgbPrefix, kMedia, true>(scene, settings, ray, st, rng, counters, RgbPrefix(&end));
+    rec.fixed =
+        trace_path_loop<RgbPrefix, kMedia, true>(scene, settings, ray, st, rng, counters, RgbPrefix(&end), &sampler);
     if (!end.reached) return rec;
     const ShadingPoint& sp = end.sp;
     st = end.state;
@@ -239,23 +241,24 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
     if constexpr (kMedia) *media = RecordMedia{st.medium, medium_across(scene, sp, st.medium)};
     // Direct light at x1, per pixel: psf_light_samples light samples and the pixel's BSDF samples
     // (its path's own and its extra paths'), combined by multi-sample MIS (each density counted
-    // that many times in both weights). The first light sample and the path's BSDF sample take
-    // the stratified prefix of the pixel sample's stream; the extra light and BSDF samples are
-    // drawn after them, stratified on their own. The BSDF samples' weights read the counts from
-    // PathState::light_pdf_scale (suffix_state).
+    // that many times in both weights). The first light sample and the path's BSDF sample take x1's
+    // numbers (by name when x1 is the camera path's first vertex, camera_prefix.h); the extra light
+    // and BSDF samples are drawn from the stream after them, stratified on their own. The BSDF
+    // samples' weights read the counts from PathState::light_pdf_scale (suffix_state).
     const int light_samples = std::max(1, settings.psf_light_samples);
     const int own_samples = 1 + extra_paths;
-    auto add_light_sample = [&] {
-        DirectSample ds = sample_direct(scene, settings, sp, rng, counters, st.medium, light_samples, own_samples);
+    const VertexSampler x1(rng, end.x1_names);
+    auto add_light_sample = [&](VertexSampler u) {
+        DirectSample ds = sample_direct(scene, settings, sp, u, counters, st.medium, light_samples, own_samples);
         if (ds.valid)
             rec.fixed += clamp_sample_share(settings, beta * direct_eval(sp, ds) * ds.weighted, light_samples,
                                             st.depth == 0);
     };
-    add_light_sample();
-    BsdfSample bs = sample_bsdf(sp, rng);
+    add_light_sample(x1);
+    BsdfSample bs = sample_bsdf(sp, x1);
     for (int i = 1; i < light_samples; ++i) {
         if (strata) set_extra_light_sample_prefix(&rng, strata->key, strata->sample, uint32_t(i - 1), uint32_t(light_samples - 1));
-        add_light_sample();
+        add_light_sample(VertexSampler(rng));
     }
     SuffixSample own = trace_suffix<kMedia>(scene, settings, sp, st, bs, beta, end.eta_scale, light_samples,
                                             own_samples, dirac_z1_per_pixel, rng, counters);
@@ -285,13 +288,13 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
 
 }  // namespace
 
-PathRecord trace_rgb_record(bool media, const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+PathRecord trace_rgb_record(bool media, const Scene& scene, const RenderSettings& settings, Ray ray, Sampler& sampler,
                             LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
                             TechniqueDensity* model, const PixelStrata* strata, int extra_paths, PrivateSuffix* extra,
                             bool dirac_z1_per_pixel, RecordMedia* record_media) {
-    return media ? trace_record<true>(scene, settings, ray, rng, counters, camera, attribs, model, strata, extra_paths,
+    return media ? trace_record<true>(scene, settings, ray, sampler, counters, camera, attribs, model, strata, extra_paths,
                                       extra, dirac_z1_per_pixel, record_media)
-                 : trace_record<false>(scene, settings, ray, rng, counters, camera, attribs, model, strata,
+                 : trace_record<false>(scene, settings, ray, sampler, counters, camera, attribs, model, strata,
                                        extra_paths, extra, dirac_z1_per_pixel, nullptr);
 }
 

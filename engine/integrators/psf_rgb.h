@@ -13,8 +13,9 @@ namespace psf_detail {
 // sampler is not stratified or there are no extra samples at x1. `extra` receives the pixel's
 // `extra_paths` private suffixes. With `dirac_z1_per_pixel` (the unbiased variant), a Dirac lobe
 // sampled at z1 goes to the per-pixel part instead of L_out (see psf_rgb.cpp). `media`: the scene
-// has media, and `record_media` receives x1's.
-PathRecord trace_rgb_record(bool media, const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+// has media, and `record_media` receives x1's. `sampler`: the pixel sample's; its stream drives the
+// path, and x1 asks it for its numbers by name when x1 is the camera path's first vertex.
+PathRecord trace_rgb_record(bool media, const Scene& scene, const RenderSettings& settings, Ray ray, Sampler& sampler,
                             LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
                             TechniqueDensity* model, const PixelStrata* strata, int extra_paths, PrivateSuffix* extra,
                             bool dirac_z1_per_pixel, RecordMedia* record_media);

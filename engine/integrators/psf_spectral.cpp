@@ -21,8 +21,8 @@ class PrefixThroughput : public CameraPrefix<SpectralThroughput> {
 public:
     PrefixThroughput(const SpectralScene& spectral, SpectralPath& p, X1PrefixEnd* end)
         : CameraPrefix(end, spectral, p), end_(end) {}
-    void first_vertex(const ShadingPoint& sp, const PathState& state) {
-        CameraPrefix::first_vertex(sp, state);
+    void first_vertex(const ShadingPoint& sp, const PathState& state, const VertexSampler& numbers) {
+        CameraPrefix::first_vertex(sp, state, numbers);
         end_->sp = sp;
     }
 
@@ -107,7 +107,7 @@ struct PsfSpectrum::Impl {
                               int own_samples, bool dirac_z1_per_pixel, Rng& rng, LocalCounters& counters,
                               float* L_out_k, float* nee_k, float* next_k, float* tr_k) const;
     template <bool kMedia>
-    PathRecord trace_record(size_t k, const Scene& scene, const RenderSettings& settings, Ray ray, Rng& rng,
+    PathRecord trace_record(size_t k, const Scene& scene, const RenderSettings& settings, Ray ray, Sampler& sampler,
                             LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
                             TechniqueDensity* model, const PixelStrata* strata, int extra_paths, PrivateSuffix* extra,
                             bool dirac_z1_per_pixel, RecordMedia* record_media) const;
@@ -392,11 +392,12 @@ SuffixSample PsfSpectrum::Impl::trace_suffix(const Scene& scene, const RenderSet
 
 template <bool kMedia>
 PathRecord PsfSpectrum::Impl::trace_record(size_t k, const Scene& scene, const RenderSettings& settings, Ray ray,
-                                           Rng& rng, LocalCounters& counters, const Camera& camera,
+                                           Sampler& sampler, LocalCounters& counters, const Camera& camera,
                                            RecordAttribs* attribs, TechniqueDensity* model, const PixelStrata* strata,
                                            int extra_paths, PrivateSuffix* extra, bool dirac_z1_per_pixel,
                                            RecordMedia* record_media) const {
     PathRecord rec;
+    Rng& rng = sampler.rng();
     rec.beta = Color(1.0f);
     *model = TechniqueDensity{};
     for (int m = 0; m < extra_paths; ++m) extra[m] = PrivateSuffix{};
@@ -407,7 +408,7 @@ PathRecord PsfSpectrum::Impl::trace_record(size_t k, const Scene& scene, const R
     if constexpr (kMedia) st.medium = scene.camera_medium();
     X1PrefixEnd end;
     rec.fixed = trace_path_loop<PrefixThroughput, kMedia, true>(scene, settings, ray, st, rng, counters,
-                                                                PrefixThroughput(spectral, p, &end));
+                                                                PrefixThroughput(spectral, p, &end), &sampler);
     if (!end.reached) return rec;
     const ShadingPoint& sp = end.sp;
     st = end.state;
@@ -419,20 +420,21 @@ PathRecord PsfSpectrum::Impl::trace_record(size_t k, const Scene& scene, const R
     *model = TechniqueDensity::of(sp.bsdf, sp.hit.p, sp.wo);
     if constexpr (kMedia) *record_media = RecordMedia{st.medium, medium_across(scene, sp, st.medium)};
     // Direct light at x1, per pixel, as in RGB (psf_rgb.cpp): light samples and the pixel's BSDF
-    // samples by multi-sample MIS, in the same order of random numbers.
+    // samples by multi-sample MIS, with the same numbers (x1's, then the stream).
     const int light_samples = std::max(1, settings.psf_light_samples);
     const int own_samples = 1 + extra_paths;
     SpectralThroughput at_x1(spectral, p);
     auto share = [&](const Color& c, bool) { return clamp_sample_share(settings, c, light_samples, st.depth == 0); };
-    auto add_light_sample = [&] {
+    const VertexSampler x1(rng, end.x1_names);
+    auto add_light_sample = [&](VertexSampler u) {
         at_x1.at_material(sp);
-        at_x1.direct(rec.fixed, share, scene, settings, sp, VertexSampler(rng), counters, st, light_samples, own_samples);
+        at_x1.direct(rec.fixed, share, scene, settings, sp, u, counters, st, light_samples, own_samples);
     };
-    add_light_sample();
-    BsdfSample bs = sample_bsdf(sp, rng);
+    add_light_sample(x1);
+    BsdfSample bs = sample_bsdf(sp, x1);
     for (int i = 1; i < light_samples; ++i) {
         if (strata) set_extra_light_sample_prefix(&rng, strata->key, strata->sample, uint32_t(i - 1), uint32_t(light_samples - 1));
-        add_light_sample();
+        add_light_sample(VertexSampler(rng));
     }
     const size_t at = k * size_t(n);
     SuffixSample own = trace_suffix<kMedia>(scene, settings, sp, st, p, bs, light_samples, own_samples,
@@ -498,12 +500,13 @@ void PsfSpectrum::begin_iteration(const RenderSettings& settings, uint32_t s, si
 }
 
 PathRecord PsfSpectrum::trace_record(bool media, size_t k, const Scene& scene, const RenderSettings& settings, Ray ray,
-                                     Rng& rng, LocalCounters& counters, const Camera& camera, RecordAttribs* attribs,
-                                     TechniqueDensity* model, const PixelStrata* strata, int extra_paths,
-                                     PrivateSuffix* extra, bool dirac_z1_per_pixel, RecordMedia* record_media) const {
-    return media ? impl_->trace_record<true>(k, scene, settings, ray, rng, counters, camera, attribs, model, strata,
+                                     Sampler& sampler, LocalCounters& counters, const Camera& camera,
+                                     RecordAttribs* attribs, TechniqueDensity* model, const PixelStrata* strata,
+                                     int extra_paths, PrivateSuffix* extra, bool dirac_z1_per_pixel,
+                                     RecordMedia* record_media) const {
+    return media ? impl_->trace_record<true>(k, scene, settings, ray, sampler, counters, camera, attribs, model, strata,
                                              extra_paths, extra, dirac_z1_per_pixel, record_media)
-                 : impl_->trace_record<false>(k, scene, settings, ray, rng, counters, camera, attribs, model, strata,
+                 : impl_->trace_record<false>(k, scene, settings, ray, sampler, counters, camera, attribs, model, strata,
                                               extra_paths, extra, dirac_z1_per_pixel, record_media);
 }
 

@@ -32,7 +32,7 @@ public:
     // Stage 1 of record k, as psf_rgb.h's trace_rgb_record (same arguments) at the
     // iteration's wavelengths. The record's beta is 1: its throughput is per wavelength here.
     psf_detail::PathRecord trace_record(bool media, size_t k, const Scene& scene, const RenderSettings& settings,
-                                        Ray ray, Rng& rng, LocalCounters& counters, const Camera& camera,
+                                        Ray ray, Sampler& sampler, LocalCounters& counters, const Camera& camera,
                                         psf_detail::RecordAttribs* attribs, TechniqueDensity* model,
                                         const psf_detail::PixelStrata* strata, int extra_paths,
                                         psf_detail::PrivateSuffix* extra, bool dirac_z1_per_pixel,

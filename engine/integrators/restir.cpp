@@ -67,11 +67,11 @@ public:
                     Rng& rng, LocalCounters&, const PathState& state) {
         if (!subsurface_step(scene, sp, bs, beta, rng)) return false;
         end_->subsurface_exit = true;
-        first_vertex(sp, state);
+        first_vertex(sp, state, VertexSampler(rng));  // the entry took the names: the exit draws the stream
         return false;
     }
-    void first_vertex(const ShadingPoint& sp, const PathState& state) {
-        RgbCameraPrefix::first_vertex(sp, state);
+    void first_vertex(const ShadingPoint& sp, const PathState& state, const VertexSampler& numbers) {
+        RgbCameraPrefix::first_vertex(sp, state, numbers);
         px_->has_vertex = true;
         px_->camera_hit = state.depth == 0;
         px_->sp = sp;
@@ -86,10 +86,13 @@ private:
 };
 
 // Stage 1 for one pixel sample, written in place (a pixel record is large: no copies). kMedia: the
-// scene has media (instantiated only then).
+// scene has media (instantiated only then). The path draws from the sampler's stream; x1's
+// candidates too, and its BSDF sample asks for the first vertex's lobe and direction by name when x1
+// is the camera path's first vertex (as RIS in the path tracer: path_loop.h).
 template <bool kMedia>
-void trace_pixel(const Scene& scene, const RenderSettings& settings, const Ray& camera, Rng& rng,
+void trace_pixel(const Scene& scene, const RenderSettings& settings, const Ray& camera, Sampler& sampler,
                  LocalCounters& counters, RestirPixel& px) {
+    Rng& rng = sampler.rng();
     px.has_vertex = false;
     px.beta = Color(0.0f);
     px.r = Reservoir{};
@@ -99,7 +102,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, const Ray& 
     if constexpr (kMedia) st.medium = scene.camera_medium();
     RestirPrefixEnd end;
     px.fixed = trace_path_loop<RestirPrefix, kMedia, true>(scene, settings, camera, st, rng, counters,
-                                                           RestirPrefix(&px, &end));
+                                                           RestirPrefix(&px, &end), &sampler);
     px.distance = end.distance;
     if (!end.reached) return;
     // x1's reservoir; resampled: the vertex the next ray leaves from took it (x1 itself, also when it
@@ -113,7 +116,7 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, const Ray& 
     bool resampled = true;
     const ShadingPoint* from = &px.sp;
     ShadingPoint exit;
-    BsdfSample bs = sample_bsdf(px.sp, rng);
+    BsdfSample bs = sample_bsdf(px.sp, VertexSampler(rng, end.x1_names));
     if (!end.subsurface_exit && picks_subsurface(px.sp, bs)) {
         // The subsurface exit after x1 is a surface vertex at x1's depth with plain NEE (part of the
         // path tracer's estimate after x1, as in PATH).
@@ -144,6 +147,16 @@ void trace_pixel(const Scene& scene, const RenderSettings& settings, const Ray& 
     st.clamp_beta = beta;
     px.fixed += beta * trace_path(scene, settings, ray, st, rng, counters);
 }
+
+}  // namespace
+
+void trace_restir_pixel(const Scene& scene, const RenderSettings& settings, const Ray& camera, Sampler& sampler,
+                        LocalCounters& counters, RestirPixel& px) {
+    if (scene.has_media()) trace_pixel<true>(scene, settings, camera, sampler, counters, px);
+    else trace_pixel<false>(scene, settings, camera, sampler, counters, px);
+}
+
+namespace {
 
 // Bitterli et al. 2020's neighbour heuristic, on geometry only.
 bool similar(const RestirPixel& a, const RestirPixel& b) {
@@ -191,20 +204,19 @@ void RestirIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     for_each_pixel_in_tiles(ctx, [&](int x, int y, LocalCounters& local) {
         const size_t i = size_t(y) * w + x;
         RestirPixel& me = cur[i];
-        Rng rng;
-        Ray ray = camera_ray(ctx, x, y, s, &rng);
+        const PixelCamera camera = pixel_camera(ctx, x, y);
+        Sampler sampler;
+        const Ray ray = pixel_camera_ray(camera, s, &sampler);
         local.sample_transparency = 0.0f;
         me.passes = ctx.film.has_aux() ? FirstHitPasses(ctx, x, y, s) : FirstHitPasses();
         {
             RecordPasses recording(local, ctx.film.has_aux() ? &me.passes : nullptr);
             if (spectral_) {
                 const Camera& cam = scene.camera();
-                me.fixed = spectral_->trace_restir_pixel(ctx, x + cam.window_x0(), y + cam.window_y0(), s, ray, rng,
+                me.fixed = spectral_->trace_restir_pixel(ctx, x + cam.window_x0(), y + cam.window_y0(), s, ray, sampler,
                                                          local, me, &lambda_[i * n_lambda], &weight_[i * n_lambda]);
-            } else if (scene.has_media()) {
-                trace_pixel<true>(scene, settings, ray, rng, local, me);
             } else {
-                trace_pixel<false>(scene, settings, ray, rng, local, me);
+                trace_restir_pixel(scene, settings, ray, sampler, local, me);
             }
         }
         me.transparency = local.sample_transparency;

@@ -26,6 +26,11 @@ struct RestirPixel {
     FirstHitPasses passes;
 };
 
+// Stage 1 of RGB ReSTIR for one pixel sample into px (restir.cpp): the camera prefix to x1, x1's
+// initial reservoir, and the rest of the path as px.fixed. `sampler`: the pixel sample's.
+void trace_restir_pixel(const Scene& scene, const RenderSettings& settings, const Ray& camera, Sampler& sampler,
+                        LocalCounters& counters, RestirPixel& px);
+
 class RestirIntegrator : public IterativeIntegrator {
 public:
     RestirIntegrator() = default;

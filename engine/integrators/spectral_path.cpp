@@ -34,8 +34,8 @@ Color SpectralPathIntegrator::sample_path(const RenderContext& ctx, uint32_t px,
                                           const Ray& ray, Rng& rng, LocalCounters& counters,
                                           SpectralRestirRecord* restir, Sampler* camera) const {
     // The wavelengths draw from a stream of their own, so that in every mode the path is driven by
-    // the pixel sample's stream and its stratified prefix (core/stratified.h) alike: modes differ
-    // only in how they choose wavelengths.
+    // the pixel sample's stream and its named groups (core/sampler.h) alike: modes differ only in
+    // how they choose wavelengths.
     Rng wavelength_rng = pixel_sample_rng(px, py, s, ctx.settings.seed ^ kWavelengthStream);
     float u, v;
     wavelength_offsets(sampler_, ctx.settings, px, py, s, wavelength_rng, &u, &v);
@@ -63,14 +63,14 @@ Color SpectralPathIntegrator::trace(const Scene& scene, const RenderSettings& se
 int SpectralPathIntegrator::wavelength_count() const { return fixed_wavelength_ > 0.0f ? 1 : sampler_.count(); }
 
 Color SpectralPathIntegrator::trace_restir_pixel(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s,
-                                                 const Ray& ray, Rng& rng, LocalCounters& counters,
+                                                 const Ray& ray, Sampler& sampler, LocalCounters& counters,
                                                  RestirPixel& vertex, float* lambda, Color* weight) const {
     vertex.has_vertex = false;
     vertex.distance = 0.0f;
     vertex.r = Reservoir{};
     vertex.eval = CandidateEval{};
     SpectralRestirRecord record{vertex, lambda, weight};
-    return sample_path(ctx, px, py, s, ray, rng, counters, &record, nullptr);
+    return sample_path(ctx, px, py, s, ray, sampler.rng(), counters, &record, &sampler);
 }
 
 Color SpectralPathIntegrator::shade_restir_vertex(const Scene& scene, const RestirPixel& vertex, const float* lambda,

@@ -29,8 +29,9 @@ public:
     // distance, its initial RIS reservoir, as RestirIntegrator's RGB stage 1 does) and the path's
     // weight there into lambda[i] and weight[i], i < wavelength_count(): wavelength i's radiance
     // counts as weight[i] times it in RGB. Returns the radiance of the rest of the path.
-    Color trace_restir_pixel(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s, const Ray& ray, Rng& rng,
-                             LocalCounters& counters, RestirPixel& vertex, float* lambda, Color* weight) const;
+    Color trace_restir_pixel(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s, const Ray& ray,
+                             Sampler& sampler, LocalCounters& counters, RestirPixel& vertex, float* lambda,
+                             Color* weight) const;
     // The direct light at a recorded vertex from light sample e (evaluated at vertex.sp) with
     // resampled weight w (direct_lighting.h, resampled_weight): at each of the path's wavelengths,
     // through its own shadow ray (none without media when `visible`: the reuse traced it), as RGB.
@@ -50,7 +51,7 @@ private:
     // the modes' other wavelength draws come from `wavelength_rng`, the path's from `rng`.
     // `restir`: record the first non-specular vertex for ReSTIR instead of lighting it. `camera`: the
     // pixel sample's Sampler (rng its stream), whose first-vertex numbers the path asks for by name
-    // (path_loop.h); null for ReSTIR's paths, whose stream carries them as its prefix.
+    // (path_loop.h).
     Color trace(const Scene& scene, const RenderSettings& settings, Ray ray, float u, float v, Rng& wavelength_rng,
                 Rng& rng, LocalCounters& counters, SpectralRestirRecord* restir, Sampler* camera) const;
     Color sample_path(const RenderContext& ctx, uint32_t px, uint32_t py, uint32_t s, const Ray& ray, Rng& rng,

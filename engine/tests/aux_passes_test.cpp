@@ -80,15 +80,16 @@ PassRenders render_passes(const Scene& scene, bool shading, uint32_t spp) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             for (uint32_t s = 0; s < spp; ++s) {
-                Rng rng;
-                const Ray ray = camera_ray(rec_ctx, x, y, s, &rng);
+                const PixelCamera camera(rec_ctx, x, y);
+                Sampler sampler;
+                const Ray ray = camera.ray(s, &sampler);
                 FirstHitPasses passes(rec_ctx, x, y, s);
                 {
                     RecordPasses recording(local, &passes);
                     PathState st = camera_path_state(ray.o);
                     st.first_vertex_ahead = true;
                     st.medium = scene.camera_medium();
-                    trace_path(scene, settings, ray, st, rng, local);
+                    trace_path(scene, settings, ray, st, sampler.rng(), local, &sampler);
                 }
                 EXPECT_EQ(local.passes, nullptr);
                 add_aux_sample(rec_ctx, x, y, s, passes);

@@ -79,9 +79,9 @@ TEST(Stratified, OneSampleAcrossPixelsIsUniformAndGroupsIndependent) {
 // In a scene seen through a medium, the camera ray's first scattering segment (volume.h,
 // segment_numbers) takes its numbers from stratified groups of its own: over a pixel's first 16
 // samples (light choice, distance), the light point and the focus each form a (0, 4, 2)-net. A second
-// segment draws from the stream; integrators that take the first vertex's groups as the stream's
-// prefix (Sampler::stream_with_first_vertex_prefix) still find them whole after the first segment.
-TEST(Stratified, TheFirstScatteringSegmentHasGroupsOfItsOwnAndTheFirstVertexKeepsThePrefix) {
+// segment draws from the stream; the first vertex, asking by name after both (VertexSampler), still
+// finds its groups' numbers.
+TEST(Stratified, TheFirstScatteringSegmentHasGroupsOfItsOwnAndTheFirstVertexKeepsItsNames) {
     auto scene = testing::small_room(8, 8);
     RenderSettings st;
     st.seed = 7;
@@ -91,23 +91,29 @@ TEST(Stratified, TheFirstScatteringSegmentHasGroupsOfItsOwnAndTheFirstVertexKeep
     std::atomic<bool> cancel{false};
     RenderContext ctx{*scene, st, film, filter, counters, cancel, std::chrono::steady_clock::time_point::max()};
     const int x = 3, y = 5, k = 4;
-    const Camera& cam = scene->camera();
-    const uint64_t key = stratified_pixel_key(x + cam.window_x0(), y + cam.window_y0(), st.seed);
     PixelCamera pixel(ctx, x, y);
     std::vector<float> choice_dist, light, focus, second;
     for (uint32_t s = 0; s < (1u << k); ++s) {
         Sampler sampler;
         pixel.ray(s, &sampler);
-        Rng rng = sampler.stream_with_first_vertex_prefix();
+        Rng& rng = sampler.rng();
         const SegmentNumbers n = segment_numbers(rng);
         choice_dist.insert(choice_dist.end(), {n.select, n.dist});
         light.insert(light.end(), {n.light.x, n.light.y});
         focus.insert(focus.end(), {n.focus.x, n.focus.y});
-        float first_vertex[6];
-        first_vertex_values(key, s, first_vertex);
-        for (int i = 5; i >= 0; --i) ASSERT_EQ(rng.next_float(), first_vertex[i]) << "sample " << s << " value " << 5 - i;
         const SegmentNumbers later = segment_numbers(rng);
         second.insert(second.end(), {later.select, later.dist});
+        const VertexSampler first(rng, &sampler);
+        const LightNumbers l = first.light();
+        const float lobe = first.lobe();
+        const Point2 d = first.direction();
+        Sampler fresh = pixel.pixel_sampler().start(s);
+        const LightNumbers l0 = fresh.first_light();
+        const float lobe0 = fresh.first_lobe();
+        const Point2 d0 = fresh.first_direction();
+        const float got[6] = {l.choice, l.point.x, l.point.y, lobe, d.x, d.y};
+        const float named[6] = {l0.choice, l0.point.x, l0.point.y, lobe0, d0.x, d0.y};
+        for (int i = 0; i < 6; ++i) ASSERT_EQ(got[i], named[i]) << "sample " << s << " value " << i;
     }
     EXPECT_TRUE(is_02_net(choice_dist, k));
     EXPECT_TRUE(is_02_net(light, k));
