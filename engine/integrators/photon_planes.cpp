@@ -433,8 +433,16 @@ uint32_t PhotonPlanesIntegrator::surface_samples(const RenderContext& ctx, const
         // (8.7 s) that a 15 s budget completed one and discarded the second (SMAPE 0.244; M = 6:
         // two iterations, 0.203, the same relMSE; volume_planes M = 3: 0.210, M = 1: 0.178, relMSE
         // 0.182 and 0.180). M gives the two parts about equal time.
-        constexpr double kCrossingCost = 0.2;
-        const double ratio = crossings_per_camera_ray(ctx, set, lights, plane_segments_, plane_keep_) * kCrossingCost;
+        // An iteration also costs what does not scale with the crossings (the camera ray traced
+        // again through the scene and the planes' BVH, the plane set's build): about kIterationCost
+        // path samples. Without it, once the per-light partition left volume_planes 1.7 gathered
+        // crossings per camera ray, M fell to 1 and every path sample paid a whole iteration: at 15 s,
+        // 3 seeds, load 8-12, M = 4 gave planes / PATH 1.05 / 0.81 (SMAPE / relMSE) where M = 1 gave
+        // 1.23 / 1.12 (docs/bench/planes3_m4.md); on volume_spot (about 26 crossings) it gives M = 8,
+        // near the optimum 9 of the error model A + B / M measured there (docs/bench/planes3.md).
+        constexpr double kCrossingCost = 0.2, kIterationCost = 3.0;
+        const double ratio =
+            crossings_per_camera_ray(ctx, set, lights, plane_segments_, plane_keep_) * kCrossingCost + kIterationCost;
         surface_samples_ = uint32_t(std::clamp(std::lround(ratio), 1l, 64l));
     }
     return surface_samples_;
