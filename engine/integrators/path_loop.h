@@ -131,6 +131,7 @@ template <class Spectrum, bool kMedia, bool kRules>
             if (state.depth == 0 && counters.passes && !media.crossed)
                 passes_at_hit = counters.passes->at_camera_ray(scene, found, hit);
             media.plane_segments = state.plane_segments;
+            media.plane_keep = state.plane_keep;
             path.emission(L, clamped, scene, settings, ray, found, hit, state, &media, &sray);
             // Single scattering at this bounce (Cycles' volume bounces = 0: no path continues from
             // a scattering vertex, so only its next-event estimate counts).

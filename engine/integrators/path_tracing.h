@@ -104,6 +104,7 @@ struct PathState {
     int32_t medium = -1;
     bool planes_on_camera_ray = false;
     uint8_t plane_segments = 0xff;  // of those, RayMedia::plane_segments of the camera ray
+    const uint32_t* plane_keep = nullptr;  // and RayMedia::plane_keep
     // A camera path before its first non-specular vertex, where settings.direct_light applies.
     bool first_vertex_ahead = false;
     // Cycles' PATH_RAY_DIFFUSE_ANCESTOR: the path made a diffuse bounce, and subsurface scattering

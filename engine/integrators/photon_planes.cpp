@@ -198,7 +198,10 @@ struct PlaneGather {
     // The single scattering from the planes' lights along a camera ray that starts in `medium`, up
     // to its first opaque surface: the header's estimator summed over the ray's crossings.
     // Segments whose bit in `segments` is clear are the path tracer's (RayMedia::plane_segments).
-    Color operator()(const Ray& ray, int32_t medium, uint8_t segments, Rng& rng, GatherCounts* n) const {
+    // On those, the crossings of plane lights whose bit (scene light index) is set in keep[i] are
+    // skipped too (the per-light partition left them to the path tracer; keep may be null).
+    Color operator()(const Ray& ray, int32_t medium, uint8_t segments, const uint32_t* keep, Rng& rng,
+                     GatherCounts* n) const {
         thread_local std::vector<PlaneHit> hits;
         Color L(0.0f);
         SurfaceHit first;
@@ -209,6 +212,12 @@ struct PlaneGather {
             const Medium& med = scene.medium(seg.medium);
             if (!med.scatters() || !(segments >> i & 1u)) continue;
             set.gather(Ray{ray.o, ray.d, seg.t0, seg.t1, ray.time}, &hits, &n->parallel);
+            if (keep && keep[i])
+                hits.erase(std::remove_if(hits.begin(), hits.end(),
+                                          [&](const PlaneHit& h) {
+                                              return keep[i] >> lights.lights[set.plane(h.plane).light].light & 1u;
+                                          }),
+                           hits.end());
             n->gathered += hits.size();
             // Each crossing's contribution before its shadow ray's transmittance: T_cam sigma_s
             // and the plane's weight, kept apart so that the traced crossing's product is formed
@@ -288,15 +297,17 @@ void crossings_per_segment(const RenderContext& ctx, const PhotonPlaneSet& set, 
     for (int k = 0; k < media.count; ++k) {
         if (!ctx.scene.medium(media.seg[k].medium).scatters()) continue;
         set.gather(Ray{ray.o, ray.d, media.seg[k].t0, media.seg[k].t1, ray.time}, &hits, &parallel);
-        fn(k, hits.size());
+        fn(k, hits);
     }
 }
 
 // The camera ray crossings a plane set gives per pixel, estimated on a grid of pixel centres (a
 // fixed sample of the image, so that the choice it feeds is the same whatever the thread count).
-// Segments the path tracer takes (the partition) are left out: the gather skips them.
-double crossings_per_camera_ray(const RenderContext& ctx, const PhotonPlaneSet& set,
-                                const std::vector<uint8_t>& plane_segments) {
+// Segments the path tracer takes (the partition) are left out, and so are the crossings of lights
+// the per-light partition left to it (`keep`, RayMedia::plane_keep per pixel, or empty): the gather
+// skips them.
+double crossings_per_camera_ray(const RenderContext& ctx, const PhotonPlaneSet& set, const std::vector<PlaneLight>& lights,
+                                const std::vector<uint8_t>& plane_segments, const std::vector<uint32_t>& keep) {
     constexpr int kGrid = 16;
     const int w = ctx.film.width(), h = ctx.film.height();
     uint64_t crossings = 0;
@@ -304,8 +315,11 @@ double crossings_per_camera_ray(const RenderContext& ctx, const PhotonPlaneSet& 
         for (int i = 0; i < kGrid; ++i) {
             const int x = (2 * i + 1) * w / (2 * kGrid), y = (2 * j + 1) * h / (2 * kGrid);
             const uint8_t mask = plane_segments.empty() ? 0xff : plane_segments[size_t(y) * w + x];
-            crossings_per_segment(ctx, set, x, y, [&](int k, size_t n) {
-                if (mask >> k & 1u) crossings += n;
+            const uint32_t* kept = keep.empty() ? nullptr : &keep[(size_t(y) * w + x) * RayMedia::kMaxSegments];
+            crossings_per_segment(ctx, set, x, y, [&](int k, const std::vector<PlaneHit>& hits) {
+                if (!(mask >> k & 1u)) return;
+                for (const PlaneHit& hit : hits)
+                    crossings += !(kept && kept[k] >> lights[set.plane(hit.plane).light].light & 1u);
             });
         }
     return double(crossings) / (kGrid * kGrid);
@@ -341,37 +355,71 @@ std::vector<PhotonPlane> draw_planes(const PlaneLights& lights, uint32_t n, Plan
 // that split: its segment i is estimated by the planes or by the path tracer's single scattering
 // for the plane lights, never both and never neither (a fixed partition of the integral over
 // camera rays and segments), so the sum stays unbiased whatever the pilot drew.
-void PhotonPlanesIntegrator::partition_segments(const RenderContext& ctx, const PhotonPlaneSet& pilot) {
+//
+// The per-light partition (plane_min_light_crossings) refines it: on a segment the planes keep, a
+// plane light that the pilot crosses there on average fewer times than that, but at all, is left
+// to the path tracer (RayMedia::plane_keep; the media light choice then includes it there). A
+// dim light whose few planes streak across the fog another light's planes fill (volume_spot's fill
+// light beside the spot's cone) thus stops streaking there. Still a fixed partition, now of the
+// (segment, light) pairs: unbiased.
+void PhotonPlanesIntegrator::partition_segments(const RenderContext& ctx, const PhotonPlaneSet& pilot,
+                                                const std::vector<PlaneLight>& lights) {
     constexpr int kSeg = RayMedia::kMaxSegments, kRadius = 2;
     const int w = ctx.film.width(), h = ctx.film.height();
+    // Per light only where a light mask fits the media light choice (MediaLightChoice::Segment).
+    const size_t nl = lights.size();
+    const bool per_light = ctx.settings.plane_min_light_crossings > 0.0f && nl > 1 &&
+                           ctx.scene.lights().size() <= size_t(MediaLightChoice::kMaxSegmentLights);
     std::vector<float> counts(size_t(w) * h * kSeg, -1.0f);  // -1: no scattering segment there
+    std::vector<uint8_t> light_counts(per_light ? size_t(w) * h * kSeg * nl : 0, 0);  // clamped at 255
     tbb::parallel_for(0, h, [&](int y) {
         for (int x = 0; x < w; ++x)
-            crossings_per_segment(ctx, pilot, x, y,
-                                  [&](int k, size_t n) { counts[(size_t(y) * w + x) * kSeg + k] = float(n); });
+            crossings_per_segment(ctx, pilot, x, y, [&](int k, const std::vector<PlaneHit>& hits) {
+                const size_t at = (size_t(y) * w + x) * kSeg + k;
+                counts[at] = float(hits.size());
+                if (!per_light) return;
+                uint8_t* c = &light_counts[at * nl];
+                for (const PlaneHit& hit : hits) {
+                    uint8_t& n = c[pilot.plane(hit.plane).light];
+                    if (n < 255) ++n;
+                }
+            });
     });
     plane_segments_.assign(size_t(w) * h, 0xff);
-    const float k_min = ctx.settings.plane_min_crossings;
+    if (per_light) plane_keep_.assign(size_t(w) * h * kSeg, 0u);
+    const float k_min = ctx.settings.plane_min_crossings, k_light = ctx.settings.plane_min_light_crossings;
+    std::vector<double> per(nl);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             for (int k = 0; k < kSeg; ++k) {
                 if (counts[(size_t(y) * w + x) * kSeg + k] < 0.0f) continue;
                 double sum = 0.0;
                 int n = 0;
+                std::fill(per.begin(), per.end(), 0.0);
                 for (int j = std::max(0, y - kRadius); j <= std::min(h - 1, y + kRadius); ++j)
                     for (int i = std::max(0, x - kRadius); i <= std::min(w - 1, x + kRadius); ++i) {
-                        const float c = counts[(size_t(j) * w + i) * kSeg + k];
-                        if (c >= 0.0f) sum += c, ++n;
+                        const size_t at = (size_t(j) * w + i) * kSeg + k;
+                        const float c = counts[at];
+                        if (!(c >= 0.0f)) continue;
+                        sum += c, ++n;
+                        for (size_t l = 0; per_light && l < nl; ++l) per[l] += light_counts[at * nl + l];
                     }
                 ++pilot_segments_;
                 if (sum < double(k_min) * n) {
                     plane_segments_[size_t(y) * w + x] &= uint8_t(~(1u << k));
                     ++path_segments_;
+                    continue;
                 }
+                for (size_t l = 0; per_light && l < nl; ++l)
+                    if (per[l] > 0.0 && per[l] < double(k_light) * n) {
+                        plane_keep_[(size_t(y) * w + x) * kSeg + k] |= 1u << lights[l].light;
+                        ++path_segment_lights_;
+                    }
             }
 }
 
-uint32_t PhotonPlanesIntegrator::surface_samples(const RenderContext& ctx, const PhotonPlaneSet& set) {
+uint32_t PhotonPlanesIntegrator::surface_samples(const RenderContext& ctx, const PhotonPlaneSet& set,
+                                                  const std::vector<PlaneLight>& lights) {
     if (ctx.settings.plane_surface_samples > 0) {
         surface_samples_ = ctx.settings.plane_surface_samples;
     } else if (surface_samples_ == 0) {
@@ -385,8 +433,16 @@ uint32_t PhotonPlanesIntegrator::surface_samples(const RenderContext& ctx, const
         // (8.7 s) that a 15 s budget completed one and discarded the second (SMAPE 0.244; M = 6:
         // two iterations, 0.203, the same relMSE; volume_planes M = 3: 0.210, M = 1: 0.178, relMSE
         // 0.182 and 0.180). M gives the two parts about equal time.
-        constexpr double kCrossingCost = 0.2;
-        const double ratio = crossings_per_camera_ray(ctx, set, plane_segments_) * kCrossingCost;
+        // An iteration also costs what does not scale with the crossings (the camera ray traced
+        // again through the scene and the planes' BVH, the plane set's build): about kIterationCost
+        // path samples. Without it, once the per-light partition left volume_planes 1.7 gathered
+        // crossings per camera ray, M fell to 1 and every path sample paid a whole iteration: at 15 s,
+        // 3 seeds, load 8-12, M = 4 gave planes / PATH 1.05 / 0.81 (SMAPE / relMSE) where M = 1 gave
+        // 1.23 / 1.12 (docs/bench/planes3_m4.md); on volume_spot (about 26 crossings) it gives M = 8,
+        // near the optimum 9 of the error model A + B / M measured there (docs/bench/planes3.md).
+        constexpr double kCrossingCost = 0.2, kIterationCost = 3.0;
+        const double ratio =
+            crossings_per_camera_ray(ctx, set, lights, plane_segments_, plane_keep_) * kCrossingCost + kIterationCost;
         surface_samples_ = uint32_t(std::clamp(std::lround(ratio), 1l, 64l));
     }
     return surface_samples_;
@@ -406,9 +462,11 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     std::vector<PhotonPlane> planes;
     std::vector<Color> plane_scale;  // Le pi A / (pmf N) per rectangle, I / (pmf N) per point light
     if (use_planes) {
-        if (settings.plane_min_crossings > 0.0f && plane_segments_.empty()) {
+        if ((settings.plane_min_crossings > 0.0f || settings.plane_min_light_crossings > 0.0f) &&
+            plane_segments_.empty()) {
             PlaneSequence pilot(mix64(0x70696c6f74ull ^ settings.seed), 0, settings.plane_stratified);
-            partition_segments(ctx, PhotonPlaneSet(scene.device(), draw_planes(lights, settings.photon_planes, pilot)));
+            partition_segments(ctx, PhotonPlaneSet(scene.device(), draw_planes(lights, settings.photon_planes, pilot)),
+                               lights.lights);
         }
         PlaneSequence sequence(mix64(0x706c616e6573ull ^ settings.seed), s, settings.plane_stratified);
         planes = draw_planes(lights, settings.photon_planes, sequence);
@@ -422,7 +480,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     PhotonPlaneSet set(scene.device(), std::move(planes));
     build_seconds_ += seconds_since(t0);
     const PlaneGather gather{scene, set, lights, plane_weight, plane_scale, settings.plane_shadow_rays};
-    const uint32_t M = use_planes && !settings.camera_volume_only ? surface_samples(ctx, set) : 1;
+    const uint32_t M = use_planes && !settings.camera_volume_only ? surface_samples(ctx, set, lights.lights) : 1;
 
     // M passes over the image, one path sample per pixel each (pixel samples s M ... s M + M - 1),
     // for all but the planes' part; the first pass's camera ray also gathers the planes. Every path
@@ -462,6 +520,8 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             camera.medium = scene.camera_medium();
             camera.planes_on_camera_ray = use_planes;
             if (!plane_segments_.empty()) camera.plane_segments = plane_segments_[i];
+            const uint32_t* keep = plane_keep_.empty() ? nullptr : &plane_keep_[i * RayMedia::kMaxSegments];
+            camera.plane_keep = keep;
             // The auxiliary passes (when on) as the camera path of the passes' sample s recorded
             // them (aux_passes.h): the first path sample's when it is sample s (M = 1, or the first
             // iteration); else add_aux_sample traces the sample's camera ray.
@@ -480,7 +540,7 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             float gathered = 0.0f;
             if (m == 0 && use_planes) {
                 GatherCounts n;
-                planes_at[i] = gather(ray, camera.medium, camera.plane_segments, rng, &n);
+                planes_at[i] = gather(ray, camera.medium, camera.plane_segments, keep, rng, &n);
                 gather_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t_gather).count());
                 plane_hits_ += n.gathered;
                 shadow_rays_ += n.shadow_rays;
@@ -513,6 +573,7 @@ std::map<std::string, double> PhotonPlanesIntegrator::stats() const {
             {"surface_samples", double(surface_samples_)},
             {"passes", double(passes_)},
             {"path_segments", double(path_segments_)},
+            {"path_segment_lights", double(path_segment_lights_)},
             {"pilot_segments", double(pilot_segments_)},
             {"build_seconds", build_seconds_},
             {"render_seconds", render_seconds_},

@@ -12,6 +12,7 @@
 namespace smis {
 
 class PhotonPlaneSet;
+struct PlaneLight;
 
 enum class PlaneWeighting {
     Unweighted,  // eq. 22: one orientation, 1/|(s x w_l) . w_e| singularity
@@ -34,19 +35,22 @@ private:
     void iteration(RenderContext& ctx, uint32_t s) override;
     // M: path samples per pixel that one plane set serves (RenderSettings::plane_surface_samples, or
     // chosen once per render from the first plane set).
-    uint32_t surface_samples(const RenderContext& ctx, const PhotonPlaneSet& set);
+    uint32_t surface_samples(const RenderContext& ctx, const PhotonPlaneSet& set, const std::vector<PlaneLight>& lights);
     // The segment partition (RenderSettings::plane_min_crossings): per pixel, the bits of
     // RayMedia::plane_segments of its camera rays, from a pilot plane set drawn once per render.
-    void partition_segments(const RenderContext& ctx, const PhotonPlaneSet& pilot);
+    // With plane_min_light_crossings, per (segment, plane light) too: plane_keep_.
+    void partition_segments(const RenderContext& ctx, const PhotonPlaneSet& pilot, const std::vector<PlaneLight>& lights);
     PlaneWeighting weighting_;
     uint32_t surface_samples_ = 0;
     std::vector<uint8_t> plane_segments_;  // per window pixel; empty: every segment is the planes'
+    std::vector<uint32_t> plane_keep_;     // RayMedia::plane_keep per window pixel (kMaxSegments each), or empty
     std::chrono::steady_clock::time_point first_iteration_start_{};
     // Measurements, summed over iterations.
     double build_seconds_ = 0, render_seconds_ = 0;
     double path_seconds_ = 0, gather_seconds_ = 0;  // thread time: path samples, plane gathering
     uint64_t iterations_ = 0, planes_ = 0, passes_ = 0;
     uint64_t path_segments_ = 0, pilot_segments_ = 0;  // the partition: segments the path tracer takes, of all
+    uint64_t path_segment_lights_ = 0;                  // (segment, light) pairs the per-light partition left to it
     std::atomic<uint64_t> plane_hits_{0}, shadow_rays_{0}, parallel_rejected_{0}, nonfinite_rejected_{0};
 };
 

@@ -25,6 +25,9 @@ struct RayMedia {
     // Bit i: skip_plane_lights applies to seg[i] (photon planes estimate its single scattering from
     // their lights); on the others the path tracer does (photon_planes.cpp, the segment partition).
     uint8_t plane_segments = 0xff;
+    // Per segment (or null): the plane lights, by scene light index, that the per-light partition
+    // left to the path tracer on a segment whose plane_segments bit is set (photon_planes.cpp).
+    const uint32_t* plane_keep = nullptr;
 
     void add(const Scene& scene, float t0, float t1, int32_t medium);
     // exp(-optical depth over [0, t)), per channel.
@@ -112,7 +115,8 @@ void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& medi
         const SegmentNumbers n = segment_numbers(rng);
         const Point2 u = n.light;
         const bool skip = skip_plane_lights && (media.plane_segments >> i & 1u);
-        if (!med.scatters() || choice.empty(skip)) continue;
+        const uint32_t keep = skip && media.plane_keep ? media.plane_keep[i] : 0u;
+        if (!med.scatters() || choice.empty(skip, keep)) continue;
         const float len = s.t1 - s.t0;
         const Vec3 o = ray.o + ray.d * s.t0;
         // Lights hidden from Volume Scatter, and with skip_plane_lights the planes' lights, are
@@ -120,7 +124,7 @@ void scattering_samples(const Scene& scene, const Ray& ray, const RayMedia& medi
         uint32_t li;
         float light_pmf, u_technique;
         const Color sigma_t = med.sigma_t();
-        if (!choice.sample({o, ray.d, len, (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f, skip}, n.select,
+        if (!choice.sample({o, ray.d, len, (sigma_t.x + sigma_t.y + sigma_t.z) / 3.0f, skip, keep}, n.select,
                            &li, &light_pmf, &u_technique))
             continue;
         const Light& light = scene.light(li);

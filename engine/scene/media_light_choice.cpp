@@ -19,7 +19,7 @@ MediaLightChoice::MediaLightChoice(const std::vector<std::unique_ptr<Light>>& li
         for (uint32_t i = 0; i < lights.size(); ++i) {
             const Light& l = *lights[i];
             if (!(l.visibility & kRayVolumeScatter)) continue;  // Ray Visibility > Volume Scatter off
-            if (skip && (l.rectangle(nullptr) || l.point(nullptr))) continue;
+            if (skip && (l.rectangle(nullptr) || l.point(nullptr))) continue;  // Entry::plane
             m.eligible.push_back(i);
             m.power_pmf[i] = power.pmf(i);
             total += power.pmf(i);
@@ -31,6 +31,7 @@ MediaLightChoice::MediaLightChoice(const std::vector<std::unique_ptr<Light>>& li
     }
     for (uint32_t i = 0; i < lights.size(); ++i) {
         entries_[i].bounded = lights[i]->bounds(&entries_[i].bounds);
+        entries_[i].plane = lights[i]->rectangle(nullptr) || lights[i]->point(nullptr);
         entries_[i].power = power.pmf(i);
     }
 }
@@ -57,32 +58,58 @@ float MediaLightChoice::segment_weight(const Segment& s, const Entry& e, float* 
     return std::isfinite(g) && g > 0.0f ? g : 0.0f;
 }
 
-void MediaLightChoice::segment_pmfs(const Segment& s, float* pmf) const {
+MediaLightChoice::Eligible MediaLightChoice::eligible(const Segment& s, EligibleStorage* storage) const {
     const Mode& m = mode_[s.skip_plane_lights];
+    if (!(s.skip_plane_lights && s.keep_plane_lights) || entries_.size() > size_t(kMaxSegmentLights))
+        return {m.eligible.data(), m.eligible.size(), m.power_pmf.data()};
+    // The lights of the mode without skipping, less the plane lights not kept, in the same order.
+    const Mode& all = mode_[0];
+    size_t n = 0;
+    double total = 0.0;
+    for (uint32_t i : all.eligible) {
+        storage->power_pmf[i] = 0.0f;
+        if (entries_[i].plane && !(s.keep_plane_lights >> i & 1u)) continue;
+        storage->index[n++] = i;
+        total += entries_[i].power;
+    }
+    for (size_t k = 0; k < n; ++k) {
+        const uint32_t i = storage->index[k];
+        storage->power_pmf[i] = total > 0.0 ? float(entries_[i].power / total) : 1.0f / float(n);
+    }
+    return {storage->index, n, storage->power_pmf};
+}
+
+void MediaLightChoice::segment_pmfs(const Segment& s, const Eligible& e, float* pmf) const {
     float g[kMaxSegmentLights], tau[kMaxSegmentLights];
     float tau_min = kInf;
-    for (uint32_t i : m.eligible) {
+    for (size_t k = 0; k < e.count; ++k) {
+        const uint32_t i = e.index[k];
         g[i] = segment_weight(s, entries_[i], &tau[i]);
         if (g[i] > 0.0f) tau_min = std::min(tau_min, tau[i]);
     }
     double total = 0.0;
-    for (uint32_t i : m.eligible) {
+    for (size_t k = 0; k < e.count; ++k) {
+        const uint32_t i = e.index[k];
         // exp(0) = 1 exactly: the light that sets tau_min (often the only one near) needs no exp.
-        if (g[i] > 0.0f) g[i] *= m.power_pmf[i] * (tau[i] == tau_min ? 1.0f : std::exp(tau_min - tau[i]));
+        if (g[i] > 0.0f) g[i] *= e.power_pmf[i] * (tau[i] == tau_min ? 1.0f : std::exp(tau_min - tau[i]));
         total += g[i];
     }
     const bool segment = total > 0.0 && std::isfinite(total);
     // Without a segment part (only lights at infinity, or every one behind), the defensive two.
     const float norm = segment ? 1.0f : 1.0f / (kPowerWeight + kUniformWeight);
-    const float uniform = kUniformWeight / float(m.eligible.size());
+    const float uniform = kUniformWeight / float(e.count);
     for (size_t i = 0; i < entries_.size(); ++i) pmf[i] = 0.0f;
-    for (uint32_t i : m.eligible)
-        pmf[i] = norm * (kPowerWeight * m.power_pmf[i] + uniform + (segment ? float(kSegmentWeight * g[i] / total) : 0.0f));
+    for (size_t k = 0; k < e.count; ++k) {
+        const uint32_t i = e.index[k];
+        pmf[i] = norm * (kPowerWeight * e.power_pmf[i] + uniform + (segment ? float(kSegmentWeight * g[i] / total) : 0.0f));
+    }
 }
 
 bool MediaLightChoice::sample(const Segment& s, float u, uint32_t* light, float* pmf, float* remapped) const {
     const Mode& m = mode_[s.skip_plane_lights];
-    if (m.eligible.empty()) return false;
+    EligibleStorage storage;
+    const Eligible e = eligible(s, &storage);
+    if (e.count == 0) return false;
     if (entries_.size() > size_t(kMaxSegmentLights)) {
         // The defensive mixture alone: the first half of u chooses by power, the second uniformly.
         float r = 0.0f;
@@ -99,11 +126,12 @@ bool MediaLightChoice::sample(const Segment& s, float u, uint32_t* light, float*
         return *pmf > 0.0f;
     }
     float p[kMaxSegmentLights];
-    segment_pmfs(s, p);
+    segment_pmfs(s, e, p);
     // Inverse CDF over the eligible lights; rounding past the end falls on the last one.
     float cdf = 0.0f, below = 0.0f;
-    *light = m.eligible.back();
-    for (uint32_t i : m.eligible) {
+    *light = e.index[e.count - 1];
+    for (size_t k = 0; k < e.count; ++k) {
+        const uint32_t i = e.index[k];
         below = cdf;
         cdf += p[i];
         if (u < cdf) {
@@ -118,13 +146,15 @@ bool MediaLightChoice::sample(const Segment& s, float u, uint32_t* light, float*
 
 float MediaLightChoice::pmf(const Segment& s, uint32_t light) const {
     const Mode& m = mode_[s.skip_plane_lights];
-    if (light >= entries_.size() || m.eligible.empty()) return 0.0f;
+    EligibleStorage storage;
+    const Eligible e = eligible(s, &storage);
+    if (light >= entries_.size() || e.count == 0) return 0.0f;
     if (entries_.size() > size_t(kMaxSegmentLights)) {
         const bool eligible = std::binary_search(m.eligible.begin(), m.eligible.end(), light);
         return eligible ? 0.5f * (m.power.pmf(light) + 1.0f / float(m.eligible.size())) : 0.0f;
     }
     float p[kMaxSegmentLights];
-    segment_pmfs(s, p);
+    segment_pmfs(s, e, p);
     return p[light];
 }
 

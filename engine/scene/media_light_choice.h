@@ -40,11 +40,15 @@ public:
     // The segment o + d t, t in [0, len] (len may be infinite), in a medium of mean extinction
     // sigma_t. With skip_plane_lights, rectangles and points without radius are left out (photon
     // planes estimate their single scattering).
+    // With skip_plane_lights, the plane lights whose bit (by scene light index) is set in
+    // keep_plane_lights stay eligible: the per-light segment partition (photon_planes.cpp) left
+    // their scattering on this segment to the path tracer. Only for at most kMaxSegmentLights lights.
     struct Segment {
         Vec3 o, d;
         float len;
         float sigma_t;
         bool skip_plane_lights;
+        uint32_t keep_plane_lights = 0;
     };
     // Chooses a light with u in [0, 1); false when no light can light media. *remapped (if given): u
     // rescaled within the chosen light's share of [0, 1), uniform and independent of the choice,
@@ -53,11 +57,15 @@ public:
     // The probability that sample() chooses `light` for s.
     float pmf(const Segment& s, uint32_t light) const;
     bool empty(bool skip_plane_lights) const { return mode_[skip_plane_lights].eligible.empty(); }
+    bool empty(bool skip_plane_lights, uint32_t keep_plane_lights) const {
+        return empty(skip_plane_lights) && !(skip_plane_lights && keep_plane_lights);
+    }
 
 private:
     struct Entry {
         LightBounds bounds;
         bool bounded = false;
+        bool plane = false;  // a rectangle or a point without radius: photon planes can take it
         float power = 0.0f;  // the surfaces' pmf: proportional to power
     };
     struct Mode {
@@ -65,8 +73,20 @@ private:
         std::vector<float> power_pmf;  // per light, renormalised over eligible ones (0 otherwise)
         DiscreteDistribution power;    // the same, for sampling among many lights
     };
+    // The eligible lights of one segment and their power pmf: a mode's, or (keep_plane_lights) the
+    // skipping mode's with the kept plane lights added, in the stack arrays of the caller.
+    struct Eligible {
+        const uint32_t* index;
+        size_t count;
+        const float* power_pmf;
+    };
+    struct EligibleStorage {
+        uint32_t index[kMaxSegmentLights];
+        float power_pmf[kMaxSegmentLights];
+    };
+    Eligible eligible(const Segment& s, EligibleStorage* storage) const;
     // The mixture's pmf of every light into pmf[] (size lights); only for at most kMaxSegmentLights.
-    void segment_pmfs(const Segment& s, float* pmf) const;
+    void segment_pmfs(const Segment& s, const Eligible& e, float* pmf) const;
     float segment_weight(const Segment& s, const Entry& e, float* tau) const;
 
     std::vector<Entry> entries_;
