@@ -130,8 +130,10 @@ MSANISO_WALK_KNOWN = {"principled_multi_aniso_dielectric": 0.0125}
 # 5.7%), 0.48% (1, IOR 2; 30.1%), Principled 0.43% (0.5 white; 19.7%), 0.65% (0.8 coloured; 8.9%), 0.66%
 # (Specular Tint 1; 6.1%); 512 spp: 0.14 / 0.90 / 0.35 / 0.44 / 0.69 / 0.86 / 0.73%. Before the LCG (each
 # walk its own numbers) 0.37 / 1.71 / 1.40 / 1.80 / 3.86 / 3.06 / 1.66% at 1024: one IOR-2 sphere under the
-# World alone was 7% darker than Cycles at 1 bounce and 10.6% brighter at 8.
-MULTIGLASS_WALK_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "512"))
+# World alone was 7% darker than Cycles at 1 bounce and 10.6% brighter at 8. At 512 spp the roughness-0.8
+# sphere's 0.90% leaves the 1% bar no room for the noise between scene builds (their float rounding moves
+# the walks' hashed keys), so the test renders 1024 (about 8 s more).
+MULTIGLASS_WALK_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "1024"))
 MULTIGLASS_WALK_KNOWN = {}
 # The Principled set with the setting: its Multiscatter GGX metal (Metallic 1) as Cycles' one reflection
 # closure: 0.28% at 1024 spp with Cycles' light choice (0.32% with ours; 1.87% by default at 2048). The sharp-reflection glass (not converted) converges
