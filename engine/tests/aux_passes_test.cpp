@@ -38,11 +38,7 @@ std::shared_ptr<Scene> room_with_mirror_glass_and_holdout(int w, int h) {
 // through its boundary do not.
 std::shared_ptr<Scene> camera_in_fog(int w, int h) {
     auto s = std::make_shared<Scene>();
-    Material boundary;
-    boundary.name = "fog";
-    boundary.pass_through = true;
-    boundary.medium = s->add_medium(medium_of(Color(0.05f), Color(0.3f), 0.0f));
-    add_box(*s, {-1.5f, -1.5f, -0.2f}, {1.5f, 1.5f, 2.5f}, s->add_material(boundary));
+    add_box(*s, {-1.5f, -1.5f, -0.2f}, {1.5f, 1.5f, 2.5f}, add_medium_boundary(*s, medium_of(Color(0.05f), Color(0.3f), 0.0f)));
     add_box(*s, {-1.4f, -1.4f, -0.1f}, {1.4f, 1.4f, 0.0f}, s->add_material(diffuse(Color(0.7f))));
     add_box(*s, {-1.1f, 0.8f, 0.0f}, {0.1f, 0.9f, 1.3f}, s->add_material(glossy(Color(0.9f), 0.0f)));
     Material glass = smooth_glass(1.5f);

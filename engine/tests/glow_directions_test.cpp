@@ -37,11 +37,7 @@ std::shared_ptr<Scene> glow_room(int w, int h) {
     fog.sigma_a = Color(0.05f, 0.08f, 0.1f);
     fog.sigma_s = Color(0.6f, 0.5f, 0.4f);
     fog.phase = HenyeyGreenstein(0.2f);
-    Material boundary;
-    boundary.name = "fog";
-    boundary.pass_through = true;
-    boundary.medium = s->add_medium(fog);
-    const uint32_t fog_box = s->add_material(boundary);
+    const uint32_t fog_box = add_medium_boundary(*s, fog);
     add_room(*s, white, white, red);
     add_box(*s, {-1.1f, 0.9f, 0.0f}, {1.1f, 1.0f, 2.0f}, back);
     add_box(*s, {-0.99f, -0.99f, 0.0f}, {0.99f, 0.95f, 1.3f}, fog_box);

@@ -38,11 +38,7 @@ std::shared_ptr<Scene> fog_room(int w, int h) {
     fog.sigma_a = Color(0.05f, 0.08f, 0.12f);
     fog.sigma_s = Color(0.7f, 0.6f, 0.45f);
     fog.phase = HenyeyGreenstein(0.3f);
-    Material boundary;
-    boundary.name = "fog";
-    boundary.pass_through = true;
-    boundary.medium = s->add_medium(fog);
-    const uint32_t fog_box = s->add_material(boundary);
+    const uint32_t fog_box = add_medium_boundary(*s, fog);
     Medium haze;
     haze.sigma_a = Color(0.02f);
     haze.sigma_s = Color(0.05f, 0.08f, 0.1f);

@@ -61,6 +61,15 @@ inline Material diffuse(const Color& albedo, const Color& emission = Color(0.0f)
     m.emission = emission;
     return m;
 }
+// The material of a medium's boundary ("fog"): index-matched surfaces that a ray passes through into
+// `medium` (added to the scene here).
+inline uint32_t add_medium_boundary(Scene& s, const Medium& medium) {
+    Material boundary;
+    boundary.name = "fog";
+    boundary.pass_through = true;
+    boundary.medium = s.add_medium(medium);
+    return s.add_material(boundary);
+}
 
 inline std::vector<float> render(const std::shared_ptr<Scene>& scene, RenderSettings settings) {
     RenderSession session(scene, settings);
@@ -326,11 +335,7 @@ inline Medium medium_of(const Color& sigma_a, const Color& sigma_s, float g) {
 inline std::shared_ptr<Scene> foggy_mirror_and_glass(const Medium& fog, const Medium& inside_glass,
                                                      bool spectral_light = false, int w = 16, int h = 16) {
     auto s = std::make_shared<Scene>();
-    Material boundary;
-    boundary.name = "fog";
-    boundary.pass_through = true;
-    boundary.medium = s->add_medium(fog);
-    add_box(*s, {-1.5f, -1.5f, -0.2f}, {1.5f, 1.5f, 2.5f}, s->add_material(boundary));
+    add_box(*s, {-1.5f, -1.5f, -0.2f}, {1.5f, 1.5f, 2.5f}, add_medium_boundary(*s, fog));
     add_box(*s, {-1.4f, -1.4f, -0.1f}, {1.4f, 1.4f, 0.0f}, s->add_material(diffuse(Color(0.7f))));
     add_box(*s, {-1.1f, 0.8f, 0.0f}, {0.1f, 0.9f, 1.3f}, s->add_material(glossy(Color(0.9f), 0.0f)));
     Material glass = smooth_glass(1.5f);

@@ -61,11 +61,7 @@ Medium make_medium(const Color& sigma_a, const Color& sigma_s, float g = 0.0f) {
 std::shared_ptr<Scene> fog_box(int w, int h, const Medium& fog, std::vector<LightDesc> lights = {}) {
     auto s = std::make_shared<Scene>();
     uint32_t white = s->add_material(diffuse(Color(0.7f)));
-    Material boundary;
-    boundary.name = "fog";
-    boundary.pass_through = true;
-    boundary.medium = s->add_medium(fog);
-    uint32_t fog_mat = s->add_material(boundary);
+    uint32_t fog_mat = add_medium_boundary(*s, fog);
     add_box(*s, {-1.5f, -1.5f, -0.2f}, {1.5f, 1.5f, 2.5f}, fog_mat);
     add_box(*s, {-1.4f, -1.4f, -0.1f}, {1.4f, 1.4f, 0.0f}, white);
     add_box(*s, {-0.3f, 0.0f, 0.0f}, {0.3f, 0.5f, 0.8f}, white);
