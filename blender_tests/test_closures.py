@@ -46,8 +46,16 @@ SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "512"))
 # (0.9 / 0.7 / 0.5), while the white sphere of the same roughness is within 1%. Anisotropic Beckmann:
 # Cycles 3.4 samples it with alpha_x in both directions (microfacet_sample_stretched(..., alpha_x,
 # alpha_x, ...) in bsdf_microfacet.h) but returns the anisotropic pdf, so Cycles' image is biased
-# there; ours is not: 1.5%.
+# there; ours is not: 1.5% (with the setting beckmann_cycles_sampling, Cycles' sampler, within 1%:
+# test_anisotropic_beckmann_matches_cycles_with_its_sampler).
 KNOWN = {"glass_ggx_0p3": 0.015, "glossy_multi_0p8_tinted": 0.06, "anisotropic_beckmann": 0.02}
+# The anisotropic Beckmann sphere (Roughness 0.4, Anisotropy -0.5: alpha 0.32 / 0.08) with the setting
+# beckmann_cycles_sampling (lobes/anisotropic.h, kCyclesSampler: Cycles' visible normals of the isotropic
+# alpha_x weighed by the anisotropic pdf, and Cycles 3.4's light choice), rendered alone through a render
+# border on its tile. Measured at 1024 spp: 0.48% (by default 1.42%; the default sampler with Cycles' light
+# choice 1.07%, so the bound is 0.75%, not the 1% bar, which would barely tell the two apart).
+BECKMANN_CYCLES_SPP = int(os.environ.get("SMIS_CLOSURE_SPP", "1024"))
+BECKMANN_CYCLES_BOUND = 0.0075
 # The Principled set (closures_principled, 3 x 2 spheres): small, so rendered at more samples; its rough
 # glass converges slowly (the sharp reflection over rough refraction: 0.99% at 1024 spp, 0.56% at 4096).
 # The metal with Multiscatter GGX: Cycles' walk colours each bounce by the Fresnel colour at its
@@ -211,6 +219,30 @@ def _set_matches_cycles(tmp_path_factory, set_name, spp, known, extra=""):
 
 def test_every_closure_sphere_matches_cycles(tmp_path_factory):
     _set_matches_cycles(tmp_path_factory, "closures", SPP, KNOWN)
+
+
+def test_anisotropic_beckmann_matches_cycles_with_its_sampler(tmp_path_factory):
+    """The anisotropic Beckmann sphere with the setting beckmann_cycles_sampling: Cycles' own (biased)
+    sampler gives Cycles' image, within 0.75% (by default, unbiased, 1.5%: KNOWN)."""
+    blend, tiles = _scene(tmp_path_factory)
+    tile = next(t for t in tiles if t["name"] == "anisotropic_beckmann")
+    ref = _smis.read_exr(os.path.join(REFERENCES, "closures.exr"))
+    height, width = ref.shape[:2]
+    # The border's pixel window is int(border * size) in single precision: half a pixel in.
+    x0, y0, size = tile["x0"], tile["y0"], tile["size"]
+    ours = _render(blend, BECKMANN_CYCLES_SPP, f"""
+scene.smis.beckmann_cycles_sampling = True
+scene.render.use_border = True
+scene.render.use_crop_to_border = False
+scene.render.border_min_x = {(x0 + 0.5) / width!r}
+scene.render.border_max_x = {(x0 + size + 0.5) / width!r}
+scene.render.border_min_y = {(y0 + 0.5) / height!r}
+scene.render.border_max_y = {(y0 + size + 0.5) / height!r}
+""").image
+    assert ours.shape[:2] == ref.shape[:2] and np.isfinite(ours).all()
+    error = _tile_errors(ours, ref, [tile])["anisotropic_beckmann"]
+    assert error <= BECKMANN_CYCLES_BOUND, "anisotropic_beckmann MRE %.3f%% over %.2f%%" % (
+        100 * error, 100 * BECKMANN_CYCLES_BOUND)
 
 
 def test_principled_transmission_and_multiscatter_match_cycles(tmp_path_factory):

@@ -236,6 +236,15 @@ SETTINGS = [
             why="Cycles' mf_eval / mf_sample / mf_pdf and their glass forms (lobes/multiscatter_walk.h, "
                 "lobes/multi_glass_walk.h): Cycles' look, inconsistent; off by default.",
             panel="light_paths"),
+    Setting("beckmann_cycles_sampling", "bool", False, "Cycles Anisotropic Beckmann Sampling",
+            "Sample the Anisotropic BSDF's Beckmann distribution as Cycles 3.4 does: its visible normals drawn "
+            "with the Roughness along the tangent in both directions, but weighted as if they came from the "
+            "anisotropic distribution, so its image is biased where the two roughnesses differ (1.5% on a "
+            "sphere of Roughness 0.4, Anisotropy -0.5). This matches Cycles' image, and chooses lights as Cycles "
+            "3.4 does. Off: the anisotropic distribution's own samples, unbiased",
+            why="Cycles' bsdf_microfacet_beckmann_sample (microfacet_sample_stretched with alpha_x twice) and its "
+                "pdf (lobes/anisotropic.h, kCyclesSampler): Cycles' look, biased; off by default.",
+            panel="light_paths"),
     Setting("mis_heuristic", MIS_HEURISTIC, "POWER", "MIS Heuristic",
             "How multiple importance sampling weights the sampling techniques", field="mis", panel="light_paths"),
     # Cycles' Light Paths > Max Bounces per type, Clamping and Caustics. Unlike Cycles' defaults (diffuse

@@ -183,7 +183,7 @@ inline bool uses_light_path_rules(const Scene& scene, const RenderSettings& s) {
                                 s.max_transparent_bounces});
     return scene.has_ray_visibility() || scene.has_subsurface() || limit < s.max_bounces || s.clamp_direct > 0.0f ||
            s.clamp_indirect > 0.0f || !s.caustics_reflective || !s.caustics_refractive || s.filter_glossy > 0.0f ||
-           s.multiscatter_cycles_walk;
+           s.multiscatter_cycles_walk || s.beckmann_cycles_sampling;
 }
 // Cycles' Clamp Direct / Clamp Indirect (0 = off): a contribution whose mean |RGB| exceeds the
 // limit is scaled down to it (Cycles compares the sum with 3 x the setting). Direct: light samples
@@ -304,6 +304,14 @@ inline void cycles_multiscatter_lobes(const RenderSettings& s, ShadingPoint& sp)
     });
     sp.bsdf = sp.bsdf.only([](const Lobe& l) { return !replaced_by_cycles_walk(l) && !replaced_by_cycles_glass_walk(l); });
 }
+// The setting beckmann_cycles_sampling: the Anisotropic BSDF's Beckmann sampled as Cycles 3.4 samples
+// it (lobes/anisotropic.h, kCyclesSampler).
+inline void cycles_beckmann_lobes(const RenderSettings& s, ShadingPoint& sp) {
+    if (!s.beckmann_cycles_sampling) return;
+    sp.bsdf.change_lobes([](Lobe& l) {
+        if (l.kind == LobeKind::AnisoBeckmann) l.variant = AnisoBeckmannLobe::kCyclesSampler;
+    });
+}
 // Cycles evaluates the BSDF towards the vertex's light sample (world-space wo, wi) before its shadow
 // test (shade_surface.h, integrate_surface_direct_light), and its BSDF sample then draws on from where
 // that eval left the LCG: the glass walk lobes' states move on by the numbers their eval takes.
@@ -318,11 +326,12 @@ inline void after_cycles_light_eval(Bsdf& bsdf, const Vec3& wo, const Vec3& wi) 
     });
 }
 // The Light Paths rules that change a vertex's lobes: the caustics toggles, Filter Glossy, and
-// Cycles' multiscatter estimator on request.
+// Cycles' multiscatter and anisotropic Beckmann estimators on request.
 inline void light_path_lobes(const RenderSettings& s, const PathState& st, ShadingPoint& sp) {
     drop_caustic_lobes(s, st, sp);
     blur_glossy_lobes(s, st, sp);
     cycles_multiscatter_lobes(s, sp);
+    cycles_beckmann_lobes(s, sp);
 }
 // With media (Scene::has_media()), `medium` is the medium the path arrived in and the shadow ray
 // carries transmittance; without, it is ignored and the shadow ray is a plain occlusion test.

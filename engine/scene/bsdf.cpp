@@ -74,6 +74,70 @@ Vec3 ggx_sample_visible_normal(const Vec3& wo_in, float alpha_x, float alpha_y, 
     return ne / std::sqrt(nlen2);
 }
 
+// ---------------------------------------------------------------------------------------------
+// Beckmann visible normals (Heitz & d'Eon 2014, "Importance Sampling Microfacet-Based BSDFs using the
+// Distribution of Visible Normals", section 4): the view is stretched to the unit-roughness
+// configuration, where it has polar angle theta and a = cot(theta). There a slope (x, y) along and
+// across the view's azimuth is seen with the density
+//   P(x, y) ~ (a - x) exp(-x^2 - y^2),   x < a,
+// so y is normal with variance 1/2, apart from x, and x has the cumulative
+//   C(x) ~ a erfc(-x) + exp(-x^2) / sqrt(pi)      (dC/dx = 2 (a - x) exp(-x^2) / sqrt(pi)).
+// Both are inverted by Newton's method kept inside a shrinking bracket (double precision).
+
+namespace {
+
+constexpr double kInvSqrtPi = 0.56418958354775628;
+
+// x in [lo, hi] with f(x) = target for an increasing f (df its derivative).
+template <class F, class DF>
+double invert_increasing(F&& f, DF&& df, double target, double lo, double hi) {
+    double x = 0.5 * (lo + hi);
+    for (int it = 0; it < 64; ++it) {
+        double r = f(x) - target;
+        if (r > 0.0) hi = x;
+        else lo = x;
+        double d = df(x), next = d > 0.0 ? x - r / d : 0.5 * (lo + hi);
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        if (std::fabs(next - x) <= 1e-12 * (1.0 + std::fabs(x))) return next;
+        x = next;
+    }
+    return x;
+}
+
+// Slopes beyond 8 hold exp(-64) of the distribution: the bracket of both slopes.
+constexpr double kSlopeBound = 8.0;
+
+}  // namespace
+
+Vec3 beckmann_sample_visible_normal(const Vec3& wo, float alpha, Point2 u) {
+    alpha = sanitize_alpha(alpha);
+    const double sx = double(alpha) * wo.x, sy = double(alpha) * wo.y, sin_t = std::sqrt(sx * sx + sy * sy);
+    // a = cot of the stretched view's polar angle; at normal incidence any azimuth will do.
+    const double a = sin_t > 0.0 ? std::min(double(std::fabs(wo.z)) / sin_t, 1e8) : 1e8;
+    const double cos_p = sin_t > 0.0 ? sx / sin_t : 1.0, sin_p = sin_t > 0.0 ? sy / sin_t : 0.0;
+    auto cx = [a](double x) { return a * std::erfc(-x) + std::exp(-x * x) * kInvSqrtPi; };
+    auto dcx = [a](double x) { return 2.0 * (a - x) * std::exp(-x * x) * kInvSqrtPi; };
+    const double hi = std::min(a, kSlopeBound);
+    const double x = invert_increasing(cx, dcx, double(u.x) * cx(a), -kSlopeBound, hi);
+    auto cy = [](double y) { return 0.5 * std::erfc(-y); };
+    auto dcy = [](double y) { return std::exp(-y * y) * kInvSqrtPi; };
+    const double y = invert_increasing(cy, dcy, double(u.y), -kSlopeBound, kSlopeBound);
+    // Turned to the view's azimuth and unstretched; the normal of slope s is (-s_x, -s_y, 1).
+    const double mx = alpha * (cos_p * x - sin_p * y), my = alpha * (sin_p * x + cos_p * y);
+    return normalize(Vec3(float(-mx), float(-my), 1.0f));
+}
+
+// Smith's masking of the Beckmann distribution (Walter et al. 2007, eq. 25 before its rational
+// approximation): G1 = 1 / (1 + Lambda), Lambda = (erf(a) - 1) / 2 + exp(-a^2) / (2 a sqrt(pi)),
+// a = 1 / (alpha tan theta).
+float beckmann_smith_G1(const Vec3& w, float alpha) {
+    const double t = double(sanitize_alpha(alpha)) * std::sqrt(double(w.x) * w.x + double(w.y) * w.y);
+    if (!(t > 0.0)) return 1.0f;
+    const double a = std::fabs(w.z) / t;
+    const double lambda = 0.5 * (std::erf(a) - 1.0) + 0.5 * std::exp(-a * a) * kInvSqrtPi / a;
+    return float(1.0 / (1.0 + lambda));
+}
+
 // Unpolarised Fresnel reflectance of a dielectric interface. cos_i > 0: incident from the side the
 // normal points to, where eta = eta_other_side / eta_this_side; cos_i < 0 flips the interface.
 float fresnel_dielectric(float cos_i, float eta) {

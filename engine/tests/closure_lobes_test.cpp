@@ -413,6 +413,100 @@ TEST(ClosureFurnace, AshikhminShirleyLosesEnergyOnly) {
         }
 }
 
+// Cycles 3.4's anisotropic Beckmann sampler (the setting beckmann_cycles_sampling, AnisoBeckmannLobe::
+// kCyclesSampler), written out again here in double precision: bsdf_microfacet_beckmann_sample draws the
+// visible normal of the isotropic Beckmann of roughness alpha_x (microfacet_sample_stretched(..., alpha_x,
+// alpha_x, ...)), so its directions follow
+//   p_iso(wi) = G1s(wo, ax) D_iso(m; ax) / (4 cos_o)                       (Heitz & d'Eon 2014, eq. 2, x 1/(4 wo.m))
+// with Smith's exact G1s; it returns pdf = G1s(wo, ax) D(m; ax, ay) / (4 cos_o), the anisotropic D, and
+// value = pdf G1(wi) (Walter's rational G1 at the direction's alpha). Its eval's pdf (light samples'
+// MIS) is G1(wo) D / (4 cos_o). The directions are chi-squared against p_iso (and fail against the
+// returned pdf: Cycles' mismatch), the values checked at every sample.
+namespace cycles_beckmann {
+double smith_g1(const Vec3& w, double alpha) {
+    double a = w.z / (alpha * std::sqrt(double(w.x) * w.x + double(w.y) * w.y));
+    return 1.0 / (1.0 + 0.5 * (std::erf(a) - 1.0) + std::exp(-a * a) / (2.0 * a * std::sqrt(kPi)));
+}
+double rational_g1(const Vec3& w, double ax, double ay) {
+    double a = w.z / std::sqrt(sqr(ax * w.x) + sqr(ay * w.y));
+    return a >= 1.6 ? 1.0 : (3.535 * a + 2.181 * a * a) / (1.0 + 2.276 * a + 2.577 * a * a);
+}
+double d_aniso(const Vec3& m, double ax, double ay) {
+    double c2 = double(m.z) * m.z;
+    return std::exp(-(sqr(m.x / ax) + sqr(m.y / ay)) / c2) / (kPi * ax * ay * c2 * c2);
+}
+Vec3 half(const Vec3& wo, const Vec3& wi) { return normalize(wo + wi); }
+// Cycles drops the samples whose returned pdf underflows (the anisotropic D in single precision, at
+// normals far beyond alpha_y: about 0.1% of them at 0.32 / 0.08), as the lobe does.
+double p_iso(const Vec3& wo, const Vec3& wi, double ax, double ay) {
+    if (!(wi.z > 0.0f)) return 0.0;
+    const Vec3 m = half(wo, wi);
+    if (!(AnisoBeckmannLobe::D(m, float(ax), float(ay)) > 0.0f)) return 0.0;
+    return smith_g1(wo, ax) * d_aniso(m, ax, ax) / (4.0 * wo.z);
+}
+Lobe lobe(float ax, float ay) {
+    Lobe l = lobe_of(LobeKind::AnisoBeckmann, ax, Color(0.7f, 0.8f, 0.9f));
+    l.alpha_y = ay;
+    l.variant = AnisoBeckmannLobe::kCyclesSampler;
+    return l;
+}
+// The closures scene's sphere (Roughness 0.4, Anisotropy -0.5: 0.32 / 0.08), and a wider pair.
+const std::pair<float, float> kAlphas[] = {{0.32f, 0.08f}, {0.15f, 0.6f}};
+const std::pair<float, float> kViews[] = {{0.9f, 0.4f}, {0.5f, 1.3f}, {0.2f, 2.6f}};
+}  // namespace cycles_beckmann
+
+TEST(ClosureChi2, AnisoBeckmannCyclesSamplerDrawsTheIsotropicAlphaX) {
+    using namespace cycles_beckmann;
+    const int cases = 2 * 3;
+    uint64_t seed = 401;
+    for (auto [ax, ay] : kAlphas)
+        for (auto [cos_o, phi] : kViews) {
+            Lobe l = lobe(ax, ay);
+            Vec3 wo = dir_from_cos(cos_o, phi);
+            std::string name = "AnisoBeckmannCycles_" + num(ax) + "_" + num(ay) + "_cos" + num(cos_o);
+            auto sample = [&](Rng& rng) { return lobe_checks::dir_sample(l, wo, rng); };
+            st::Chi2Options opt;
+            opt.seed = ++seed;
+            opt.pdf_rel_tolerance = 0.0;  // the samples report Cycles' pdf, not their density
+            st::Chi2Result iso = st::chi2_test_directions(sample, [&](const Vec3& wi) { return p_iso(wo, wi, ax, ay); },
+                                                          kChi2Samples, opt);
+            std::printf("[chi2] %-40s %s\n", name.c_str(), iso.summary().c_str());
+            EXPECT_TRUE(iso.passes(st::sidak_significance(kFamilySignificance, cases))) << name << ": "
+                                                                                       << iso.summary() << "\n"
+                                                                                       << iso.residual_map();
+            EXPECT_GT(iso.n_valid, kChi2Samples / 10) << name;
+            // What Cycles weighs them with is not their density.
+            st::Chi2Result own = st::chi2_test_directions(sample, [&](const Vec3& wi) { return lobe_pdf(l, wo, wi); },
+                                                          kChi2Samples / 5, opt);
+            EXPECT_FALSE(own.passes(1e-6)) << name << ": " << own.summary();
+        }
+}
+
+TEST(ClosureClosedForm, AnisoBeckmannCyclesSamplerReturnsCyclesValueAndPdf) {
+    using namespace cycles_beckmann;
+    Rng rng(9, 4);
+    for (auto [ax, ay] : kAlphas) {
+        Lobe l = lobe(ax, ay), plain = l;
+        plain.variant = 0;
+        int valid = 0;
+        for (int k = 0; k < 5000; ++k) {
+            Vec3 wo = sample_cosine_hemisphere(rand2(rng));
+            BsdfSample s = lobe_sample(l, wo, rand2(rng), rng.next_float());
+            if (!s.valid()) continue;
+            ++valid;
+            Vec3 m = half(wo, s.wi);
+            double pdf = smith_g1(wo, ax) * d_aniso(m, ax, ay) / (4.0 * wo.z);
+            ASSERT_TRUE(close_rel(s.pdf, pdf, 2e-3)) << ax << " " << s.pdf << " " << pdf;
+            ASSERT_TRUE(close_rel(s.value.y, 0.8 * pdf * rational_g1(s.wi, ax, ay), 2e-3)) << ax;
+            // eval is the lobe's BRDF; pdf() Cycles' eval pdf, the anisotropic visible normals'.
+            ASSERT_TRUE(close_rel(lobe_eval(l, wo, s.wi).y, lobe_eval(plain, wo, s.wi).y, 1e-5)) << ax;
+            ASSERT_TRUE(close_rel(lobe_pdf(l, wo, s.wi), rational_g1(wo, ax, ay) * d_aniso(m, ax, ay) / (4.0 * wo.z),
+                                  2e-3)) << ax;
+        }
+        EXPECT_GT(valid, 4000) << ax;
+    }
+}
+
 // An anisotropic lobe about its own tangent at angle phi from the frame's s axis is the same lobe about
 // the frame's, seen in directions turned by -phi: what Cycles' per-closure frame gives.
 TEST(ClosureClosedForm, OwnTangentTurnsTheLobe) {

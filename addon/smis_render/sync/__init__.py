@@ -39,9 +39,9 @@ def export_depsgraph(native, depsgraph, reporter, engine=None, view_camera=None,
         scene.set_fast_build(True)  # the viewport rebuilds after every edit
     bl_scene = depsgraph.scene
     smis = getattr(bl_scene, "smis", None)
-    if smis is not None and smis.multiscatter_cycles_walk:
-        # Cycles' multiscatter estimators are inconsistent: its image depends on its MIS weights,
-        # hence on how it chooses lights (scene/light_selection.h).
+    if smis is not None and (smis.multiscatter_cycles_walk or smis.beckmann_cycles_sampling):
+        # Cycles' multiscatter and anisotropic Beckmann estimators are inconsistent: its image depends
+        # on its MIS weights, hence on how it chooses lights (scene/light_selection.h).
         scene.set_light_selection("CYCLES_3_4")
 
     # Motion blur (final renders only): the scene evaluated at the shutter's times first, then

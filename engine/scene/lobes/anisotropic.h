@@ -13,6 +13,13 @@
 //  * Beckmann: D(m) = exp(-(m_x^2 / ax^2 + m_y^2 / ay^2) / m_z^2) / (pi ax ay m_z^4) and Walter et al.'s
 //    rational G1 at the direction's own alpha, sqrt(ax^2 cos^2 phi + ay^2 sin^2 phi) (Cycles'
 //    bsdf_beckmann_aniso_G1); sampled by D cos (the isotropic Beckmann slopes stretched by ax, ay).
+//    Variant kCyclesSampler (the setting beckmann_cycles_sampling): Cycles' own estimator, biased. Cycles
+//    3.4's bsdf_microfacet_beckmann_sample draws the visible normal with microfacet_sample_stretched(...,
+//    alpha_x, alpha_x, ...), the isotropic Beckmann of roughness ax, and returns as its pdf the
+//    anisotropic D (G1 of the view, exact Smith at ax, from that sampler) D(m) / (4 cos_o), as its value
+//    that times the rational G1 of the light direction: so a sample's weight is G1(wi) where the normal's
+//    density is not D's (biased wherever ax != ay). Its eval (light samples) is the lobe's own BRDF with
+//    the anisotropic visible-normal pdf G1(wo) D / (4 cos_o) for MIS, which pdf() returns under the variant.
 #pragma once
 #include "scene/lobes/beckmann.h"
 #include "scene/lobes/lobe.h"
@@ -96,6 +103,8 @@ struct AnisoBeckmannLobe : LobeDefaults<AnisoBeckmannLobe> {
     static constexpr SpectralFresnel kSpectral = SpectralFresnel::None;
     static constexpr bool kOwnTangent = true;
 
+    static constexpr uint8_t kCyclesSampler = 1;
+
     static bool is_delta(const Lobe& lobe) { return lobe_detail::aniso_is_delta(lobe); }
 
     static float D(const Vec3& m, float ax, float ay) {
@@ -120,9 +129,10 @@ struct AnisoBeckmannLobe : LobeDefaults<AnisoBeckmannLobe> {
         if (!(cos_om > 0.0f)) return {};
         float ax = lobe_detail::sanitize_alpha(lobe.alpha), ay = lobe_detail::sanitize_alpha(lobe.alpha_y);
         float d = D(wm, ax, ay);
+        const float g1o = G1(wo, ax, ay);
         LobeTerms t;
-        t.pdf = d * wm.z / (4.0f * cos_om);
-        t.geom = d * G1(wo, ax, ay) * G1(wi, ax, ay) / (4.0f * wo.z);
+        t.pdf = lobe.variant == kCyclesSampler ? d * g1o / (4.0f * wo.z) : d * wm.z / (4.0f * cos_om);
+        t.geom = d * g1o * G1(wi, ax, ay) / (4.0f * wo.z);
         t.cos_d = cos_om;
         return t;
     }
@@ -131,11 +141,30 @@ struct AnisoBeckmannLobe : LobeDefaults<AnisoBeckmannLobe> {
     [[gnu::noinline]] static BsdfSample sample(const Lobe& lobe, const Vec3& wo, Point2 u, float) {
         if (!(wo.z > 0.0f)) return {};
         if (is_delta(lobe)) return lobe_detail::mirror_sample(wo, lobe.weight);
+        if (lobe.variant == kCyclesSampler) return cycles_sample(lobe, wo, u);
         float r = std::sqrt(-std::log(std::max(1.0f - u.x, 1e-30f))), phi = 2.0f * kPi * u.y;
         Vec3 wm = lobe_detail::from_lobe_tangent(
             lobe, normalize(Vec3(lobe.alpha * r * std::cos(phi), lobe.alpha_y * r * std::sin(phi), 1.0f)));
         if (!(dot(wo, wm) > 0.0f)) return {};
         return MicrofacetLobe::reflect_about<AnisoBeckmannLobe>(lobe, wo, wm);
+    }
+
+    // Cycles' sample (kCyclesSampler): a visible normal of the isotropic Beckmann of roughness ax, valued
+    // and weighed as if it were the anisotropic one's (see the top).
+    static BsdfSample cycles_sample(const Lobe& lobe, const Vec3& wo_frame, Point2 u) {
+        const Vec3 wo = lobe_detail::to_lobe_tangent(lobe, wo_frame);
+        const float ax = lobe_detail::sanitize_alpha(lobe.alpha), ay = lobe_detail::sanitize_alpha(lobe.alpha_y);
+        const Vec3 wm = beckmann_sample_visible_normal(wo, ax, u);
+        const float cos_om = dot(wo, wm);
+        if (!(cos_om > 0.0f)) return {};
+        const Vec3 wi = normalize(reflect(wo, wm));
+        if (!(wi.z > 0.0f)) return {};
+        BsdfSample s;
+        s.pdf = beckmann_smith_G1(wo, ax) * D(wm, ax, ay) / (4.0f * wo.z);
+        s.value = lobe.weight * (s.pdf * G1(wi, ax, ay));
+        if (!(s.pdf > 0.0f) || !std::isfinite(s.pdf) || !is_finite(s.value)) return {};
+        s.wi = lobe_detail::from_lobe_tangent(lobe, wi);
+        return s;
     }
 
     static Color albedo(const Lobe& lobe) { return lobe.weight; }

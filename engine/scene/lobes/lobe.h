@@ -188,6 +188,10 @@ float lobe_pdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
 // that these inline into them.
 Vec3 ggx_sample_visible_normal(const Vec3& wo, float alpha, Point2 u);
 Vec3 ggx_sample_visible_normal(const Vec3& wo, float alpha_x, float alpha_y, Point2 u);  // anisotropic
+// A visible normal of the isotropic Beckmann distribution of roughness alpha seen from wo (wo.z > 0),
+// and Smith's exact masking of that distribution (both for lobes/anisotropic.h's Cycles sampler).
+Vec3 beckmann_sample_visible_normal(const Vec3& wo, float alpha, Point2 u);
+float beckmann_smith_G1(const Vec3& w, float alpha);
 float fresnel_dielectric(float cos_i, float eta);
 // Burley 2012's GTR1 (gamma = 1) normal distribution of the clearcoat, normalised so that
 // integral D(m) cos(theta_m) dm = 1; alpha >= 1 is the uniform-in-cosine limit 1/pi.
