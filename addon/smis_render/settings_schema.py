@@ -395,6 +395,14 @@ SETTINGS = [
                 "pixel (8 on volume_thin_hg), 512x384, SMAPE 0.116 -> 0.072 (volume_spot), 0.100 -> 0.068 "
                 "(volume_planes), 0.166 -> 0.095 (volume_thin_hg), relMSE the same or lower (docs/bench/planes3.md).",
             min=0.0, soft_max=16.0, panel="volumes", show=_uses_planes),
+    Setting("plane_pilot_stride", "uint", 2, "Pilot Stride",
+            "The pilot plane set of the segment partitions counts crossings on every this-th pixel in x and y "
+            "(1: every pixel); the pilot is a fixed cost of the first iteration. Unbiased either way",
+            why="The pilot of the segment partitions (photon_planes.cpp) gathers along one camera ray of every "
+                "stride-th pixel in x and y, and each pixel averages the pilot pixels within 3 of it (1: every "
+                "pixel, within 2, as before). The pilot is part of the first iteration's fixed cost, which at a "
+                "5 s budget leaves the path part fewer samples than PATH gets (docs/bench/planes4.md).",
+            min=1, max=8, panel="volumes", show=_uses_planes),
     Setting("smis_planes", "int", 2, "SMIS Orientations",
             "n, the number of stratified plane orientations per SMIS realisation (eq. 27); with 2 the partner "
             "plane is perpendicular and only weighted", why="n: orientations per SMIS realisation (eq. 27)",

@@ -362,18 +362,29 @@ std::vector<PhotonPlane> draw_planes(const PlaneLights& lights, uint32_t n, Plan
 // dim light whose few planes streak across the fog another light's planes fill (volume_spot's fill
 // light beside the spot's cone) thus stops streaking there. Still a fixed partition, now of the
 // (segment, light) pairs: unbiased.
+//
+// The pilot is part of the first iteration's fixed cost (at 5 s on volume_spot the first iteration is
+// all a budget completes, and the path part's samples, all that dark fog and surfaces get, are what
+// is left after it). With plane_pilot_stride s > 1 it gathers along every s-th pixel in x and y only
+// (1/s^2 of the cost) and each pixel averages the pilot pixels within 2s - 1 of it. A segment index
+// that no pilot pixel of the window has goes to the path tracer (so that a pixel none of whose
+// segments are the planes' can skip its gather: gathers()). The partition stays a fixed one of the
+// (segment, light) pairs of every camera ray, chosen before and independently of the iterations.
 void PhotonPlanesIntegrator::partition_segments(const RenderContext& ctx, const PhotonPlaneSet& pilot,
                                                 const std::vector<PlaneLight>& lights) {
-    constexpr int kSeg = RayMedia::kMaxSegments, kRadius = 2;
+    constexpr int kSeg = RayMedia::kMaxSegments;
     const int w = ctx.film.width(), h = ctx.film.height();
+    const int stride = std::max(1, int(ctx.settings.plane_pilot_stride));
+    const int radius = stride == 1 ? 2 : 2 * stride - 1;
     // Per light only where a light mask fits the media light choice (MediaLightChoice::Segment).
     const size_t nl = lights.size();
     const bool per_light = ctx.settings.plane_min_light_crossings > 0.0f && nl > 1 &&
                            ctx.scene.lights().size() <= size_t(MediaLightChoice::kMaxSegmentLights);
-    std::vector<float> counts(size_t(w) * h * kSeg, -1.0f);  // -1: no scattering segment there
+    std::vector<float> counts(size_t(w) * h * kSeg, -1.0f);  // -1: no scattering segment there (or no pilot)
     std::vector<uint8_t> light_counts(per_light ? size_t(w) * h * kSeg * nl : 0, 0);  // clamped at 255
-    tbb::parallel_for(0, h, [&](int y) {
-        for (int x = 0; x < w; ++x)
+    tbb::parallel_for(0, (h + stride - 1) / stride, [&](int row) {
+        const int y = row * stride;
+        for (int x = 0; x < w; x += stride)
             crossings_per_segment(ctx, pilot, x, y, [&](int k, const std::vector<PlaneHit>& hits) {
                 const size_t at = (size_t(y) * w + x) * kSeg + k;
                 counts[at] = float(hits.size());
@@ -388,34 +399,77 @@ void PhotonPlanesIntegrator::partition_segments(const RenderContext& ctx, const 
     plane_segments_.assign(size_t(w) * h, 0xff);
     if (per_light) plane_keep_.assign(size_t(w) * h * kSeg, 0u);
     const float k_min = ctx.settings.plane_min_crossings, k_light = ctx.settings.plane_min_light_crossings;
-    std::vector<double> per(nl);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            for (int k = 0; k < kSeg; ++k) {
-                if (counts[(size_t(y) * w + x) * kSeg + k] < 0.0f) continue;
-                double sum = 0.0;
-                int n = 0;
-                std::fill(per.begin(), per.end(), 0.0);
-                for (int j = std::max(0, y - kRadius); j <= std::min(h - 1, y + kRadius); ++j)
-                    for (int i = std::max(0, x - kRadius); i <= std::min(w - 1, x + kRadius); ++i) {
-                        const size_t at = (size_t(j) * w + i) * kSeg + k;
-                        const float c = counts[at];
-                        if (!(c >= 0.0f)) continue;
-                        sum += c, ++n;
-                        for (size_t l = 0; per_light && l < nl; ++l) per[l] += light_counts[at * nl + l];
-                    }
-                ++pilot_segments_;
-                if (sum < double(k_min) * n) {
+    std::atomic<uint64_t> pilot_segments{0}, path_segments{0}, path_segment_lights{0};
+    // Window sums per segment index, separable (running sums of integers: exact in doubles, so the
+    // same whatever the order): channel 0 the crossings, 1 the pilot rays, 2 + l light l's crossings.
+    const size_t nc = 2 + (per_light ? nl : 0);
+    std::vector<double> rows(size_t(w) * h * nc), box(size_t(w) * h * nc);
+    for (int k = 0; k < kSeg; ++k) {
+        const auto value = [&](int x, int y, size_t c) -> double {
+            const size_t at = (size_t(y) * w + x) * kSeg + k;
+            const float n = counts[at];
+            if (!(n >= 0.0f)) return 0.0;
+            return c == 0 ? double(n) : c == 1 ? 1.0 : double(light_counts[at * nl + (c - 2)]);
+        };
+        tbb::parallel_for(0, h, [&](int y) {
+            for (size_t c = 0; c < nc; ++c) {
+                double run = 0.0;
+                for (int i = 0; i < std::min(w, radius); ++i) run += value(i, y, c);
+                for (int x = 0; x < w; ++x) {
+                    if (x + radius < w) run += value(x + radius, y, c);
+                    if (x - radius - 1 >= 0) run -= value(x - radius - 1, y, c);
+                    rows[(size_t(y) * w + x) * nc + c] = run;
+                }
+            }
+        });
+        tbb::parallel_for(0, w, [&](int x) {
+            for (size_t c = 0; c < nc; ++c) {
+                double run = 0.0;
+                for (int j = 0; j < std::min(h, radius); ++j) run += rows[(size_t(j) * w + x) * nc + c];
+                for (int y = 0; y < h; ++y) {
+                    if (y + radius < h) run += rows[(size_t(y + radius) * w + x) * nc + c];
+                    if (y - radius - 1 >= 0) run -= rows[(size_t(y - radius - 1) * w + x) * nc + c];
+                    box[(size_t(y) * w + x) * nc + c] = run;
+                }
+            }
+        });
+        tbb::parallel_for(0, h, [&](int y) {
+            uint64_t n_pilot = 0, n_path = 0, n_lights = 0;
+            for (int x = 0; x < w; ++x) {
+                // Every pixel has its own pilot ray at stride 1: a segment index it lacks keeps its bit.
+                if (stride == 1 && counts[(size_t(y) * w + x) * kSeg + k] < 0.0f) continue;
+                const double* b = &box[(size_t(y) * w + x) * nc];
+                const double sum = b[0], n = b[1];
+                if (n == 0.0 || sum < double(k_min) * n) {  // n = 0 (stride > 1): no pilot ray of the window has it
                     plane_segments_[size_t(y) * w + x] &= uint8_t(~(1u << k));
-                    ++path_segments_;
+                    if (n > 0.0) ++n_pilot, ++n_path;
                     continue;
                 }
+                ++n_pilot;
                 for (size_t l = 0; per_light && l < nl; ++l)
-                    if (per[l] > 0.0 && per[l] < double(k_light) * n) {
+                    if (b[2 + l] > 0.0 && b[2 + l] < double(k_light) * n) {
                         plane_keep_[(size_t(y) * w + x) * kSeg + k] |= 1u << lights[l].light;
-                        ++path_segment_lights_;
+                        ++n_lights;
                     }
             }
+            pilot_segments += n_pilot, path_segments += n_path, path_segment_lights += n_lights;
+        });
+    }
+    pilot_segments_ += pilot_segments.load();
+    path_segments_ += path_segments.load();
+    path_segment_lights_ += path_segment_lights.load();
+}
+
+// Whether window pixel i's gather can give anything but 0: some segment index is the planes' and
+// not every plane light there is left to the path tracer (`lights`: the plane lights' bits, scene
+// light indices). Skipping the gather where it cannot saves tracing its camera ray once more.
+bool PhotonPlanesIntegrator::gathers(size_t i, uint32_t lights) const {
+    if (plane_segments_.empty()) return true;
+    const uint8_t bits = plane_segments_[i];
+    for (int k = 0; k < RayMedia::kMaxSegments; ++k)
+        if ((bits >> k & 1u) && (plane_keep_.empty() || (plane_keep_[i * RayMedia::kMaxSegments + k] & lights) != lights))
+            return true;
+    return false;
 }
 
 uint32_t PhotonPlanesIntegrator::surface_samples(const RenderContext& ctx, const PhotonPlaneSet& set,
@@ -481,6 +535,9 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     build_seconds_ += seconds_since(t0);
     const PlaneGather gather{scene, set, lights, plane_weight, plane_scale, settings.plane_shadow_rays};
     const uint32_t M = use_planes && !settings.camera_volume_only ? surface_samples(ctx, set, lights.lights) : 1;
+    uint32_t plane_light_bits = 0;  // the plane lights as plane_keep_ marks them (scene light indices)
+    if (!plane_keep_.empty())
+        for (const PlaneLight& l : lights.lights) plane_light_bits |= 1u << l.light;
 
     // M passes over the image, one path sample per pixel each (pixel samples s M ... s M + M - 1),
     // for all but the planes' part; the first pass's camera ray also gathers the planes. Every path
@@ -538,7 +595,9 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             path_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(t_gather - t_path).count());
             ++local.paths;
             float gathered = 0.0f;
-            if (m == 0 && use_planes) {
+            const bool gather_here = m == 0 && use_planes && gathers(i, plane_light_bits);
+            if (m == 0 && use_planes && !gather_here) ++gathers_skipped_;
+            if (gather_here) {
                 GatherCounts n;
                 planes_at[i] = gather(ray, camera.medium, camera.plane_segments, keep, rng, &n);
                 gather_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t_gather).count());
@@ -575,6 +634,7 @@ std::map<std::string, double> PhotonPlanesIntegrator::stats() const {
             {"path_segments", double(path_segments_)},
             {"path_segment_lights", double(path_segment_lights_)},
             {"pilot_segments", double(pilot_segments_)},
+            {"gathers_skipped", double(gathers_skipped_.load())},
             {"build_seconds", build_seconds_},
             {"render_seconds", render_seconds_},
             {"path_thread_seconds", path_seconds_},

@@ -40,6 +40,8 @@ private:
     // RayMedia::plane_segments of its camera rays, from a pilot plane set drawn once per render.
     // With plane_min_light_crossings, per (segment, plane light) too: plane_keep_.
     void partition_segments(const RenderContext& ctx, const PhotonPlaneSet& pilot, const std::vector<PlaneLight>& lights);
+    // Whether window pixel i's gather can be nonzero under the partition (`lights`: the plane lights' bits).
+    bool gathers(size_t i, uint32_t lights) const;
     PlaneWeighting weighting_;
     uint32_t surface_samples_ = 0;
     std::vector<uint8_t> plane_segments_;  // per window pixel; empty: every segment is the planes'
@@ -51,6 +53,7 @@ private:
     uint64_t iterations_ = 0, planes_ = 0, passes_ = 0;
     uint64_t path_segments_ = 0, pilot_segments_ = 0;  // the partition: segments the path tracer takes, of all
     uint64_t path_segment_lights_ = 0;                  // (segment, light) pairs the per-light partition left to it
+    std::atomic<uint64_t> gathers_skipped_{0};  // camera rays whose gather the partition made 0 (gathers())
     std::atomic<uint64_t> plane_hits_{0}, shadow_rays_{0}, parallel_rejected_{0}, nonfinite_rejected_{0};
 };
 
