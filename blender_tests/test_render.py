@@ -5,7 +5,7 @@ import time
 import bpy
 import numpy as np
 
-from conftest import render, scene_path
+from conftest import _smis, render, scene_path
 
 SETTINGS = """
 scene.render.resolution_percentage = 50
@@ -35,14 +35,20 @@ def test_cli_thread_flag_is_honoured():
     assert np.isfinite(run.image).all()
 
 
-def test_cancel_stops_the_render_promptly(monkeypatch):
-    """Blender's Esc sets test_break(); the engine must stop its native threads within half a second."""
-    bpy.ops.wm.open_mainfile(filepath=scene_path("cornell.blend"))
+def open_in_this_process(name, samples, percentage):
+    """Opens a scene in the test's own Blender, set to render with SMIS; returns bpy's scene."""
+    bpy.ops.wm.open_mainfile(filepath=scene_path(name))
     scene = bpy.context.scene
     scene.render.engine = "SMIS"
-    scene.smis.samples = 100000
+    scene.smis.samples = samples
+    scene.render.resolution_percentage = percentage
+    return scene
+
+
+def test_cancel_stops_the_render_promptly(monkeypatch):
+    """Blender's Esc sets test_break(); the engine must stop its native threads within half a second."""
+    scene = open_in_this_process("cornell.blend", samples=100000, percentage=100)
     scene.smis.max_bounces = 64
-    scene.render.resolution_percentage = 100
     import smis_render.engine as eng
 
     cancel_at = {}
@@ -148,3 +154,38 @@ scene.render.border_min_y, scene.render.border_max_y = {y0}, {y1}
     assert sorted(merged) == sorted(expected)
     for name in expected:
         assert np.array_equal(merged[name], expected[name]), name
+
+
+def test_background_render_writes_only_the_final_image(monkeypatch, tmp_path):
+    """Without a UI (blender -b) nobody sees intermediate images and Cycles writes none: the engine
+    copies its pixels into the result once. Showing them changes nothing in the final image."""
+    import smis_render.engine as eng
+    scene = open_in_this_process("cornell.blend", samples=64, percentage=25)
+    scene.smis.seed = 7
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+    writes = []
+    write_pixels = eng.SMISRenderEngine._write_pixels
+
+    def counting(session, combined, exposure=1.0):
+        writes.append(session.progress()["samples_done"])
+        write_pixels(session, combined, exposure)
+
+    monkeypatch.setattr(eng.SMISRenderEngine, "_write_pixels", staticmethod(counting))
+    # An update at every poll, and polls far more often than the render's passes take.
+    monkeypatch.setattr(eng, "RESULT_UPDATE_SECONDS", 0.0)
+    monkeypatch.setattr(eng, "POLL_SECONDS", 0.0005)
+
+    def render_to(name):
+        writes.clear()
+        scene.render.filepath = str(tmp_path / name)
+        bpy.ops.render.render(write_still=True)
+        return _smis.read_exr(str(tmp_path / name) + ".exr"), list(writes)
+
+    assert bpy.app.background
+    final, background_writes = render_to("background")
+    monkeypatch.setattr(eng, "intermediate_results_shown", lambda: True)
+    shown, shown_writes = render_to("shown")
+    assert background_writes == [64], background_writes
+    assert len(shown_writes) > 1 and shown_writes[-1] == 64, shown_writes
+    assert np.array_equal(final, shown)

@@ -19,6 +19,14 @@ PREVIEW_SAMPLES = 16          # material preview renders
 RESULT_UPDATE_SECONDS = 1.5   # how often the intermediate image is shown
 
 
+def intermediate_results_shown():
+    """Whether anyone can see an intermediate image. Not in background mode (`blender -b`): Cycles
+    then has no display driver (BlenderSession::ensure_display_driver_if_needed returns for
+    headless), so it only writes the final result. Each update here costs a film resolve, a
+    foreach_set and Blender's update_result on the main thread while the render threads run."""
+    return not bpy.app.background
+
+
 class SMISRenderEngine(bpy.types.RenderEngine):
     bl_idname = "SMIS"
     bl_label = "SMIS"
@@ -149,6 +157,7 @@ class SMISRenderEngine(bpy.types.RenderEngine):
 
     def _run_session(self, session, result, combined, aux=(), exposure=1.0):
         skipped = list(session.skipped())
+        show = intermediate_results_shown()
         session.start()
         try:
             last_update = time.monotonic()
@@ -158,7 +167,7 @@ class SMISRenderEngine(bpy.types.RenderEngine):
                     session.cancel()
                     cancelled = True
                 self._show_progress(session.progress(), skipped)
-                if time.monotonic() - last_update >= RESULT_UPDATE_SECONDS:
+                if show and time.monotonic() - last_update >= RESULT_UPDATE_SECONDS:
                     self._write_pixels(session, combined, exposure)
                     passes.write_passes(session, result.layers[0], aux)
                     self.update_result(result)

@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <random>
 #include <vector>
 
 #include "core/rng.h"
@@ -101,6 +103,31 @@ TEST(Texture, FastSrgbDecodeMatchesPow) {
     EXPECT_FLOAT_EQ(srgb_to_linear(1.0f), 1.0f);
     EXPECT_FLOAT_EQ(srgb_to_linear(1.5f), std::pow((1.5f + 0.055f) / 1.055f, 2.4f));
     EXPECT_TRUE(std::isnan(srgb_to_linear(std::nanf(""))));
+}
+
+// Lookups decode the three channels at once: bit for bit the channel-by-channel decode, whether all
+// three lie in the power segment (the vector path) or some lie in the linear segment, below 0 or
+// above 1 (channel by channel). Closest textures decode their texels at load, through the same code.
+TEST(Texture, SrgbDecodeOfThreeChannelsIsTheScalarDecodeBitForBit) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> power(0.04045f, 1.0f), wide(-0.1f, 1.3f);
+    std::vector<float> texels;
+    auto add = [&](float r, float g, float b) { texels.insert(texels.end(), {r, g, b, 1.0f}); };
+    for (int k = 0; k <= 255; ++k) add(k / 255.0f, ((k * 7) % 256) / 255.0f, ((k * 101) % 256) / 255.0f);
+    for (int i = 0; i < 60000; ++i) add(power(rng), power(rng), power(rng));
+    for (int i = 0; i < 20000; ++i) add(wide(rng), power(rng), wide(rng));
+    add(0.04045f, 1.0f, std::nextafter(0.04045f, 0.0f));
+    const int n = static_cast<int>(texels.size() / 4);
+    Texture t(texels.data(), n, 1, "sRGB", true, Texture::Wrap::Repeat);
+    int differing = 0;
+    for (int i = 0; i < n; ++i) {
+        const Color rgb = t.lookup({(i + 0.5f) / n, 0.5f}).rgb;
+        const float got[3] = {rgb.x, rgb.y, rgb.z};
+        const float want[3] = {srgb_to_linear(texels[4 * i]), srgb_to_linear(texels[4 * i + 1]),
+                               srgb_to_linear(texels[4 * i + 2])};
+        differing += std::memcmp(got, want, sizeof got) != 0;
+    }
+    EXPECT_EQ(differing, 0);
 }
 
 // Byte images with straight alpha are premultiplied in 8 bits at load, each channel rounded as
