@@ -111,7 +111,8 @@ def main():
                                                                   ", ".join(LATER_OFF)), "",
              "| " + " | ".join(header[:6]) + " |", "|" + "---|" * 6]
     lines += ["| %s | %s | %s | %s | %s | %s |" % (r[0], r[1], "{:,}".format(r[2]) if r[2] else "-",
-                                                  "{:,}".format(r[3]) if r[3] else "-", r[4], "yes" if r[5] else "no")
+                                                  "{:,}".format(r[3]) if r[3] else "-", r[4],
+                                                  ("yes" if r[5] else "no") if r[2] and r[3] else "-")
               for r in rows]
     os.makedirs(os.path.join(ROOT, "docs", "bench"), exist_ok=True)
     with open(os.path.join(ROOT, "docs", "bench", "integrator_callgrind.md"), "w") as f:
