@@ -19,7 +19,6 @@ public:
     Rng() { seed(0, 0); }
     Rng(uint64_t seq, uint64_t offset) { seed(seq, offset); }
     void seed(uint64_t seq, uint64_t offset) {
-        prefix_left_ = 0;
         scattering_segment_ = false;
         state_ = 0u;
         inc_ = (seq << 1u) | 1u;
@@ -34,20 +33,9 @@ public:
         uint32_t rot = static_cast<uint32_t>(old >> 59u);
         return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31));
     }
-    // Uniform in [0, 1): 24 random mantissa bits, never rounds up to 1. The first values can come
-    // from a prefix (set_prefix) instead of the PCG stream: path-space filtering's extra samples at
-    // x1 (integrators/tiles.h).
-    float next_float() {
-        if (kWithStratified && prefix_left_ != 0) return prefix_[--prefix_left_];
-        return static_cast<float>(next_u32() >> 8) * 0x1p-24f;
-    }
-    // The next n (<= kMaxPrefix) calls of next_float() return v[0..n); the PCG stream is untouched.
-    static constexpr int kMaxPrefix = 3;
-    void set_prefix(const float* v, int n) {
-        n = n < kMaxPrefix ? n : kMaxPrefix;
-        prefix_left_ = static_cast<uint8_t>(n);
-        for (int i = 0; i < n; ++i) prefix_[n - 1 - i] = v[i];  // last first: next_float() counts down
-    }
+    // Uniform in [0, 1): 24 random mantissa bits, never rounds up to 1. (Stratified numbers are asked
+    // for by name, core/sampler.h; they never pass through the stream.)
+    float next_float() { return static_cast<float>(next_u32() >> 8) * 0x1p-24f; }
     // A pixel sample's first scattering segment in a medium draws from stratified groups of its own
     // (volume.h, segment_numbers): the Sampler marks its stream with the pixel's key and the
     // sample's index, and the first segment takes the mark, once.
@@ -68,11 +56,9 @@ public:
 
 private:
     uint64_t state_ = 0, inc_ = 1;
-    uint8_t prefix_left_ = 0;
     bool scattering_segment_ = false;
     uint32_t segment_sample_ = 0;
     uint64_t segment_key_ = 0;
-    float prefix_[kMaxPrefix];
 };
 
 // The stream for one pixel sample: a pure function of its coordinates and the user's seed. The

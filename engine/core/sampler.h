@@ -139,6 +139,20 @@ public:
         return lobe_choice_ >= 0.0f ? lobe_choice_ : group(pixel_->first_vertex_seeds().choices).y;
     }
     Point2 first_direction() { return stratified() ? group(pixel_->first_vertex_seeds().direction) : next_2d(); }
+    // Path-space filtering's extra samples at x1 (psf_records.h, PixelStrata): extra light sample
+    // `index` takes its light choice and point from groups kExtraLightChoice and kExtraLightPoint,
+    // extra BSDF sample `index` its lobe and direction from kExtraLobe and kExtraDirection, so that
+    // a pixel's extra samples form one stratified set of their own. (Random pattern: the stream.)
+    LightNumbers extra_light(uint32_t index) {
+        if (!stratified()) return first_light();
+        return {extra_group(index, sample_groups::kExtraLightChoice).x, extra_group(index, sample_groups::kExtraLightPoint)};
+    }
+    float extra_lobe(uint32_t index) {
+        return stratified() ? extra_group(index, sample_groups::kExtraLobe).x : rng_.next_float();
+    }
+    Point2 extra_direction(uint32_t index) {
+        return stratified() ? extra_group(index, sample_groups::kExtraDirection) : next_2d();
+    }
 
     // Everything without a name: the PCG stream.
     float next_float() { return rng_.next_float(); }
@@ -152,6 +166,12 @@ private:
     Point2 group(const stratified::GroupSeeds& seeds) const {
         float v[2];
         stratified::sample_2d(sample_, seeds, v);
+        return {v[0], v[1]};
+    }
+    // Group g at stratum `index`: the pixel's extra samples (their groups are hashed per draw).
+    Point2 extra_group(uint32_t index, uint32_t g) const {
+        float v[2];
+        stratified::sample_2d(index, pixel_->key_, g, v);
         return {v[0], v[1]};
     }
     Point2 camera_group(const stratified::GroupSeeds* seeds) {
@@ -173,23 +193,45 @@ inline Sampler PixelSampler::start(uint32_t s) const { return Sampler(*this, s);
 // first_direction), so no draw before it, a scattering segment's or a resampling candidate's,
 // shifts them; every other vertex (first = null) draws them from the path's stream, in the order
 // asked, as it always did. `stream` is the path's stream, the Sampler's own for a camera path.
+// extra(): path-space filtering's extra light or BSDF sample `index` at x1, asked of the Sampler by
+// name too (Sampler::extra_light, extra_lobe, extra_direction).
 class VertexSampler {
 public:
-    explicit VertexSampler(Rng& stream, Sampler* first = nullptr) : stream_(&stream), first_(first) {}
+    // `first`: the camera path's Sampler at its first vertex, whose stream `stream` then is; else null.
+    explicit VertexSampler(Rng& stream, Sampler* first = nullptr) : kind_(first ? kFirst : kStream) {
+        if (first) named_ = first;
+        else stream_ = &stream;
+    }
+    static VertexSampler extra(Sampler& sampler, uint32_t index) {
+        VertexSampler v(sampler.rng(), &sampler);
+        v.kind_ = kExtra, v.index_ = index;
+        return v;
+    }
     LightNumbers light() const {
-        if (first_) return first_->first_light();
+        if (kind_ != kStream) return kind_ == kExtra ? named_->extra_light(index_) : named_->first_light();
         const float choice = stream_->next_float();
         return {choice, next_2d(*stream_)};
     }
-    float lobe() const { return first_ ? first_->first_lobe() : stream_->next_float(); }
-    Point2 direction() const { return first_ ? first_->first_direction() : next_2d(*stream_); }
-    Rng& stream() const { return *stream_; }
-    // The Sampler this vertex asks by name; null when it draws from the stream.
-    Sampler* names() const { return first_; }
+    float lobe() const {
+        if (kind_ != kStream) return kind_ == kExtra ? named_->extra_lobe(index_) : named_->first_lobe();
+        return stream_->next_float();
+    }
+    Point2 direction() const {
+        if (kind_ != kStream) return kind_ == kExtra ? named_->extra_direction(index_) : named_->first_direction();
+        return next_2d(*stream_);
+    }
+    // The Sampler this vertex asks for the first vertex's numbers; null when it draws from the stream.
+    Sampler* names() const { return kind_ == kFirst ? named_ : nullptr; }
 
 private:
-    Rng* stream_;
-    Sampler* first_;
+    // Two words, passed in registers: the stream, or the Sampler asked by name (whose stream it is).
+    enum Kind : uint32_t { kStream, kFirst, kExtra };
+    union {
+        Rng* stream_;
+        Sampler* named_;
+    };
+    Kind kind_;
+    uint32_t index_ = 0;  // kExtra: the extra sample's stratum
 };
 
 }  // namespace smis

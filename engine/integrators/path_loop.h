@@ -37,11 +37,12 @@ namespace smis {
 // sample_direct (path_tracing.h) with the shadow ray's transmittance in media given by
 // transmittance(shadow ray, medium it starts in) -> Color: the RGB one, or for a spectral path a
 // stand-in (1 or 0) while it keeps its wavelengths' own. The light choice and point: u.light().
-// `glow`: the vertex continues by GlowDirections' mixture, the BSDF-side density of the MIS weight.
-template <class Transmittance>
+// kGlow: the vertex continues by GlowDirections' mixture, the BSDF-side density of the MIS weight (a
+// template argument, so that the vertices without, all of them in scenes without media, pay nothing).
+template <bool kGlow = false, class Transmittance>
 DirectSample sample_direct_through(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp,
                                    VertexSampler numbers, LocalCounters& counters, int32_t medium, int light_samples,
-                                   int bsdf_samples, Transmittance&& transmittance, bool glow = false) {
+                                   int bsdf_samples, Transmittance&& transmittance) {
     DirectSample ds;
     const DiscreteDistribution& selection = scene.light_selection();
     // Draw the random numbers even when unused, so later decisions of the path keep their streams.
@@ -57,12 +58,13 @@ DirectSample sample_direct_through(const Scene& scene, const RenderSettings& set
     ds.hidden = ~light.visibility & kRayBounceTypes;
     if (ds.hidden && hidden_light_lights_nothing(sp.bsdf, ds.hidden)) return ds;
     LightSample ls = light.sample_at(sp.hit.p, u, sp.hit.time);
-    if (ls.valid()) sp.light_wi = ls.wi;
     if (!ls.valid()) {
         // A light seen from behind is simply dark; only numerical failures count as rejected.
         if (!std::isfinite(ls.pdf) || !is_finite(ls.L)) ++counters.samples_rejected;
         return ds;
     }
+    // Only Cycles' glass walks read it (ShadingPoint::light_wi): other renders skip the stores.
+    if (settings.multiscatter_cycles_walk) sp.light_wi = ls.wi;
     const ShadowRay shadow = shadow_ray(sp, ls.wi, ls.dist);
     Color tr(1.0f);
     if (light.cast_shadow) {  // Cycles' Cast Shadow off: no shadow ray at all
@@ -79,7 +81,7 @@ DirectSample sample_direct_through(const Scene& scene, const RenderSettings& set
     float w = 1.0f;
     if (!ls.delta && light.use_mis) {
         float bsdf_pdf = ds.hidden ? hidden_light_pdf(sp.bsdf, ds.hidden, sp.wo, ls.wi) : sp.bsdf.pdf(sp.wo, ls.wi);
-        if (glow) bsdf_pdf = glow_light_mis_pdf(scene, sp, medium, ds.hidden, bsdf_pdf, ls.wi);
+        if constexpr (kGlow) bsdf_pdf = glow_light_mis_pdf(scene, sp, medium, ds.hidden, bsdf_pdf, ls.wi);
         w = mis_weight(settings.mis, n * light_pdf, float(bsdf_samples) * bsdf_pdf);
     }
     ds.wi = ls.wi;

@@ -40,12 +40,12 @@ ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const
 
 DirectSample sample_direct(const Scene& scene, const RenderSettings& settings, const ShadingPoint& sp, VertexSampler u,
                            LocalCounters& counters, int32_t medium, int light_samples, int bsdf_samples, bool glow) {
-    return sample_direct_through(
-        scene, settings, sp, u, counters, medium, light_samples, bsdf_samples,
-        [&](const ShadowRay& shadow, int32_t towards) {
-            return shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, towards);
-        },
-        glow);
+    auto transmittance = [&](const ShadowRay& shadow, int32_t towards) {
+        return shadow_transmittance(scene, shadow.o, shadow.d, shadow.tmax, towards);
+    };
+    if (glow)
+        return sample_direct_through<true>(scene, settings, sp, u, counters, medium, light_samples, bsdf_samples, transmittance);
+    return sample_direct_through(scene, settings, sp, u, counters, medium, light_samples, bsdf_samples, transmittance);
 }
 
 Color hidden_light_eval(const Bsdf& bsdf, uint32_t hidden, const Vec3& wo, const Vec3& wi) {

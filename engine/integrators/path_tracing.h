@@ -20,7 +20,8 @@ struct ShadingPoint {
     Bsdf bsdf;
     // The direction of the vertex's light sample, whether or not it reaches the light (zero: none
     // drawn): Cycles evaluates the BSDF before its shadow test, and that eval moves the LCG its
-    // multiscatter glass walks share (multiscatter_cycles_walk; lobes/multi_glass_walk.h).
+    // multiscatter glass walks share (multiscatter_cycles_walk; lobes/multi_glass_walk.h). Set only
+    // with that setting (sample_direct_through).
     mutable Vec3 light_wi{0.0f, 0.0f, 0.0f};
 };
 // `ray` describes the ray that found the hit, for materials whose nodes read the Light Path
@@ -100,11 +101,12 @@ struct PathState {
     Vec3 prev_p;             // where that ray started (for the triangle lights' pdf)
     // Media (only read when Scene::has_media()): the medium the next ray starts in, and whether
     // photon planes estimate the camera ray's single scattering from their lights, and on which of its
-    // media segments.
+    // media segments. (The pointer first, at offset 24: after the bools it took 16 bytes of padding,
+    // and a larger PathState costs every path.)
+    const uint32_t* plane_keep = nullptr;  // RayMedia::plane_keep of the camera ray
     int32_t medium = -1;
     bool planes_on_camera_ray = false;
     uint8_t plane_segments = 0xff;  // of those, RayMedia::plane_segments of the camera ray
-    const uint32_t* plane_keep = nullptr;  // and RayMedia::plane_keep
     // A camera path before its first non-specular vertex, where settings.direct_light applies.
     bool first_vertex_ahead = false;
     // Cycles' PATH_RAY_DIFFUSE_ANCESTOR: the path made a diffuse bounce, and subsurface scattering

@@ -83,6 +83,20 @@ struct PixelStrata {
     uint32_t sample;
     uint32_t extra_bsdf;  // the pixel's extra BSDF samples taken in earlier iterations
 };
+// The numbers of x1's extra light sample i (1 <= i < light_samples) and of its extra BSDF sample m,
+// asked of the pixel sample's Sampler by name (VertexSampler::extra) with the stratified pattern
+// (strata), else drawn from the stream. Light sample i of pixel sample s is stratum
+// s (light_samples - 1) + i - 1, so a pixel's extra light samples over all its pixel samples are one
+// stratified set, as its first light sample is over the pixel samples; the pixel's BSDF samples are
+// numbered over the whole render.
+inline VertexSampler extra_light_numbers(const PixelStrata* strata, Sampler& sampler, int i, int light_samples) {
+    if (!strata) return VertexSampler(sampler.rng());
+    return VertexSampler::extra(sampler, strata->sample * uint32_t(light_samples - 1) + uint32_t(i - 1));
+}
+inline VertexSampler extra_bsdf_numbers(const PixelStrata* strata, Sampler& sampler, int m) {
+    if (!strata) return VertexSampler(sampler.rng());
+    return VertexSampler::extra(sampler, strata->extra_bsdf + uint32_t(m));
+}
 
 // One of x1's own BSDF samples and the suffix it starts: the path's own sample (stored for sharing)
 // or one of the pixel's private extra samples.

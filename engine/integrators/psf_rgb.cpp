@@ -257,8 +257,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
     add_light_sample(x1);
     BsdfSample bs = sample_bsdf(sp, x1);
     for (int i = 1; i < light_samples; ++i) {
-        if (strata) set_extra_light_sample_prefix(&rng, strata->key, strata->sample, uint32_t(i - 1), uint32_t(light_samples - 1));
-        add_light_sample(VertexSampler(rng));
+        add_light_sample(extra_light_numbers(strata, sampler, i, light_samples));
     }
     SuffixSample own = trace_suffix<kMedia>(scene, settings, sp, st, bs, beta, end.eta_scale, light_samples,
                                             own_samples, dirac_z1_per_pixel, rng, counters);
@@ -272,8 +271,7 @@ PathRecord trace_record(const Scene& scene, const RenderSettings& settings, Ray 
     // The private extra paths: more samples of this pixel's own technique, where the filter has
     // little to share (path_space_filtering.cpp, iteration()).
     for (int m = 0; m < extra_paths; ++m) {
-        if (strata) set_extra_bsdf_sample_prefix(&rng, strata->key, strata->extra_bsdf + uint32_t(m));
-        SuffixSample e = trace_suffix<kMedia>(scene, settings, sp, st, sample_bsdf(sp, rng), beta, end.eta_scale,
+        SuffixSample e = trace_suffix<kMedia>(scene, settings, sp, st, sample_bsdf(sp, extra_bsdf_numbers(strata, sampler, m)), beta, end.eta_scale,
                                               light_samples, own_samples, dirac_z1_per_pixel, rng, counters);
         rec.fixed += e.fixed;
         if (!e.has_suffix) continue;

@@ -433,8 +433,7 @@ PathRecord PsfSpectrum::Impl::trace_record(size_t k, const Scene& scene, const R
     add_light_sample(x1);
     BsdfSample bs = sample_bsdf(sp, x1);
     for (int i = 1; i < light_samples; ++i) {
-        if (strata) set_extra_light_sample_prefix(&rng, strata->key, strata->sample, uint32_t(i - 1), uint32_t(light_samples - 1));
-        add_light_sample(VertexSampler(rng));
+        add_light_sample(extra_light_numbers(strata, sampler, i, light_samples));
     }
     const size_t at = k * size_t(n);
     SuffixSample own = trace_suffix<kMedia>(scene, settings, sp, st, p, bs, light_samples, own_samples,
@@ -449,9 +448,8 @@ PathRecord PsfSpectrum::Impl::trace_record(size_t k, const Scene& scene, const R
     // The private extra paths (path_space_filtering.cpp), kept as their RGB contributions.
     const SpectralMaterial& sm = spectral.material(sp.hit.material);
     for (int m = 0; m < extra_paths; ++m) {
-        if (strata) set_extra_bsdf_sample_prefix(&rng, strata->key, strata->extra_bsdf + uint32_t(m));
         float L[kMaxWavelengths], f[kMaxWavelengths];
-        SuffixSample e = trace_suffix<kMedia>(scene, settings, sp, st, p, sample_bsdf(sp, rng), light_samples,
+        SuffixSample e = trace_suffix<kMedia>(scene, settings, sp, st, p, sample_bsdf(sp, extra_bsdf_numbers(strata, sampler, m)), light_samples,
                                               own_samples, dirac_z1_per_pixel, rng, counters, L, nullptr, nullptr,
                                               nullptr);
         rec.fixed += e.fixed;

@@ -314,12 +314,15 @@ public:
                 VertexSampler u, LocalCounters& counters, const PathState& state, int light_samples = 1,
                 int bsdf_samples = 1) {
         bool shadowed = false;
-        DirectSample ds = sample_direct_through(
-            scene, settings, sp, u, counters, state.medium, light_samples, bsdf_samples, [&](const ShadowRay& shadow, int32_t medium) {
-                shadowed = true;
-                return shadow_transmittances(scene, shadow.o, shadow.d, shadow.tmax, medium) ? Color(1.0f) : Color(0.0f);
-            },
-            state.glow_vertex);
+        auto transmittance = [&](const ShadowRay& shadow, int32_t medium) {
+            shadowed = true;
+            return shadow_transmittances(scene, shadow.o, shadow.d, shadow.tmax, medium) ? Color(1.0f) : Color(0.0f);
+        };
+        const DirectSample ds =
+            state.glow_vertex ? sample_direct_through<true>(scene, settings, sp, u, counters, state.medium, light_samples,
+                                                            bsdf_samples, transmittance)
+                              : sample_direct_through(scene, settings, sp, u, counters, state.medium, light_samples,
+                                                      bsdf_samples, transmittance);
         if (ds.valid && (ds.hidden ? eval_spectral(lit_lobes(sp, ds), *sm_, p_, ds.wi, f_)
                                    : eval_spectral(sp, *sm_, p_, ds.wi, f_))) {
             float lum = luminance(ds.weighted);

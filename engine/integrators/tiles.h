@@ -40,31 +40,6 @@ void for_each_pixel_in_tiles(RenderContext& ctx, Fn&& fn) {
         tbb::simple_partitioner());
 }
 
-// Extra light samples at the first vertex (path-space filtering takes several): light sample i of
-// n - 1 extra ones of pixel sample s draws its light choice and point from dimension groups 5 and 6
-// at index s (n - 1) + i, so a pixel's extra samples over all its pixel samples are one stratified
-// set, as its first light sample is over the pixel samples (groups 2 and 3). Sets the next three
-// numbers of `rng` in sample_direct's order: choice, then the point.
-inline void set_extra_light_sample_prefix(Rng* rng, uint64_t pixel_key, uint32_t s, uint32_t i, uint32_t n_extra) {
-    float point[2], choice[2];
-    stratified::sample_2d(s * n_extra + i, pixel_key, sample_groups::kExtraLightPoint, point);
-    stratified::sample_2d(s * n_extra + i, pixel_key, sample_groups::kExtraLightChoice, choice);
-    const float v[3] = {choice[0], point[0], point[1]};
-    rng->set_prefix(v, 3);
-}
-
-// Extra BSDF samples at the first vertex (path-space filtering's extra paths): a pixel's i-th extra
-// BSDF sample over the whole render draws its lobe choice and direction from dimension groups 7 and 8
-// at index i, so they form one stratified set per pixel. Sets the next three numbers in sample_bsdf's
-// order: lobe, then the direction.
-inline void set_extra_bsdf_sample_prefix(Rng* rng, uint64_t pixel_key, uint32_t i) {
-    float dir[2], choice[2];
-    stratified::sample_2d(i, pixel_key, sample_groups::kExtraDirection, dir);
-    stratified::sample_2d(i, pixel_key, sample_groups::kExtraLobe, choice);
-    const float v[3] = {choice[0], dir[0], dir[1]};
-    rng->set_prefix(v, 3);
-}
-
 // The camera rays of one window pixel (x, y): ray(s, &sampler) is sample s's camera ray and makes
 // `sampler` the sample's numbers (core/sampler.h). The camera asks for its numbers by name: pixel
 // position, lens position (only with depth of field), time in the shutter (only with motion blur).

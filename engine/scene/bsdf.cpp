@@ -269,11 +269,12 @@ Color Bsdf::eval_bumped(const Vec3& wi, const Vec3& wo_l, const Vec3& wi_l) cons
     return is_finite(sum) ? sum : Color(0.0f);
 }
 
-Color Bsdf::shadowed_value(const BsdfSample& ls, int chosen, const Vec3& wi, const Vec3& wo_l) const {
+Color Bsdf::bumped_sample_value(Color chosen_value, int chosen, const Vec3& wi, const Vec3& wo_l, const Vec3& wi_l) const {
+    if (!walk_lobe(lobes_[chosen])) return eval_bumped(wi, wo_l, wi_l);
     float shadowing = bump_shadowing(wi);
     Color sum(0.0f);
     for (int i = 0; i < count_; ++i) {
-        Color c = i == chosen ? ls.value : lobe_eval(lobes_[i], wo_l, ls.wi);
+        Color c = i == chosen ? chosen_value : lobe_eval(lobes_[i], wo_l, wi_l);
         sum += diffuse_labelled(lobes_[i]) ? c * shadowing : c;
     }
     return sum;
@@ -422,7 +423,7 @@ BsdfSample Bsdf::sample(const Vec3& wo, Point2 u, float u_lobe) const {
         }
         // The mixture with diffuse lobes shadowed; Cycles' walk lobes (multiscatter_cycles_walk) keep
         // their sample's value, the walk's weight, which their eval (a random estimate) is not.
-        if (bumped_) out.value = walk_lobe(lobes_[chosen]) ? shadowed_value(ls, chosen, wi, wo_l) : eval_bumped(wi, wo_l, ls.wi);
+        if (bumped_) out.value = bumped_sample_value(ls.value, chosen, wi, wo_l, ls.wi);
     }
     if (!out.valid()) return BsdfSample{};
     return out;

@@ -128,8 +128,11 @@ private:
     float pdf_one_lobe(const Vec3& wo, const Vec3& wi) const;
     // Out of line, so the common (unbent) path of eval() and sample() keeps its inlining.
     [[gnu::noinline]] Color eval_bumped(const Vec3& wi, const Vec3& wo_l, const Vec3& wi_l) const;
-    // A bumped sample's value when the chosen lobe's value is not its eval (Cycles' walk lobes).
-    [[gnu::noinline]] Color shadowed_value(const BsdfSample& ls, int chosen, const Vec3& wi, const Vec3& wo_l) const;
+    // A bumped sample's value (direction wi, wi_l in the local frame): eval_bumped, or when the chosen
+    // lobe's value is not its eval (Cycles' walk lobes) the mixture with that lobe's sample value.
+    // Out of line, and the value by copy, so that sample() keeps its sample in registers.
+    [[gnu::noinline]] Color bumped_sample_value(Color chosen_value, int chosen, const Vec3& wi, const Vec3& wo_l,
+                                                const Vec3& wi_l) const;
     static bool walk_lobe(const Lobe& l) { return l.kind == LobeKind::MultiGgxWalk || l.kind == LobeKind::MultiGlassWalk; }
     [[gnu::noinline]] void shadow_diffuse_terms(const Vec3& wi, LobeTerms* terms) const;
     static bool diffuse_labelled(const Lobe& lobe) { return lobe_label(lobe) == RayLabel::Diffuse; }

@@ -92,6 +92,48 @@ TEST(Sampler, TheStreamIsPlain) {
     }
 }
 
+// Path-space filtering's extra light and BSDF samples at x1 ask the Sampler by name
+// (VertexSampler::extra): with the stratified pattern, stratum `index` of their own groups (light
+// choice, light point; lobe, direction), whatever was drawn before, and the stream is untouched;
+// with the random pattern, the stream in the order asked.
+TEST(Sampler, PathSpaceFilteringsExtraSamplesAskByName) {
+    const uint32_t fx = 4, fy = 9, seed = 2;
+    const PixelSampler pixel(fx, fy, seed, /*stratified=*/true, false, false);
+    for (uint32_t s = 0; s < 8; ++s) {
+        for (uint32_t index : {0u, 3u, 17u}) {
+            Sampler sampler = pixel.start(s);
+            sampler.next_float();  // an earlier draw shifts nothing
+            const VertexSampler extra = VertexSampler::extra(sampler, index);
+            float choice[2], point[2], lobe[2], dir[2];
+            stratified::sample_2d(index, pixel.key(), sample_groups::kExtraLightChoice, choice);
+            stratified::sample_2d(index, pixel.key(), sample_groups::kExtraLightPoint, point);
+            stratified::sample_2d(index, pixel.key(), sample_groups::kExtraLobe, lobe);
+            stratified::sample_2d(index, pixel.key(), sample_groups::kExtraDirection, dir);
+            const LightNumbers l = extra.light();
+            EXPECT_EQ(l.choice, choice[0]);
+            EXPECT_EQ(l.point.x, point[0]);
+            EXPECT_EQ(l.point.y, point[1]);
+            EXPECT_EQ(extra.lobe(), lobe[0]);
+            const Point2 d = extra.direction();
+            EXPECT_EQ(d.x, dir[0]);
+            EXPECT_EQ(d.y, dir[1]);
+            EXPECT_EQ(extra.names(), nullptr);  // not the first vertex's names
+            Rng reference = pixel_sample_rng(fx, fy, s, seed);
+            reference.next_float();
+            EXPECT_EQ(sampler.next_float(), reference.next_float()) << "sample " << s;
+        }
+    }
+    const PixelSampler random(fx, fy, seed, /*stratified=*/false, false, false);
+    Sampler sampler = random.start(1);
+    Rng reference = pixel_sample_rng(fx, fy, 1, seed);
+    const VertexSampler extra = VertexSampler::extra(sampler, 5);
+    const LightNumbers l = extra.light();
+    EXPECT_EQ(l.choice, reference.next_float());
+    EXPECT_EQ(l.point.x, reference.next_float());
+    EXPECT_EQ(l.point.y, reference.next_float());
+    EXPECT_EQ(extra.lobe(), reference.next_float());
+}
+
 // A path vertex's numbers (VertexSampler): the camera path's first vertex gets the Sampler's named
 // groups whatever was drawn from the stream before it, and the stream after it is untouched by
 // them; every other vertex draws light choice, light point, lobe and direction from the stream in
