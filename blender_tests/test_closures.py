@@ -221,6 +221,18 @@ def test_every_closure_sphere_matches_cycles(tmp_path_factory):
     _set_matches_cycles(tmp_path_factory, "closures", SPP, KNOWN)
 
 
+def test_every_closure_sphere_matches_cycles_with_its_estimators(tmp_path_factory):
+    """The main set with Cycles' own estimators (multiscatter_cycles_walk, beckmann_cycles_sampling): the
+    Glossy BSDFs' Multiscatter GGX as Cycles estimates it (lobes/multiscatter_walk.h: its light-sample eval
+    tints each further bounce twice) and the anisotropic Beckmann as Cycles samples it, so the two spheres
+    KNOWN exempts by default (4.5% and 1.5%) are held to the 1% bar with every other; only the GGX glass'
+    noise keeps its bound. Measured at 512 spp: the coloured sphere 0.46%, the anisotropic Beckmann 0.51%
+    (1.51% with multiscatter_cycles_walk alone), the worst the glass 0.93%."""
+    known = {"glass_ggx_0p3": KNOWN["glass_ggx_0p3"]}
+    _set_matches_cycles(tmp_path_factory, "closures", SPP, known,
+                        "scene.smis.multiscatter_cycles_walk = True\nscene.smis.beckmann_cycles_sampling = True\n")
+
+
 def test_anisotropic_beckmann_matches_cycles_with_its_sampler(tmp_path_factory):
     """The anisotropic Beckmann sphere with the setting beckmann_cycles_sampling: Cycles' own (biased)
     sampler gives Cycles' image, within 0.75% (by default, unbiased, 1.5%: KNOWN)."""
