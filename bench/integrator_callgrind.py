@@ -49,6 +49,12 @@ def run(scripts, label, case):
     out = os.path.join(HERE, "results", "icg_%s_%s.cg" % (label, re.sub(r"\W+", "_", name)))
     prelude = ["scene.smis.max_bounces = scene.cycles.max_bounces"]
     prelude += ["if hasattr(scene.smis, %r): scene.smis.%s = %r" % (k, k, v) for k, v in LATER_OFF.items()]
+    # An engine-only setting (no scene.smis property, e.g. glow_directions) goes into the settings dict the
+    # add-on hands the engine, where this build's schema knows it (an older build would refuse the key).
+    prelude += ["import smis_render.properties as _props, smis_render.settings_schema as _schema",
+                "_session = _props.session_settings",
+                "_props.session_settings = lambda scene: dict(_session(scene), **{k: v for k, v in %r.items() "
+                "if k in _schema.BY_KEY})" % LATER_OFF]
     r = render_smis(os.path.join(ROOT, "scenes", scene + ".blend"),
                     dict({"samples": SAMPLES, "seed": 0, "integrator": "PATH", "filter_type": "BOX",
                           "filter_width": 1.0}, **settings),
