@@ -377,9 +377,10 @@ SETTINGS = [
             "regions few planes reach) take their plane lights' single scattering from the path tracer instead; "
             "unbiased either way, 0 leaves every segment to the planes",
             why="The segment partition (photon_planes.cpp): a pilot plane set, drawn once and independent of the "
-                "iterations' sets, counts the crossings of each pixel's camera-ray segments (averaged over 5x5 "
-                "pixels); segments below this count are estimated by the path tracer's single scattering for the "
-                "plane lights and skipped by the gather. A fixed partition of every camera ray's segments: unbiased. "
+                "iterations' sets, counts the crossings of each pixel's camera-ray segments (averaged over the "
+                "pilot pixels within 3 of it with plane_pilot_stride 2, over 5x5 pixels with stride 1); segments "
+                "below this count are estimated by the path tracer's single scattering for the plane lights and "
+                "skipped by the gather. A fixed partition of every camera ray's segments: unbiased. "
                 "3: at 15 s, 512x384, load 10-14, SMAPE 0.14 and 0.13 where every segment to the planes gave 0.24 "
                 "and 0.20 (volume_spot, volume_planes; PATH 0.14, 0.12), relMSE about the same (README, "
                 "docs/bench/planes2_*.md).",
@@ -389,8 +390,9 @@ SETTINGS = [
             "this on average (but at all) leaves its single scattering on that segment to the path tracer; the other "
             "lights stay with the planes. Unbiased either way, 0 off; only in scenes of at most 32 lights",
             why="The per-light segment partition (photon_planes.cpp): the pilot's crossings of each pixel's segments "
-                "counted per plane light (5x5 pixels); a light below this count on a segment is the path tracer's "
-                "there (the media light choice then includes it), every other plane light the planes'. A fixed "
+                "counted per plane light (averaged as for plane_min_crossings: the pilot pixels within 3 with "
+                "plane_pilot_stride 2, 5x5 pixels with stride 1); a light below this count on a segment is the path "
+                "tracer's there (the media light choice then includes it), every other plane light the planes'. A fixed "
                 "partition of every (segment, light) pair: unbiased. 16: at one plane set and 16 path samples per "
                 "pixel (8 on volume_thin_hg), 512x384, SMAPE 0.116 -> 0.072 (volume_spot), 0.100 -> 0.068 "
                 "(volume_planes), 0.166 -> 0.095 (volume_thin_hg), relMSE the same or lower (docs/bench/planes3.md).",
@@ -403,6 +405,18 @@ SETTINGS = [
                 "pixel, within 2, as before). The pilot is part of the first iteration's fixed cost, which at a "
                 "5 s budget leaves the path part fewer samples than PATH gets (docs/bench/planes4.md).",
             min=1, max=8, panel="volumes", show=_uses_planes),
+    Setting("plane_path_pixel_samples", "uint", 0, "Path Samples where no Plane Gathers",
+            "Path samples per pass for the pixels whose camera rays the segment partitions leave wholly to the "
+            "path tracer (they gather no planes and their pass is cheaper), so that they get about the path "
+            "tracer's samples per unit time; 0 chooses it from the gathering cost, 1 one like every pixel. "
+            "Unbiased either way",
+            why="A pixel whose camera-ray segments the (fixed, pilot-derived) partitions leave wholly to the path "
+                "tracer gathers nothing; its pass costs its path sample only, a gathering pixel's the path sample "
+                "and the gather. Such pixels take K path samples per pass (their value is the mean of their path "
+                "samples; K depends on the partition only, fixed before the iterations: unbiased). 0: K = "
+                "round(1 + G / M), G the gathering cost per camera ray in path samples that chooses M "
+                "(plane_surface_samples), 2 where M is automatic (photon_planes.cpp).",
+            min=0, soft_max=16, panel="volumes", show=_uses_planes),
     Setting("smis_planes", "int", 2, "SMIS Orientations",
             "n, the number of stratified plane orientations per SMIS realisation (eq. 27); with 2 the partner "
             "plane is perpendicular and only weighted", why="n: orientations per SMIS realisation (eq. 27)",

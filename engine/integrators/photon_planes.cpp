@@ -350,8 +350,9 @@ std::vector<PhotonPlane> draw_planes(const PlaneLights& lights, uint32_t n, Plan
 // the light, one shadow ray) is never 0. Here each pixel's camera-ray segments are split once per
 // render: a pilot plane set (the iterations' distribution, its own stream, so independent of every
 // iteration's set and path samples) is gathered along the pixel's sample-0 camera ray, the counts
-// per segment index are averaged over 5x5 pixels (an estimate of the expected count), and segment
-// indices below plane_min_crossings go to the path tracer. Every camera ray of the pixel then uses
+// per segment index are averaged over the pilot pixels near it (5x5 pixels at plane_pilot_stride 1,
+// below; an estimate of the expected count), and segment indices below plane_min_crossings go to
+// the path tracer. Every camera ray of the pixel then uses
 // that split: its segment i is estimated by the planes or by the path tracer's single scattering
 // for the plane lights, never both and never neither (a fixed partition of the integral over
 // camera rays and segments), so the sum stays unbiased whatever the pilot drew.
@@ -472,11 +473,9 @@ bool PhotonPlanesIntegrator::gathers(size_t i, uint32_t lights) const {
     return false;
 }
 
-uint32_t PhotonPlanesIntegrator::surface_samples(const RenderContext& ctx, const PhotonPlaneSet& set,
-                                                  const std::vector<PlaneLight>& lights) {
-    if (ctx.settings.plane_surface_samples > 0) {
-        surface_samples_ = ctx.settings.plane_surface_samples;
-    } else if (surface_samples_ == 0) {
+double PhotonPlanesIntegrator::gather_cost(const RenderContext& ctx, const PhotonPlaneSet& set,
+                                          const std::vector<PlaneLight>& lights) {
+    if (gather_cost_ < 0.0) {
         // A crossing counted on the grid (its weight, transmittance and shadow ray, and its share
         // of the camera ray's traversal) costs about kCrossingCost path samples. Measured per
         // iteration at 512x384 with the thread-time statistics below (path_thread_seconds,
@@ -495,11 +494,38 @@ uint32_t PhotonPlanesIntegrator::surface_samples(const RenderContext& ctx, const
         // 1.23 / 1.12 (docs/bench/planes3_m4.md); on volume_spot (about 26 crossings) it gives M = 8,
         // near the optimum 9 of the error model A + B / M measured there (docs/bench/planes3.md).
         constexpr double kCrossingCost = 0.2, kIterationCost = 3.0;
-        const double ratio =
-            crossings_per_camera_ray(ctx, set, lights, plane_segments_, plane_keep_) * kCrossingCost + kIterationCost;
-        surface_samples_ = uint32_t(std::clamp(std::lround(ratio), 1l, 64l));
+        gather_cost_ = crossings_per_camera_ray(ctx, set, lights, plane_segments_, plane_keep_) * kCrossingCost + kIterationCost;
     }
+    return gather_cost_;
+}
+
+uint32_t PhotonPlanesIntegrator::surface_samples(const RenderContext& ctx, const PhotonPlaneSet& set,
+                                                  const std::vector<PlaneLight>& lights) {
+    if (ctx.settings.plane_surface_samples > 0)
+        surface_samples_ = ctx.settings.plane_surface_samples;
+    else if (surface_samples_ == 0)
+        surface_samples_ = uint32_t(std::clamp(std::lround(gather_cost(ctx, set, lights)), 1l, 64l));
     return surface_samples_;
+}
+
+// A pixel that gathers no planes (gathers()) pays per pass its path sample only, a gathering pixel
+// its path sample and, once per iteration, the gather: about M + G path samples an iteration against
+// M. With K = round(1 + G / M) path samples per pass the former get about as many path samples per
+// unit time as the path tracer alone would give them (K = 2 where M is chosen, M being about G).
+// On volume_spot and volume_planes (512x384) 53% and 58% of the pixels gather nothing (the dim fog
+// outside the spot's cone among them): with one sample per pass they lost SMAPE to PATH at equal
+// time by the samples the gathering pixels' cost took from them (docs/bench/planes4_where.md).
+// K depends only on the pilot's partition and the first plane set's crossings on a fixed grid,
+// both fixed before any path sample: each pixel's value stays the mean of its film samples.
+uint32_t PhotonPlanesIntegrator::path_pixel_samples(const RenderContext& ctx, const PhotonPlaneSet& set,
+                                                     const std::vector<PlaneLight>& lights, uint32_t M) {
+    if (path_pixel_samples_ == 0) {
+        if (ctx.settings.plane_path_pixel_samples > 0)
+            path_pixel_samples_ = ctx.settings.plane_path_pixel_samples;
+        else
+            path_pixel_samples_ = uint32_t(std::clamp(std::lround(1.0 + gather_cost(ctx, set, lights) / M), 1l, 16l));
+    }
+    return path_pixel_samples_;
 }
 
 void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
@@ -538,6 +564,10 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
     uint32_t plane_light_bits = 0;  // the plane lights as plane_keep_ marks them (scene light indices)
     if (!plane_keep_.empty())
         for (const PlaneLight& l : lights.lights) plane_light_bits |= 1u << l.light;
+    // Path samples per pass of a pixel that gathers nothing (path_pixel_samples); only the partition skips gathers.
+    const uint32_t K = use_planes && !settings.camera_volume_only && !plane_segments_.empty()
+                           ? path_pixel_samples(ctx, set, lights.lights, M)
+                           : 1;
 
     // M passes over the image, one path sample per pixel each (pixel samples s M ... s M + M - 1),
     // for all but the planes' part; the first pass's camera ray also gathers the planes. Every path
@@ -569,48 +599,55 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
             const size_t i = size_t(y) * w + x;
             // The camera path's first vertex asks the sample's Sampler for its numbers by name (path_loop.h).
             const PixelCamera pixel(ctx, x, y);
-            Sampler sampler;
-            Ray ray = pixel.ray(s * M + m, &sampler);
-            Rng& rng = sampler.rng();
-            local.sample_transparency = 0.0f;
-            PathState camera = camera_path_state(ray.o);
-            camera.medium = scene.camera_medium();
-            camera.planes_on_camera_ray = use_planes;
-            if (!plane_segments_.empty()) camera.plane_segments = plane_segments_[i];
+            const bool gathering = use_planes && gathers(i, plane_light_bits);
+            if (m == 0 && use_planes && !gathering) ++gathers_skipped_;
+            // A pixel that gathers nothing takes K path samples per pass: its pixel samples are
+            // (s M + m) K ... (s M + m) K + K - 1, so that its samples are still 0, 1, 2, ... in order.
+            const uint32_t k_samples = use_planes && !gathering ? K : 1;
             const uint32_t* keep = plane_keep_.empty() ? nullptr : &plane_keep_[i * RayMedia::kMaxSegments];
-            camera.plane_keep = keep;
-            // The auxiliary passes (when on) as the camera path of the passes' sample s recorded
-            // them (aux_passes.h): the first path sample's when it is sample s (M = 1, or the first
-            // iteration); else add_aux_sample traces the sample's camera ray.
-            FirstHitPasses pixel_passes;
-            const bool record_passes = ctx.film.has_aux() && s * M + m == s;
-            if (record_passes) pixel_passes = FirstHitPasses(ctx, x, y, s);
-            auto t_path = Clock::now();
-            Color surfaces(0.0f);
-            if (!settings.camera_volume_only) {
-                RecordPasses recording(local, record_passes ? &pixel_passes : nullptr);
-                surfaces = guard_sample(trace_path(scene, settings, ray, camera, rng, local, &sampler), local);
+            for (uint32_t k = 0; k < k_samples; ++k) {
+                const uint32_t index = (s * M + m) * k_samples + k;
+                Sampler sampler;
+                Ray ray = pixel.ray(index, &sampler);
+                Rng& rng = sampler.rng();
+                local.sample_transparency = 0.0f;
+                PathState camera = camera_path_state(ray.o);
+                camera.medium = scene.camera_medium();
+                camera.planes_on_camera_ray = use_planes;
+                if (!plane_segments_.empty()) camera.plane_segments = plane_segments_[i];
+                camera.plane_keep = keep;
+                // The auxiliary passes (when on) as the camera path of the passes' sample s recorded
+                // them (aux_passes.h): the first path sample's when it is sample s (M = K = 1, or the
+                // first iteration); else add_aux_sample traces the sample's camera ray.
+                const bool first = m == 0 && k == 0;
+                FirstHitPasses pixel_passes;
+                const bool record_passes = ctx.film.has_aux() && index == s && first;
+                if (record_passes) pixel_passes = FirstHitPasses(ctx, x, y, s);
+                auto t_path = Clock::now();
+                Color surfaces(0.0f);
+                if (!settings.camera_volume_only) {
+                    RecordPasses recording(local, record_passes ? &pixel_passes : nullptr);
+                    surfaces = guard_sample(trace_path(scene, settings, ray, camera, rng, local, &sampler), local);
+                }
+                auto t_gather = Clock::now();
+                path_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(t_gather - t_path).count());
+                ++local.paths;
+                float gathered = 0.0f;
+                if (first && gathering) {
+                    GatherCounts n;
+                    planes_at[i] = gather(ray, camera.medium, camera.plane_segments, keep, rng, &n);
+                    gather_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t_gather).count());
+                    plane_hits_ += n.gathered;
+                    shadow_rays_ += n.shadow_rays;
+                    parallel_rejected_ += n.parallel;
+                    nonfinite_rejected_ += n.nonfinite;
+                    local.samples_rejected += n.parallel + n.nonfinite;
+                    gathered = float(n.gathered);
+                }
+                // Diagnostic pass: photon planes the camera ray gathered.
+                if (first && ctx.film.has_aux()) add_aux_sample(ctx, x, y, s, pixel_passes, gathered);
+                ctx.film.add(x, y, guard_sample(surfaces + planes_at[i], local), local.sample_transparency);
             }
-            auto t_gather = Clock::now();
-            path_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(t_gather - t_path).count());
-            ++local.paths;
-            float gathered = 0.0f;
-            const bool gather_here = m == 0 && use_planes && gathers(i, plane_light_bits);
-            if (m == 0 && use_planes && !gather_here) ++gathers_skipped_;
-            if (gather_here) {
-                GatherCounts n;
-                planes_at[i] = gather(ray, camera.medium, camera.plane_segments, keep, rng, &n);
-                gather_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t_gather).count());
-                plane_hits_ += n.gathered;
-                shadow_rays_ += n.shadow_rays;
-                parallel_rejected_ += n.parallel;
-                nonfinite_rejected_ += n.nonfinite;
-                local.samples_rejected += n.parallel + n.nonfinite;
-                gathered = float(n.gathered);
-            }
-            // Diagnostic pass: photon planes the camera ray gathered.
-            if (m == 0 && ctx.film.has_aux()) add_aux_sample(ctx, x, y, s, pixel_passes, gathered);
-            ctx.film.add(x, y, guard_sample(surfaces + planes_at[i], local), local.sample_transparency);
         });
         if (!pass.should_stop()) ++finished;  // (a pass the limit met after its last tile counts as cut)
     }
@@ -630,6 +667,7 @@ std::map<std::string, double> PhotonPlanesIntegrator::stats() const {
             {"parallel_rejected", double(parallel_rejected_.load())},
             {"nonfinite_rejected", double(nonfinite_rejected_.load())},
             {"surface_samples", double(surface_samples_)},
+            {"path_pixel_samples", double(path_pixel_samples_)},
             {"passes", double(passes_)},
             {"path_segments", double(path_segments_)},
             {"path_segment_lights", double(path_segment_lights_)},

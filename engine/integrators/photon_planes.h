@@ -36,6 +36,12 @@ private:
     // M: path samples per pixel that one plane set serves (RenderSettings::plane_surface_samples, or
     // chosen once per render from the first plane set).
     uint32_t surface_samples(const RenderContext& ctx, const PhotonPlaneSet& set, const std::vector<PlaneLight>& lights);
+    // G: what gathering a camera ray costs, in path samples (the cost model that chooses M), once per render.
+    double gather_cost(const RenderContext& ctx, const PhotonPlaneSet& set, const std::vector<PlaneLight>& lights);
+    // K: path samples per pass of the pixels that gather no planes (RenderSettings::plane_path_pixel_samples,
+    // or chosen once per render from G and M).
+    uint32_t path_pixel_samples(const RenderContext& ctx, const PhotonPlaneSet& set, const std::vector<PlaneLight>& lights,
+                                uint32_t M);
     // The segment partition (RenderSettings::plane_min_crossings): per pixel, the bits of
     // RayMedia::plane_segments of its camera rays, from a pilot plane set drawn once per render.
     // With plane_min_light_crossings, per (segment, plane light) too: plane_keep_.
@@ -43,7 +49,8 @@ private:
     // Whether window pixel i's gather can be nonzero under the partition (`lights`: the plane lights' bits).
     bool gathers(size_t i, uint32_t lights) const;
     PlaneWeighting weighting_;
-    uint32_t surface_samples_ = 0;
+    uint32_t surface_samples_ = 0, path_pixel_samples_ = 0;
+    double gather_cost_ = -1.0;  // < 0: not estimated yet
     std::vector<uint8_t> plane_segments_;  // per window pixel; empty: every segment is the planes'
     std::vector<uint32_t> plane_keep_;     // RayMedia::plane_keep per window pixel (kMaxSegments each), or empty
     std::chrono::steady_clock::time_point first_iteration_start_{};

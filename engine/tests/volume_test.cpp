@@ -434,7 +434,8 @@ BlockStats across_renders(const std::shared_ptr<Scene>& scene, const std::string
                           uint32_t samples, uint32_t seed0, float scale = 1.0f, int smis_planes = 2,
                           uint32_t plane_shadow_rays = 0, uint32_t plane_surface_samples = 0,
                           bool plane_stratified = true, float plane_min_crossings = 0.0f,
-                          float plane_min_light_crossings = 0.0f, uint32_t plane_pilot_stride = 2) {
+                          float plane_min_light_crossings = 0.0f, uint32_t plane_pilot_stride = 2,
+                          uint32_t plane_path_pixel_samples = 0) {
     BlockStats bs;
     bs.blocks.resize((kW / kBlock) * (kH / kBlock));
     for (int r = 0; r < renders; ++r) {
@@ -451,6 +452,7 @@ BlockStats across_renders(const std::shared_ptr<Scene>& scene, const std::string
         s.plane_min_crossings = plane_min_crossings;
         s.plane_min_light_crossings = plane_min_light_crossings;
         s.plane_pilot_stride = plane_pilot_stride;
+        s.plane_path_pixel_samples = plane_path_pixel_samples;
         s.filter = PixelFilterKind::Box;
         s.filter_width = 1.0f;
         auto img = render(scene, s);
@@ -750,7 +752,8 @@ namespace {
 
 // The integrator's statistics after one iteration of 2048 planes with the segment partition's settings.
 std::map<std::string, double> partition_stats(const std::shared_ptr<Scene>& scene, float min_crossings,
-                                              float min_light_crossings, uint32_t pilot_stride = 2) {
+                                              float min_light_crossings, uint32_t pilot_stride = 2,
+                                              uint32_t path_pixel_samples = 0) {
     RenderSettings probe;
     probe.volume_estimator = VolumeEstimator::PlanesSmisExact;
     probe.samples = 1;
@@ -759,9 +762,36 @@ std::map<std::string, double> partition_stats(const std::shared_ptr<Scene>& scen
     probe.plane_min_crossings = min_crossings;
     probe.plane_min_light_crossings = min_light_crossings;
     probe.plane_pilot_stride = pilot_stride;
+    probe.plane_path_pixel_samples = path_pixel_samples;
     RenderSession session(scene, probe);
     session.run();
     return session.integrator_stats();
+}
+
+// fog_box's two rectangles and a dim point light: the partitions' scene.
+std::shared_ptr<Scene> three_light_fog_box() {
+    Medium fog = make_medium({0.05f, 0.08f, 0.12f}, {0.35f, 0.3f, 0.25f});
+    return fog_box(kW, kH, fog,
+                   {rect_light({-0.5f, 0.2f, 2.0f}, 0.6f, 0.4f, 30.0f, 0.3f),
+                    rect_light({0.7f, 0.6f, 1.6f}, 0.8f, 0.1f, 20.0f, -0.4f), point_light({0.7f, 0.6f, 1.2f}, 4.0f)});
+}
+
+// Both partitions on `scene` (pilot stride 3) against PATH, with one path sample per plane set and
+// with M = 4: no block may disagree.
+void expect_both_partitions_match_path(const std::shared_ptr<Scene>& scene, uint32_t seed0, uint32_t path_pixel_samples,
+                                       const char* label) {
+    constexpr float kMinCrossings = 12.0f, kMinLightCrossings = 20.0f;
+    BlockStats ref = across_renders(scene, "PATH", 16, 1024, 2100);
+    for (uint32_t m : {1u, 4u}) {
+        BlockStats planes = across_renders(scene, "PLANES_SMIS_EXACT", 24, 4, seed0 + m, 1.0f, 2, 0, m, true,
+                                           kMinCrossings, kMinLightCrossings, 3, path_pixel_samples);
+        int bad = disagreeing_blocks(planes, ref, 2);
+        std::printf("PLANES_SMIS_EXACT, %s, M = %u: image mean %.5f +- %.5f (PATH %.5f +- %.5f); blocks "
+                    "disagreeing %d\n",
+                    label, m, planes.image.mean(), planes.image.std_error(), ref.image.mean(), ref.image.std_error(),
+                    bad);
+        EXPECT_EQ(bad, 0) << m;
+    }
 }
 
 }  // namespace
@@ -805,10 +835,7 @@ TEST(PhotonPlanes, PerLightPartitionConvergesToThePathTracer) {
     // image must agree with PATH with one and with 4 path samples per plane set. (Checked red: the
     // gather not skipping the kept lights' crossings, double counting them, makes 30 and 34 of the
     // 37 comparisons disagree, the image mean 1.19x PATH's.)
-    Medium fog = make_medium({0.05f, 0.08f, 0.12f}, {0.35f, 0.3f, 0.25f});
-    auto scene = fog_box(kW, kH, fog,
-                         {rect_light({-0.5f, 0.2f, 2.0f}, 0.6f, 0.4f, 30.0f, 0.3f),
-                          rect_light({0.7f, 0.6f, 1.6f}, 0.8f, 0.1f, 20.0f, -0.4f), point_light({0.7f, 0.6f, 1.2f}, 4.0f)});
+    auto scene = three_light_fog_box();
     constexpr float kMinLightCrossings = 20.0f;
     auto stats = partition_stats(scene, 0.0f, kMinLightCrossings);
     const double pairs = stats["path_segment_lights"], segments = stats["pilot_segments"];
@@ -836,29 +863,33 @@ TEST(PhotonPlanes, SubsampledPilotAndSkippedGathersConvergeToThePathTracer) {
     // with 4 path samples per plane set. (Checked red: gathers() skipping a camera ray as soon as
     // one plane light of a planes' segment is the path tracer's, instead of all of them, skips 573 of
     // 576 and makes 23 and 28 of the 37 comparisons disagree, the image mean 0.61x PATH's.)
-    Medium fog = make_medium({0.05f, 0.08f, 0.12f}, {0.35f, 0.3f, 0.25f});
-    auto scene = fog_box(kW, kH, fog,
-                         {rect_light({-0.5f, 0.2f, 2.0f}, 0.6f, 0.4f, 30.0f, 0.3f),
-                          rect_light({0.7f, 0.6f, 1.6f}, 0.8f, 0.1f, 20.0f, -0.4f), point_light({0.7f, 0.6f, 1.2f}, 4.0f)});
-    constexpr float kMinCrossings = 12.0f, kMinLightCrossings = 20.0f;
-    constexpr uint32_t kStride = 3;
-    auto stats = partition_stats(scene, kMinCrossings, kMinLightCrossings, kStride);
+    auto scene = three_light_fog_box();
+    auto stats = partition_stats(scene, 12.0f, 20.0f, 3);
     std::printf("gathers skipped: %g of %d camera rays; path segments %g of %g, (segment, light) pairs %g\n",
                 stats["gathers_skipped"], kW * kH, stats["path_segments"], stats["pilot_segments"],
                 stats["path_segment_lights"]);
     EXPECT_GT(stats["gathers_skipped"], 0.05 * kW * kH);
     EXPECT_LT(stats["gathers_skipped"], 0.95 * kW * kH);
-    BlockStats ref = across_renders(scene, "PATH", 16, 1024, 2100);
-    for (uint32_t m : {1u, 4u}) {
-        BlockStats planes = across_renders(scene, "PLANES_SMIS_EXACT", 24, 4, 3500 + m, 1.0f, 2, 0, m, true,
-                                           kMinCrossings, kMinLightCrossings, kStride);
-        int bad = disagreeing_blocks(planes, ref, 2);
-        std::printf("PLANES_SMIS_EXACT, pilot stride %u, M = %u: image mean %.5f +- %.5f (PATH %.5f +- %.5f); "
-                    "blocks disagreeing %d\n",
-                    kStride, m, planes.image.mean(), planes.image.std_error(), ref.image.mean(),
-                    ref.image.std_error(), bad);
-        EXPECT_EQ(bad, 0) << m;
-    }
+    expect_both_partitions_match_path(scene, 3500, 1, "pilot stride 3");
+}
+
+TEST(PhotonPlanes, MorePathSamplesWhereNothingGathersConvergeToThePathTracer) {
+    // plane_path_pixel_samples: a pixel none of whose camera-ray segments the partitions leave to
+    // the planes takes K = 3 path samples per pass (sample indices (s M + m) K + k), the others one
+    // and the gather. Both partitions on the three-light fog box as in the test above: first the
+    // split must be real and K in use, then the image must agree with PATH with M = 1 and M = 4.
+    // (Checked red: every pixel taking K samples per pass and gathering only when it takes one, i.e.
+    // the gathering pixels' planes lost, makes 26 and 29 of the 37 comparisons disagree, the image
+    // mean 0.61x PATH's.)
+    auto scene = three_light_fog_box();
+    constexpr uint32_t kPathSamples = 3;
+    auto stats = partition_stats(scene, 12.0f, 20.0f, 3, kPathSamples);
+    std::printf("gathers skipped: %g of %d camera rays; path samples per pass there %g\n", stats["gathers_skipped"],
+                kW * kH, stats["path_pixel_samples"]);
+    EXPECT_GT(stats["gathers_skipped"], 0.05 * kW * kH);
+    EXPECT_LT(stats["gathers_skipped"], 0.95 * kW * kH);
+    EXPECT_EQ(stats["path_pixel_samples"], double(kPathSamples));
+    expect_both_partitions_match_path(scene, 3700, kPathSamples, "3 path samples where nothing gathers");
 }
 
 TEST(PhotonPlanes, StressCasesStayFinite) {
