@@ -435,7 +435,7 @@ BlockStats across_renders(const std::shared_ptr<Scene>& scene, const std::string
                           uint32_t plane_shadow_rays = 0, uint32_t plane_surface_samples = 0,
                           bool plane_stratified = true, float plane_min_crossings = 0.0f,
                           float plane_min_light_crossings = 0.0f, uint32_t plane_pilot_stride = 2,
-                          uint32_t plane_path_pixel_samples = 0) {
+                          uint32_t plane_path_pixel_samples = 1) {
     BlockStats bs;
     bs.blocks.resize((kW / kBlock) * (kH / kBlock));
     for (int r = 0; r < renders; ++r) {
@@ -753,7 +753,7 @@ namespace {
 // The integrator's statistics after one iteration of 2048 planes with the segment partition's settings.
 std::map<std::string, double> partition_stats(const std::shared_ptr<Scene>& scene, float min_crossings,
                                               float min_light_crossings, uint32_t pilot_stride = 2,
-                                              uint32_t path_pixel_samples = 0) {
+                                              uint32_t path_pixel_samples = 1) {
     RenderSettings probe;
     probe.volume_estimator = VolumeEstimator::PlanesSmisExact;
     probe.samples = 1;
