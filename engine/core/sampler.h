@@ -115,7 +115,10 @@ class Sampler {
 public:
     Sampler() = default;
     Sampler(const PixelSampler& pixel, uint32_t s) : rng_(pixel_sample_rng(pixel.stream_, s)), pixel_(&pixel), sample_(s) {
-        if (pixel.stratified_) rng_.mark_scattering_segment(pixel.key_, s);
+        if (pixel.stratified_) {
+            rng_.mark_scattering_segment(pixel.key_, s);
+            sample_reversed_ = stratified::reverse_bits(s);
+        }
     }
 
     Point2 pixel() { return camera_group(pixel_ ? &pixel_->pixel_ : nullptr); }
@@ -165,7 +168,7 @@ private:
     bool stratified() const { return kWithStratified && pixel_ && pixel_->stratified_; }
     Point2 group(const stratified::GroupSeeds& seeds) const {
         float v[2];
-        stratified::sample_2d(sample_, seeds, v);
+        stratified::sample_2d_of_reversed(sample_reversed_, seeds, v);
         return {v[0], v[1]};
     }
     // Group g at stratum `index`: the pixel's extra samples (their groups are hashed per draw).
@@ -181,6 +184,9 @@ private:
     Rng rng_;
     const PixelSampler* pixel_ = nullptr;
     uint32_t sample_ = 0;
+    // reverse_bits(sample_), stratified only: every named group of the sample scrambles its index
+    // from it (stratified::sample_2d_of_reversed), so it is reversed once, not once per group.
+    uint32_t sample_reversed_ = 0;
     // The two choices share one group (light, lobe): first_light() computes both; -1 until then.
     float lobe_choice_ = -1.0f;
 };

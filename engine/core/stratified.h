@@ -21,7 +21,7 @@
 namespace smis {
 namespace stratified {
 
-inline uint32_t reverse_bits(uint32_t x) {
+constexpr uint32_t reverse_bits(uint32_t x) {
     x = __builtin_bswap32(x);  // the bytes in one instruction, then the bits within each byte
     x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
     x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
@@ -49,9 +49,9 @@ inline uint32_t owen_scramble(uint32_t x, uint32_t seed) {
 // their bits reversed (reversal commutes with XOR), because the Owen scramble reverses the value
 // first: one bit reversal less per point.
 struct SobolDim1Tables {
-    uint32_t t[4][256];
-    SobolDim1Tables() {
-        uint32_t column[32];
+    uint32_t t[4][256]{};
+    constexpr SobolDim1Tables() {
+        uint32_t column[32]{};
         for (uint32_t b = 0, v = 1u << 31; b < 32; ++b, v ^= v >> 1) column[b] = reverse_bits(v);
         for (int byte = 0; byte < 4; ++byte)
             for (uint32_t x = 0; x < 256; ++x) {
@@ -62,9 +62,11 @@ struct SobolDim1Tables {
             }
     }
 };
+// Built by the compiler: a function-local static would test its guard at every call.
+inline constexpr SobolDim1Tables kSobolDim1Tables{};
 // reverse_bits(sobol_dim1(i))
 inline uint32_t sobol_dim1_reversed(uint32_t i) {
-    static const SobolDim1Tables tables;
+    const SobolDim1Tables& tables = kSobolDim1Tables;
     return tables.t[0][i & 255u] ^ tables.t[1][(i >> 8) & 255u] ^ tables.t[2][(i >> 16) & 255u] ^
            tables.t[3][i >> 24];
 }
@@ -92,11 +94,16 @@ inline float sample_1d(uint32_t sample, uint64_t pixel_key, uint32_t group) {
     return to_unit(reverse_bits(laine_karras_permutation(index, seeds.x)));
 }
 
-inline void sample_2d(uint32_t sample, const GroupSeeds& seeds, float* out) {
-    uint32_t index = owen_scramble(sample, seeds.index);
+// sample_2d below with the sample index's bits already reversed (the first step of owen_scramble):
+// a pixel sample asks for several groups with one index, so it reverses the index once (Sampler).
+inline void sample_2d_of_reversed(uint32_t sample_reversed, const GroupSeeds& seeds, float* out) {
+    uint32_t index = reverse_bits(laine_karras_permutation(sample_reversed, seeds.index));  // owen_scramble
     out[0] = to_unit(reverse_bits(laine_karras_permutation(index, seeds.x)));  // as in sample_1d
     // owen_scramble(sobol_dim1(index)), with the inner reversal in the table
     out[1] = to_unit(reverse_bits(laine_karras_permutation(sobol_dim1_reversed(index), seeds.y)));
+}
+inline void sample_2d(uint32_t sample, const GroupSeeds& seeds, float* out) {
+    sample_2d_of_reversed(reverse_bits(sample), seeds, out);
 }
 inline void sample_2d(uint32_t sample, uint64_t pixel_key, uint32_t group, float* out) {
     sample_2d(sample, GroupSeeds(pixel_key, group), out);

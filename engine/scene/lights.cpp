@@ -211,6 +211,7 @@ public:
     }
     bool intersect(const Ray& ray, LightHit* hit) const override {
         if (radius_ <= 0.0f) return false;
+        if (misses_by_far(ray)) return false;
         Vec3 n = ray.o - pos_;
         float dn = length(n);
         if (!(dn > 0.0f)) return false;
@@ -240,8 +241,21 @@ public:
     }
 
 private:
+    // Whether the ray's line passes so far from the centre that the test below cannot find the disk,
+    // with no square root or division (most rays: the light is small). Every point of the disk lies
+    // within radius_ of pos_, so a hit needs the line's distance p from pos_ to be at most radius_ plus
+    // the test's rounding, which is far below 1e-3 of |o - pos_| + |pos_|. The squared distance
+    // p^2 |d|^2 = |v|^2 |d|^2 - (v.d)^2 (v = o - pos_) is rounded by a few ulps of |v|^2 |d|^2; the
+    // margin below is (2 radius_)^2 plus 1e-4 (|v|^2 + |pos_|^2), so where it says "far" the test
+    // rejects the ray too and the image does not change (NaN and Inf compare false: the test runs).
+    bool misses_by_far(const Ray& ray) const {
+        const Vec3 v = ray.o - pos_;
+        const float vv = length_sq(v), dd = length_sq(ray.d), b = dot(v, ray.d);
+        return vv * dd - b * b > dd * (4.0f * radius_ * radius_ + 1e-4f * (vv + pos_sq_));
+    }
     float attenuation(const Vec3& dir_from_light) const { return emitter_.falloff(dir_from_light); }
     Vec3 pos_;
+    float pos_sq_ = length_sq(pos_);
     float radius_, area_;
     Color intensity_;
     LightPoint emitter_;

@@ -205,7 +205,8 @@ Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3
     if (!is_finite(ns) || !(dot(ns, ctx.Ng) > 0.0f)) ns = ctx.N;
     *ns_out = ns;
     if (holdout_out) {
-        const float keep = transparency_keep(res);
+        // Without transparency keep is exactly 1 (and x / 1 is x).
+        const float keep = res.transparent == Color(0.0f) ? 1.0f : transparency_keep(res);
         *holdout_out = keep > 1e-6f ? vmax(res.holdout, Color(0.0f)) / keep : Color(0.0f);
     }
     Frame frame = res.has_tangent ? tangent_frame(ns, res.tangent, res.tangent_rotation) : Frame(ns);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "scene/area_spread.h"
+#include "core/sampling.h"
 #include "scene/lights.h"
 #include "stats.h"
 
@@ -181,4 +182,40 @@ TEST(Lights, AreaSpreadKeepsThePower) {
         EXPECT_GT(s.attenuation(std::cos(h * 0.99f)), 0.0f) << degrees;
     }
     EXPECT_FALSE(AreaSpread::from_angle(kPi).active());
+}
+
+// A sphere light's intersect() first rejects rays whose line passes far from its centre, without a
+// square root or division (PointLight::misses_by_far). That shortcut may only skip rays the disk test
+// would reject: every ray aimed at a point of the disk (up to 0.985 of the radius, off the rim where
+// rounding decides) must still hit it, for small lights far from the origin and from the ray too.
+TEST(Lights, PointLightShortcutKeepsEveryRayThatReachesTheDisk) {
+    Rng rng(3, 5);
+    int rays = 0, lost = 0;
+    for (float scale : {1e-2f, 1.0f, 1e2f})
+        for (float radius : {1e-3f, 0.1f, 1.0f})
+            for (float distance : {1.5f, 10.0f, 300.0f}) {
+                LightDesc d;
+                d.type = "POINT";
+                d.power = 10.0f;
+                d.radius = radius * scale;
+                const Vec3 pos = Vec3(0.3f, -0.7f, 1.1f) * (2.0f * scale);
+                d.to_world = placed(pos);
+                auto light = make_light(d);
+                for (int i = 0; i < 200; ++i) {
+                    // From a point `distance` radii away towards a point of the disk facing it.
+                    Vec3 dir = sample_uniform_sphere({rng.next_float(), rng.next_float()});
+                    Vec3 o = pos + dir * (distance * d.radius);
+                    Frame f(dir);
+                    Point2 u = sample_uniform_disk_concentric({rng.next_float(), rng.next_float()});
+                    // Half the rays anywhere within 0.99 of the radius, half at 0.985 of it.
+                    Vec3 off = f.s * u.x + f.t * u.y;
+                    if (i % 2) off = normalize(off) * 0.995f;
+                    Vec3 target = pos + off * (0.99f * d.radius);
+                    Ray r{o, normalize(target - o), 0.0f, kInf};
+                    LightHit h;
+                    ++rays;
+                    if (!light->intersect(r, &h)) ++lost;
+                }
+            }
+    EXPECT_EQ(lost, 0) << "of " << rays << " rays aimed at the disk";
 }

@@ -80,6 +80,33 @@ TEST(Sampler, NamedGroupsDoNotShiftEachOtherOrTheStream) {
 
 // The sample's own stream carries nothing of the names: its first numbers are the PCG stream's,
 // whatever names were asked before.
+// Every named group of a stratified pixel sample is point s of its group's scrambled Sobol set
+// (stratified::sample_2d), whatever the order asked: the Sampler reverses the sample index once for
+// all its groups (Sampler::sample_reversed_), and that must be index s's reversal.
+TEST(Sampler, NamedGroupsArePointSOfTheirStratifiedSets) {
+    const PixelSampler pixel(7, 3, 5, true, true, true);
+    for (uint32_t s : {0u, 1u, 2u, 3u, 5u, 17u, 64u, 255u, 1000u, 65537u, 0x80000001u}) {
+        float px[2], lens[2], time[2], choices[2], light[2], dir[2];
+        stratified::sample_2d(s, pixel.key(), sample_groups::kPixel, px);
+        stratified::sample_2d(s, pixel.key(), sample_groups::kLens, lens);
+        stratified::sample_2d(s, pixel.key(), sample_groups::kTime, time);
+        stratified::sample_2d(s, pixel.key(), sample_groups::kFirstChoices, choices);
+        stratified::sample_2d(s, pixel.key(), sample_groups::kFirstLightPoint, light);
+        stratified::sample_2d(s, pixel.key(), sample_groups::kFirstDirection, dir);
+        Sampler sampler = pixel.start(s);
+        const Point2 d = sampler.first_direction();
+        const LightNumbers l = sampler.first_light();
+        const float lobe = sampler.first_lobe();
+        const float t = sampler.time();
+        const Point2 le = sampler.lens();
+        const Point2 p = sampler.pixel();
+        const float got[11] = {p.x, p.y, le.x, le.y, t, l.choice, lobe, l.point.x, l.point.y, d.x, d.y};
+        const float want[11] = {px[0], px[1], lens[0], lens[1], time[0], choices[0], choices[1],
+                                light[0], light[1], dir[0], dir[1]};
+        for (int k = 0; k < 11; ++k) EXPECT_EQ(got[k], want[k]) << "sample " << s << " value " << k;
+    }
+}
+
 TEST(Sampler, TheStreamIsPlain) {
     const uint32_t fx = 11, fy = 2, seed = 3;
     const PixelSampler pixel(fx, fy, seed, true, false, false);

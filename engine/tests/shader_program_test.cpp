@@ -333,3 +333,43 @@ TEST(ShaderProgram, BasicContextGivesEveryContextOpItsFullValue) {
     EXPECT_GT(basic, 5);
     EXPECT_GT(full, 5);
 }
+
+namespace {
+
+// Material::program_bsdf without any Transparent weight (its shortcut: keep is exactly 1) against
+// the same result with a grey transparency g: the kept hit's lobes are the same lobes divided by
+// 1 - g, and on both paths a back-facing hit inverts the glass lobe's eta and keeps the diffuse one.
+TEST(ShaderProgram, OpaqueProgramLobesAreTheTransparentPathsUndivided) {
+    Material m;
+    ShaderResult res;
+    Lobe diffuse;
+    diffuse.kind = LobeKind::Diffuse;
+    diffuse.weight = Color(0.3f, 0.5f, 0.7f);
+    Lobe glass;
+    glass.kind = LobeKind::Dielectric;
+    glass.weight = Color(0.9f);
+    glass.eta = 1.45f;
+    res.lobes[0] = diffuse;
+    res.lobes[1] = glass;
+    res.count = 2;
+    const Frame frame(Vec3(0, 0, 1));
+    const Vec3 ng(0, 0, 1);
+    ShaderResult grey = res;
+    grey.transparent = Color(0.5f);  // keep 1/2: every weight doubled
+    for (bool backfacing : {false, true}) {
+        const Bsdf opaque = m.program_bsdf(res, frame, ng, backfacing);
+        const Bsdf cut = m.program_bsdf(grey, frame, ng, backfacing);
+        ASSERT_EQ(opaque.lobe_count(), 2);
+        ASSERT_EQ(cut.lobe_count(), 2);
+        for (int i = 0; i < 2; ++i) {
+            EXPECT_EQ(opaque.lobe(i).kind, res.lobes[i].kind);
+            EXPECT_EQ(opaque.lobe(i).weight, res.lobes[i].weight) << i;
+            EXPECT_EQ(cut.lobe(i).weight, res.lobes[i].weight * 2.0f) << i;
+            EXPECT_EQ(opaque.lobe(i).eta, cut.lobe(i).eta) << i << " backfacing " << backfacing;
+        }
+        EXPECT_EQ(opaque.lobe(1).eta, backfacing ? 1.0f / 1.45f : 1.45f);
+        EXPECT_EQ(opaque.lobe(0).eta, diffuse.eta);
+    }
+}
+
+}  // namespace
