@@ -764,6 +764,23 @@ std::map<std::string, double> partition_stats(const std::shared_ptr<Scene>& scen
     return session.integrator_stats();
 }
 
+// A partition's image (PLANES_SMIS_EXACT, 24 renders of 4 samples from seed0 + M) against PATH's, with
+// one and with 4 path samples per plane set (M): no block may disagree.
+void expect_partition_agrees_with_path(const std::shared_ptr<Scene>& scene, const char* what, uint32_t seed0,
+                                       float min_crossings, float min_light_crossings, uint32_t pilot_stride = 2) {
+    BlockStats ref = across_renders(scene, "PATH", 16, 1024, 2100);
+    for (uint32_t m : {1u, 4u}) {
+        BlockStats planes = across_renders(scene, "PLANES_SMIS_EXACT", 24, 4, seed0 + m, 1.0f, 2, 0, m, true,
+                                           min_crossings, min_light_crossings, pilot_stride);
+        int bad = disagreeing_blocks(planes, ref, 2);
+        std::printf("PLANES_SMIS_EXACT, %s, M = %u: image mean %.5f +- %.5f (PATH %.5f +- %.5f); blocks "
+                    "disagreeing %d\n",
+                    what, m, planes.image.mean(), planes.image.std_error(), ref.image.mean(), ref.image.std_error(),
+                    bad);
+        EXPECT_EQ(bad, 0) << what << ", M = " << m;
+    }
+}
+
 }  // namespace
 
 TEST(PhotonPlanes, SegmentPartitionConvergesToThePathTracer) {
@@ -784,16 +801,7 @@ TEST(PhotonPlanes, SegmentPartitionConvergesToThePathTracer) {
                 share);
     EXPECT_GT(share, 0.2);
     EXPECT_LT(share, 0.8);
-    BlockStats ref = across_renders(scene, "PATH", 16, 1024, 2100);
-    for (uint32_t m : {1u, 4u}) {
-        BlockStats planes = across_renders(scene, "PLANES_SMIS_EXACT", 24, 4, 3100 + m, 1.0f, 2, 0, m, true,
-                                           kMinCrossings);
-        int bad = disagreeing_blocks(planes, ref, 2);
-        std::printf("PLANES_SMIS_EXACT, partition, M = %u: image mean %.5f +- %.5f (PATH %.5f +- %.5f); blocks "
-                    "disagreeing %d\n",
-                    m, planes.image.mean(), planes.image.std_error(), ref.image.mean(), ref.image.std_error(), bad);
-        EXPECT_EQ(bad, 0) << m;
-    }
+    expect_partition_agrees_with_path(scene, "partition", 3100, kMinCrossings, 0.0f);
 }
 
 TEST(PhotonPlanes, PerLightPartitionConvergesToThePathTracer) {
@@ -815,16 +823,7 @@ TEST(PhotonPlanes, PerLightPartitionConvergesToThePathTracer) {
     std::printf("(segment, light) pairs the path tracer takes: %g, of %g segments x 3 lights\n", pairs, segments);
     EXPECT_GT(pairs, 0.2 * segments);
     EXPECT_LT(pairs, 0.8 * 3 * segments);
-    BlockStats ref = across_renders(scene, "PATH", 16, 1024, 2100);
-    for (uint32_t m : {1u, 4u}) {
-        BlockStats planes = across_renders(scene, "PLANES_SMIS_EXACT", 24, 4, 3300 + m, 1.0f, 2, 0, m, true, 0.0f,
-                                           kMinLightCrossings);
-        int bad = disagreeing_blocks(planes, ref, 2);
-        std::printf("PLANES_SMIS_EXACT, per-light partition, M = %u: image mean %.5f +- %.5f (PATH %.5f +- %.5f); "
-                    "blocks disagreeing %d\n",
-                    m, planes.image.mean(), planes.image.std_error(), ref.image.mean(), ref.image.std_error(), bad);
-        EXPECT_EQ(bad, 0) << m;
-    }
+    expect_partition_agrees_with_path(scene, "per-light partition", 3300, 0.0f, kMinLightCrossings);
 }
 
 TEST(PhotonPlanes, SubsampledPilotAndSkippedGathersConvergeToThePathTracer) {
@@ -848,17 +847,7 @@ TEST(PhotonPlanes, SubsampledPilotAndSkippedGathersConvergeToThePathTracer) {
                 stats["path_segment_lights"]);
     EXPECT_GT(stats["gathers_skipped"], 0.05 * kW * kH);
     EXPECT_LT(stats["gathers_skipped"], 0.95 * kW * kH);
-    BlockStats ref = across_renders(scene, "PATH", 16, 1024, 2100);
-    for (uint32_t m : {1u, 4u}) {
-        BlockStats planes = across_renders(scene, "PLANES_SMIS_EXACT", 24, 4, 3500 + m, 1.0f, 2, 0, m, true,
-                                           kMinCrossings, kMinLightCrossings, kStride);
-        int bad = disagreeing_blocks(planes, ref, 2);
-        std::printf("PLANES_SMIS_EXACT, pilot stride %u, M = %u: image mean %.5f +- %.5f (PATH %.5f +- %.5f); "
-                    "blocks disagreeing %d\n",
-                    kStride, m, planes.image.mean(), planes.image.std_error(), ref.image.mean(),
-                    ref.image.std_error(), bad);
-        EXPECT_EQ(bad, 0) << m;
-    }
+    expect_partition_agrees_with_path(scene, "pilot stride 3", 3500, kMinCrossings, kMinLightCrossings, kStride);
 }
 
 TEST(PhotonPlanes, StressCasesStayFinite) {
