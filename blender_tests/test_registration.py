@@ -149,11 +149,21 @@ def test_settings_table_makes_the_properties_the_dict_and_the_panels():
         assert {"ris_candidates", "restir_mis", "restir_unbiased"} <= set(shown("direct_light"))
         # The animated-seed toggle is drawn beside the seed, once.
         assert shown("sampling").count("use_animated_seed") == 1
-        # Every row with a panel and a property is shown on it in some state of the settings.
+        # Every row with a panel and a property is shown on it in some state of the settings: each enum
+        # setting at each of its items in turn (the others as they are), so a row shown for a new
+        # integrator or mode is checked without an edit here.
         all_shown = set()
-        for panel in {r.panel for r in settings_schema.SETTINGS if r.panel}:
-            all_shown |= set(shown(panel))
-        missing = {r.prop for r in settings_schema.SETTINGS if r.panel and r.prop and not r.show} - all_shown
+        panels = {r.panel for r in settings_schema.SETTINGS if r.panel}
+        for row in settings_schema.SETTINGS:
+            if not (row.is_enum and row.prop):
+                continue
+            before = getattr(s, row.prop)
+            for item in row.kind.ids():
+                setattr(s, row.prop, item)
+                for panel in panels:
+                    all_shown |= set(shown(panel))
+            setattr(s, row.prop, before)
+        missing = {r.prop for r in settings_schema.SETTINGS if r.panel and r.prop} - all_shown
         # Light Paths rows the scene gives from Cycles are drawn as Cycles' properties.
         missing -= {r.prop for r in settings_schema.SETTINGS if r.cycles}
         assert not missing, missing

@@ -3,8 +3,6 @@
 #pragma once
 #include <cstdint>
 
-#include "core/features.h"
-
 namespace smis {
 
 inline uint64_t mix64(uint64_t z) {  // splitmix64 finaliser

@@ -61,7 +61,7 @@ PsfWeighting psf_weighting(IntegratorKind kind) {
         case IntegratorKind::PsfKeller: return PsfWeighting::Keller;
         case IntegratorKind::PsfSmis: return PsfWeighting::Smis;
         case IntegratorKind::PsfSmisUnbiased: return PsfWeighting::SmisUnbiased;
-        case IntegratorKind::Path: break;
+        default: break;  // the other integrators (a new one needs no line here)
     }
     throw std::invalid_argument("not a path-space filtering integrator");
 }

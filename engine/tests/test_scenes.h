@@ -89,12 +89,17 @@ inline void expect_same_image_whatever_the_thread_count(const std::shared_ptr<Sc
     EXPECT_NE(one, render(scene, st)) << what;
 }
 
-// The integrators of the stress and fuzz suites: the registry's names, plus the path tracer's
-// many-light direct-light strategies, named PATH+RIS and PATH+RESTIR_<mis> (unbiased, visibility reuse).
+// The integrators of the stress, fuzz and motion suites: every name of the settings table's INTEGRATOR
+// enum (so a new integrator is in them without an edit here), plus the path tracer's many-light
+// direct-light strategies, named PATH+RIS and PATH+RESTIR_<mis> (unbiased, visibility reuse).
 inline const std::vector<std::string>& all_integrators() {
-    static const std::vector<std::string> names = {"PATH", "PSF_PATH", "PSF_KELLER", "PSF_SMIS", "PSF_SMIS_UNBIASED",
-                                                   "PATH+RIS", "PATH+RESTIR_SEED", "PATH+RESTIR_TALBOT",
-                                                   "PATH+RESTIR_NONE"};
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> out;
+        for (const auto& item : SettingNames<IntegratorKind>::items) out.push_back(item.first);
+        for (const char* variant : {"PATH+RIS", "PATH+RESTIR_SEED", "PATH+RESTIR_TALBOT", "PATH+RESTIR_NONE"})
+            out.push_back(variant);
+        return out;
+    }();
     return names;
 }
 inline void select_integrator(RenderSettings& rs, const std::string& name) {
