@@ -123,7 +123,9 @@ void check(const Scene& scene, bool shading, const char* what) {
     const PassRenders r = render_passes(scene, shading, 3);
     EXPECT_EQ(r.mismatched, 0) << what;
     EXPECT_GT(r.ready, r.samples / 4) << what;      // the paths record most passes...
-    if (shading) EXPECT_LT(r.ready, r.samples) << what;  // ...and leave some to the passes' own ray
+    if (shading) {
+        EXPECT_LT(r.ready, r.samples) << what;  // ...and leave some to the passes' own ray
+    }
     const char* names[3] = {"depth", "normal", "albedo"};
     for (int i = 0; i < (shading ? 3 : 1); ++i)
         expect_bit_identical(r.recorded[i], r.traced[i], (std::string(what) + " " + names[i]).c_str());
