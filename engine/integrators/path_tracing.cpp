@@ -31,9 +31,26 @@ ShadingPoint make_shading_point(const Scene& scene, const SurfaceHit& hit, const
     if (!(*closure_ns == interpolated_ns)) bsdf->set_bump_base(interpolated_ns);
 }
 
+namespace {
+// A lowered program's BSDF (scene/image_closure.h) where the hit's frame is its program's
+// (Scene::hit_has_program_frame), as Scene::program_bsdf makes it: the closure normal is the
+// interpolated one turned by ensure_valid_reflection, or that one where the turn fails (on every
+// hit, flat ones too, unlike constant materials), and the closure has no holdout.
+Bsdf image_closure_shading(const ImageClosure& closure, const SurfaceHit& hit, ShadingPoint& sp) {
+    Vec3 ns = shading::ensure_valid_reflection(sp.ng, sp.wo, sp.ns);
+    if (!is_finite(ns) || !(dot(ns, sp.ng) > 0.0f)) ns = sp.ns;
+    Bsdf bsdf = closure.bsdf(Frame(ns), sp.ng, sp.backfacing, hit.attr.uv);
+    if (!(ns == sp.ns)) bsdf.set_bump_base(sp.ns);
+    sp.ns = ns;
+    return bsdf;
+}
+}  // namespace
+
 // Out of line: the constant materials' path through make_shading_point stays as small as it was.
 [[gnu::noinline]] Bsdf program_shading(const Scene& scene, const SurfaceHit& hit, ShadingPoint& sp,
                                        const ShaderRay* ray) {
+    const Material& m = scene.material(hit.material);
+    if (m.image_closure && scene.hit_has_program_frame(hit)) return image_closure_shading(*m.image_closure, hit, sp);
     return scene.program_bsdf(hit.material, hit.attr, sp.wo, sp.backfacing, ray ? *ray : ShaderRay{}, &sp.ns,
                               &sp.holdout);
 }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "scene/bsdf.h"
+#include "scene/image_closure.h"
 #include "scene/texture.h"
 #include "shading/shader_program.h"
 
@@ -79,6 +80,10 @@ struct Material {
     // when every closure input is constant: then `lobes` and `emission` hold the folded result.
     // With a program, `lobes` holds its lobe templates (kinds and indices, for spectral rendering).
     std::shared_ptr<const ShaderProgram> program;
+    // The program lowered out of the VM when it is only an image texture into one closure's colour
+    // (scene/image_closure.h; set by Scene::sanitize): the path tracer's shading uses it where the
+    // hit allows, every other reader the program.
+    std::optional<ImageClosure> image_closure;
     bool cutout() const { return alpha < 1.0f || alpha_texture || (program && program->may_be_transparent()); }
     float alpha_at(Point2 uv) const { return alpha_texture ? alpha * alpha_texture->lookup(uv).alpha : alpha; }
     bool emissive() const { return max_component(emission) > 0.0f || (program && program->may_emit()); }

@@ -140,6 +140,7 @@ Scene::~Scene() {
 // Non-finite parameters would poison every pixel that sees the material: clamp them to safe values.
 // Throws std::invalid_argument for inconsistent inputs or unknown spectral names.
 void Scene::sanitize(Material& material) {
+    material.image_closure.reset();
     if (material.program && material.program->is_constant() && !material.program->may_hold_out()) {
         // Every closure input folded: the material is its closure list, as before programs existed.
         ShaderResult res = material.program->eval_constant();
@@ -163,6 +164,8 @@ void Scene::sanitize(Material& material) {
         }
         material.alpha *= std::min(keep, 1.0f);
     } else if (material.program) {
+        // A normal map would move the hit's shading normal away from the program's.
+        if (!material.normal_map) material.image_closure = lower_image_closure(*material.program);
         material.lobes = material.program->lobe_templates();
         material.inputs.clear();
         material.emission = Color(0.0f);

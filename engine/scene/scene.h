@@ -218,6 +218,16 @@ public:
     // (divided by the cut-out's keep probability).
     Bsdf program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3& wo, bool backfacing,
                       const ShaderRay& ray, Vec3* ns_out, Color* holdout_out = nullptr) const;
+    // Whether the hit's normals and UV are bit for bit those shader_context() rebuilds for its
+    // program: a static triangle mesh (fill_hit deforms and moves the others, the context does not)
+    // with a UV map (without, the hit keeps no UV of its own). There a lowered program
+    // (Material::image_closure) shades from the hit as the program would.
+    bool hit_has_program_frame(const SurfaceHit& hit) const {
+        if (!kWithTextures || !hit_ids_) return false;
+        const Instance& inst = instances_[hit.attr.instance];
+        const Mesh& mesh = meshes_[inst.mesh];
+        return !mesh.curves && mesh.motion_steps == 0 && inst.motion.empty() && !mesh.uvs.empty();
+    }
     // Emitted radiance at a hit towards wo: constant, textured or from the material's program.
     Color emission_at(const SurfaceHit& hit, const Vec3& wo) const {
         const Material& m = materials_[hit.material];

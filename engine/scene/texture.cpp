@@ -159,6 +159,16 @@ Color Texture::mean() const {
     return mean_;
 }
 
+bool Texture::non_negative() const {
+    std::call_once(non_negative_once_, [this] {
+        bool all = true;
+        for (size_t i = 0; i < rgba_.size() && all; i += 4)
+            all = rgba_[i] >= 0.0f && rgba_[i + 1] >= 0.0f && rgba_[i + 2] >= 0.0f && rgba_[i + 3] >= 0.0f;
+        non_negative_ = all;
+    });
+    return non_negative_;
+}
+
 std::shared_ptr<Texture> Texture::missing() {
     static const float magenta[4] = {1.0f, 0.0f, 1.0f, 1.0f};
     return std::make_shared<Texture>(magenta, 1, 1, "linear", Options{Interp::Closest, Wrap::Repeat});

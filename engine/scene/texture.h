@@ -80,6 +80,11 @@ public:
     // that a dark texture's emitters can still be chosen. Computed on the first call: only emission
     // textures need it, and decoding every texel at load costs more than the rest of loading.
     Color mean() const;
+    // Whether every lookup's Color is >= 0 in each channel: it is when every stored texel's four
+    // channels are (non-finite ones are 0 already), as neither the interpolation (non-negative
+    // weights, the B-spline's too), the un-premultiplication (by the interpolated alpha, then >= 0)
+    // nor the sRGB decoding turns them negative. Computed on the first call, as mean() is.
+    bool non_negative() const;
 
 private:
     int wrap_index(int i, int n) const;  // -1: outside (Clip)
@@ -93,6 +98,8 @@ private:
     std::vector<float> rgba_;
     mutable std::once_flag mean_once_;
     mutable Color mean_{0.0f};
+    mutable std::once_flag non_negative_once_;
+    mutable bool non_negative_ = false;
 };
 
 // The sRGB transfer function's inverse (IEC 61966-2-1), as Cycles decodes sRGB (0 for negatives).

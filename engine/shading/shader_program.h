@@ -138,6 +138,15 @@ public:
     static bool op_by_name(const std::string& name, ShaderOpCode* code);
     static constexpr size_t kMaxRegisters = 4096;
 
+    // Read access for passes that recognise a whole program (scene/image_closure.h): the ops, the
+    // initial register values (after folding), the ops a full evaluation runs per hit and its closure
+    // ops (indices into ops()), and the textures by the ops' ids.
+    const std::vector<ShaderOp>& ops() const { return ops_; }
+    const std::vector<float>& initial_registers() const { return registers_; }
+    const std::vector<uint32_t>& per_hit_ops() const { return slices_[size_t(ShaderOutputs::All)].varying; }
+    const std::vector<uint32_t>& closure_ops() const { return slices_[size_t(ShaderOutputs::All)].closures; }
+    const std::shared_ptr<const Texture>& texture(int32_t id) const { return textures_[size_t(id)]; }
+
 private:
     // Context ops read (and the bump ops move) *ctx; it is null for folding and for closures.
     void run(const ShaderOp& op, ShaderContext* ctx, float* r, ShaderResult* out) const;
