@@ -405,6 +405,14 @@ SETTINGS = [
                 "pixel, within 2, as before). The pilot is part of the first iteration's fixed cost, which at a "
                 "5 s budget leaves the path part fewer samples than PATH gets (docs/bench/planes4.md).",
             min=1, max=8, panel="volumes", show=_uses_planes),
+    Setting("plane_crossing_cost", "float", 0.2, "Crossing Cost",
+            "The automatic path samples per plane set (Surface Samples 0) count each camera-ray plane crossing as "
+            "this many path samples of gathering cost; larger: more path samples per plane set. Unbiased either way",
+            why="The cost model that chooses M (plane_surface_samples 0) and K (plane_path_pixel_samples 0): "
+                "G = crossings per camera ray x this + 3 path samples per iteration, M = round(G) "
+                "(photon_planes.cpp, gather_cost). 0.2 was measured on volume_spot at 512x384 from thread times; "
+                "instruction counts later gave about 0.13 (docs/bench/planes5_where.md, docs/bench/planes6.md).",
+            min=0.0, soft_max=2.0, panel="volumes", show=_uses_planes),
     Setting("plane_path_pixel_samples", "uint", 1, "Path Samples where no Plane Gathers",
             "Path samples per pass for the pixels whose camera rays the segment partitions leave wholly to the "
             "path tracer (they gather no planes and their pass is cheaper); 0 chooses it from the gathering cost "

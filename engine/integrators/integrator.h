@@ -26,6 +26,7 @@ namespace smis {
 // addon/smis_render/settings_schema.py (engine/render/tools/gen_settings.py).
 
 class FirstHitPasses;
+struct RayMedia;
 
 // Counters reported to the user (stats line) and checked by the stress tests.
 struct RenderCounters {
@@ -46,6 +47,10 @@ struct LocalCounters {
     // The current sample's transparency for Film Transparent (PathState::transparent_background),
     // reset per sample like sample_diagnostic; not a counter.
     float sample_transparency = 0.0f;
+    // Where the current sample's path copies its camera ray's media segments (the first
+    // intersect_through of a path in a scene with media), then nulls it; null: nowhere. The photon
+    // planes' gather takes them from there instead of tracing the same camera ray again. Not a counter.
+    RayMedia* camera_media = nullptr;
     void flush(RenderCounters& c) {
         c.paths += paths, c.nan_caught += nan_caught, c.samples_rejected += samples_rejected;
         *this = {};

@@ -130,6 +130,10 @@ template <class Spectrum, bool kMedia, bool kRules>
         if constexpr (kMedia) {
             RayMedia media;
             found = intersect_through(scene, ray, state.medium, &hit, &media);
+            if (counters.camera_media) {  // the camera ray's media for the photon planes' gather
+                *counters.camera_media = media;
+                counters.camera_media = nullptr;
+            }
             if (state.depth == 0 && counters.passes && !media.crossed)
                 passes_at_hit = counters.passes->at_camera_ray(scene, found, hit);
             media.plane_segments = state.plane_segments;

@@ -200,13 +200,18 @@ struct PlaneGather {
     // Segments whose bit in `segments` is clear are the path tracer's (RayMedia::plane_segments).
     // On those, the crossings of plane lights whose bit (scene light index) is set in keep[i] are
     // skipped too (the per-light partition left them to the path tracer; keep may be null).
-    Color operator()(const Ray& ray, int32_t medium, uint8_t segments, const uint32_t* keep, Rng& rng,
-                     GatherCounts* n) const {
+    // `traced`: the ray's media as intersect_through(scene, ray, medium) gives them, when the path
+    // sample has just traced this camera ray (LocalCounters::camera_media); null: traced here.
+    Color operator()(const Ray& ray, int32_t medium, const RayMedia* traced, uint8_t segments, const uint32_t* keep,
+                     Rng& rng, GatherCounts* n) const {
         thread_local std::vector<PlaneHit> hits;
         Color L(0.0f);
-        SurfaceHit first;
-        RayMedia media;
-        intersect_through(scene, ray, medium, &first, &media);
+        RayMedia own;
+        if (!traced) {
+            SurfaceHit first;
+            intersect_through(scene, ray, medium, &first, &own);
+        }
+        const RayMedia& media = traced ? *traced : own;
         for (int i = 0; i < media.count; ++i) {
             const RayMedia::Segment& seg = media.seg[i];
             const Medium& med = scene.medium(seg.medium);
@@ -477,7 +482,7 @@ double PhotonPlanesIntegrator::gather_cost(const RenderContext& ctx, const Photo
                                           const std::vector<PlaneLight>& lights) {
     if (gather_cost_ < 0.0) {
         // A crossing counted on the grid (its weight, transmittance and shadow ray, and its share
-        // of the camera ray's traversal) costs about kCrossingCost path samples. Measured per
+        // of the camera ray's traversal) costs about plane_crossing_cost path samples. Measured per
         // iteration at 512x384 with the thread-time statistics below (path_thread_seconds,
         // gather_thread_seconds): 0.2 on volume_spot (gathering 23 us per camera ray for about 30
         // grid crossings, a path sample 3.9 us), 0.28 on volume_planes (12.7 us for about 6, a path
@@ -486,15 +491,19 @@ double PhotonPlanesIntegrator::gather_cost(const RenderContext& ctx, const Photo
         // (8.7 s) that a 15 s budget completed one and discarded the second (SMAPE 0.244; M = 6:
         // two iterations, 0.203, the same relMSE; volume_planes M = 3: 0.210, M = 1: 0.178, relMSE
         // 0.182 and 0.180). M gives the two parts about equal time.
-        // An iteration also costs what does not scale with the crossings (the camera ray traced
-        // again through the scene and the planes' BVH, the plane set's build): about kIterationCost
+        // An iteration also costs what does not scale with the crossings (the camera ray's walk
+        // through the planes' BVH, the plane set's build; the ray's trace through the scene is shared
+        // with its first path sample since planes6): about kIterationCost
         // path samples. Without it, once the per-light partition left volume_planes 1.7 gathered
         // crossings per camera ray, M fell to 1 and every path sample paid a whole iteration: at 15 s,
         // 3 seeds, load 8-12, M = 4 gave planes / PATH 1.05 / 0.81 (SMAPE / relMSE) where M = 1 gave
         // 1.23 / 1.12 (docs/bench/planes3_m4.md); on volume_spot (about 26 crossings) it gives M = 8,
         // near the optimum 9 of the error model A + B / M measured there (docs/bench/planes3.md).
-        constexpr double kCrossingCost = 0.2, kIterationCost = 3.0;
-        gather_cost_ = crossings_per_camera_ray(ctx, set, lights, plane_segments_, plane_keep_) * kCrossingCost + kIterationCost;
+        // The crossing cost is RenderSettings::plane_crossing_cost (0.2 by default).
+        constexpr double kIterationCost = 3.0;
+        gather_cost_ = crossings_per_camera_ray(ctx, set, lights, plane_segments_, plane_keep_) *
+                           double(ctx.settings.plane_crossing_cost) +
+                       kIterationCost;
     }
     return gather_cost_;
 }
@@ -630,9 +639,16 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 if (record_passes) pixel_passes = FirstHitPasses(ctx, x, y, s);
                 auto t_path = Clock::now();
                 Color surfaces(0.0f);
+                // The gathering sample's path traces the camera ray's media once for both (a copy, no
+                // random numbers: the same media, so the same image as tracing them twice).
+                RayMedia camera_media;
+                bool media_traced = false;
                 if (!settings.camera_volume_only) {
                     RecordPasses recording(local, record_passes ? &pixel_passes : nullptr);
+                    local.camera_media = first && gathering ? &camera_media : nullptr;
                     surfaces = guard_sample(trace_path(scene, settings, ray, camera, rng, local, &sampler), local);
+                    media_traced = first && gathering && !local.camera_media;
+                    local.camera_media = nullptr;
                 }
                 auto t_gather = Clock::now();
                 path_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(t_gather - t_path).count());
@@ -640,7 +656,8 @@ void PhotonPlanesIntegrator::iteration(RenderContext& ctx, uint32_t s) {
                 float gathered = 0.0f;
                 if (first && gathering) {
                     GatherCounts n;
-                    planes_at[i] = gather(ray, camera.medium, camera.plane_segments, keep, rng, &n);
+                    planes_at[i] = gather(ray, camera.medium, media_traced ? &camera_media : nullptr, camera.plane_segments, keep,
+                                          rng, &n);
                     gather_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t_gather).count());
                     plane_hits_ += n.gathered;
                     shadow_rays_ += n.shadow_rays;

@@ -2,8 +2,11 @@
 // and single scattering against quadrature, and the photon-plane estimators (West et al. 2020, §6)
 // converging to the path tracer's image (independent renders, z-tests), with a power check and
 // numerical stress cases (parallel and grazing planes, 1:1000 lights, extreme densities).
+#include <cstring>
+
 #include <gtest/gtest.h>
 
+#include "integrators/path_tracing.h"
 #include "integrators/photon_plane_set.h"
 #include "integrators/volume.h"
 #include "scene/spherical_rectangle.h"
@@ -415,6 +418,50 @@ TEST(Medium, SolidAngleRectangleSamplingConvergesWithLessVariance) {
     std::printf("summed relative variance: solid angle %.4g, area %.4g (ratio %.4f)\n", variance_new, variance_old,
                 variance_new / variance_old);
     EXPECT_LT(variance_new, 0.1 * variance_old);
+}
+
+TEST(Medium, PathSampleHandsItsCameraRayMediaToThePlaneGather) {
+    // The photon planes' gather takes its camera ray's media segments from the first path sample,
+    // which has just traced that ray (LocalCounters::camera_media), instead of tracing it again: they
+    // must be intersect_through's for that ray bit for bit (so the image is the one the gather gave
+    // tracing the ray itself), whatever the path traces after its first segment (bounces in and out
+    // of the fog trace more rays with media).
+    Medium fog = make_medium({0.05f, 0.08f, 0.12f}, {0.35f, 0.3f, 0.25f});
+    auto scene = fog_box(8, 8, fog);
+    RenderSettings settings;
+    settings.max_bounces = 4;
+    Rng dirs(3, 0);
+    int crossed = 0, hits = 0;
+    for (int i = 0; i < 400; ++i) {
+        // Every second ray aims at the floor (or the block in front of it): those bounce on.
+        const float z = i % 2 ? 0.0f : -0.1f + 2.8f * dirs.next_float();
+        const Vec3 target(-1.6f + 3.2f * dirs.next_float(), -1.4f + 2.8f * dirs.next_float(), z);
+        const Ray ray{kFogCamera, normalize(target - kFogCamera), 0.0f, kInf};
+        RayMedia shared, own;
+        shared.count = -1;
+        LocalCounters local;
+        local.camera_media = &shared;
+        PathState state = camera_path_state(ray.o);
+        state.medium = scene->camera_medium();
+        Rng rng(17, uint64_t(i));
+        trace_path(*scene, settings, ray, state, rng, local);
+        ASSERT_EQ(local.camera_media, nullptr) << "ray " << i;
+        SurfaceHit hit;
+        hits += intersect_through(*scene, ray, scene->camera_medium(), &hit, &own);
+        ASSERT_EQ(shared.count, own.count) << "ray " << i;
+        for (int k = 0; k < own.count; ++k) {
+            EXPECT_EQ(std::memcmp(&shared.seg[k].t0, &own.seg[k].t0, sizeof(float)), 0) << "ray " << i;
+            EXPECT_EQ(std::memcmp(&shared.seg[k].t1, &own.seg[k].t1, sizeof(float)), 0) << "ray " << i;
+            EXPECT_EQ(shared.seg[k].medium, own.seg[k].medium) << "ray " << i;
+        }
+        EXPECT_EQ(shared.end_medium, own.end_medium) << "ray " << i;
+        EXPECT_EQ(std::memcmp(&shared.tau_end, &own.tau_end, sizeof(Color)), 0) << "ray " << i;
+        EXPECT_EQ(shared.crossed, own.crossed) << "ray " << i;
+        crossed += own.count > 0;
+    }
+    // Most rays cross the fog, and most of those hit the floor or the block (and bounce on).
+    EXPECT_GT(crossed, 300);
+    EXPECT_GT(hits, 150);
 }
 
 // ---------------------------------------------------------------------------------------------
