@@ -214,16 +214,16 @@ public:
         return v;
     }
     LightNumbers light() const {
-        if (kind_ != kStream) return kind_ == kExtra ? named_->extra_light(index_) : named_->first_light();
+        if (kind_ != kStream) return named_light(named_, kind_, index_);
         const float choice = stream_->next_float();
         return {choice, next_2d(*stream_)};
     }
     float lobe() const {
-        if (kind_ != kStream) return kind_ == kExtra ? named_->extra_lobe(index_) : named_->first_lobe();
+        if (kind_ != kStream) return named_lobe(named_, kind_, index_);
         return stream_->next_float();
     }
     Point2 direction() const {
-        if (kind_ != kStream) return kind_ == kExtra ? named_->extra_direction(index_) : named_->first_direction();
+        if (kind_ != kStream) return named_direction(named_, kind_, index_);
         return next_2d(*stream_);
     }
     // The Sampler this vertex asks for the first vertex's numbers; null when it draws from the stream.
@@ -232,6 +232,24 @@ public:
 private:
     // Two words, passed in registers: the stream, or the Sampler asked by name (whose stream it is).
     enum Kind : uint32_t { kStream, kFirst, kExtra };
+    // The numbers asked by name, out of line (one call per draw at a camera path's first vertex): with
+    // the stratified pattern they are a few hashed groups each (Sampler::group), which, inlined, made
+    // the path loop larger in the build with the pattern than in the one without it (cmake
+    // -DSMIS_WITHOUT=stratified) by enough to tip the compiler's inlining of the loop's helpers
+    // (sample_bsdf and clamp_contribution stayed out of line in the one, went inline in the other:
+    // +1.98% instructions on psf_room with the pattern unused, docs/bench/skip_bench.md). Out of
+    // line, the loops of both builds hold the same call, whatever the pattern's code grows to, so the
+    // inlining of the loop cannot depend on it. Static, on the view's two words: no copy of the view
+    // is spilled to memory for a `this`.
+    [[gnu::noinline]] static LightNumbers named_light(Sampler* named, Kind kind, uint32_t index) {
+        return kind == kExtra ? named->extra_light(index) : named->first_light();
+    }
+    [[gnu::noinline]] static float named_lobe(Sampler* named, Kind kind, uint32_t index) {
+        return kind == kExtra ? named->extra_lobe(index) : named->first_lobe();
+    }
+    [[gnu::noinline]] static Point2 named_direction(Sampler* named, Kind kind, uint32_t index) {
+        return kind == kExtra ? named->extra_direction(index) : named->first_direction();
+    }
     union {
         Rng* stream_;
         Sampler* named_;
