@@ -37,8 +37,7 @@ namespace {
 // interpolated one turned by ensure_valid_reflection, or that one where the turn fails (on every
 // hit, flat ones too, unlike constant materials), and the closure has no holdout.
 Bsdf image_closure_shading(const ImageClosure& closure, const SurfaceHit& hit, ShadingPoint& sp) {
-    Vec3 ns = shading::ensure_valid_reflection(sp.ng, sp.wo, sp.ns);
-    if (!is_finite(ns) || !(dot(ns, sp.ng) > 0.0f)) ns = sp.ns;
+    const Vec3 ns = shading::closure_normal(sp.ng, sp.wo, sp.ns, sp.ns);
     Bsdf bsdf = closure.bsdf(Frame(ns), sp.ng, sp.backfacing, hit.attr.uv);
     if (!(ns == sp.ns)) bsdf.set_bump_base(sp.ns);
     sp.ns = ns;

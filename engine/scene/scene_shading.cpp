@@ -201,8 +201,7 @@ Bsdf Scene::program_bsdf(uint32_t material, const SurfaceAttribs& at, const Vec3
     const ShaderContext ctx = program_context(material, at, wo, ray);
     ShaderResult res = run_program(material, ctx);
     // Every closure's normal is repaired, the interpolated one too (Cycles' svm_node_closure_bsdf).
-    Vec3 ns = shading::ensure_valid_reflection(ctx.Ng, ctx.I, res.has_normal ? res.normal : ctx.N);
-    if (!is_finite(ns) || !(dot(ns, ctx.Ng) > 0.0f)) ns = ctx.N;
+    const Vec3 ns = shading::closure_normal(ctx.Ng, ctx.I, res.has_normal ? res.normal : ctx.N, ctx.N);
     *ns_out = ns;
     if (holdout_out) {
         // Without transparency keep is exactly 1 (and x / 1 is x).

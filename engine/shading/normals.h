@@ -56,4 +56,14 @@ inline Vec3 ensure_valid_reflection(const Vec3& Ng, const Vec3& I, const Vec3& N
     return turn_normal_for_valid_reflection(Ng, I, N, threshold);
 }
 
+// A closure's shading normal as every closure gets it (Cycles' svm_node_closure_bsdf): N turned by
+// ensure_valid_reflection, or `fallback` (the interpolated normal) where the turn gives a non-finite
+// normal or one below the surface. One function for the shader program's closures and the lowered
+// image closure (scene/image_closure.h), which must repair the normal bit for bit as the program does.
+inline Vec3 closure_normal(const Vec3& Ng, const Vec3& I, const Vec3& N, const Vec3& fallback) {
+    Vec3 ns = ensure_valid_reflection(Ng, I, N);
+    if (!is_finite(ns) || !(dot(ns, Ng) > 0.0f)) ns = fallback;
+    return ns;
+}
+
 }  // namespace smis::shading
