@@ -43,6 +43,12 @@ OUTDIR defaults to the folder holding this script (scenes/). Writes:
                          The smis properties are written by registering the add-on's
                          spectral_properties module (no native module needed).
 
+  volume_planes, volume_spot, volume_slit, volume_thin_hg, volume_beams,
+  volume_searchlights    Single scattering (max_bounces 1, Cycles' volume bounces 0) for
+                         photon planes against the path tracer and Cycles at 512x384
+                         (bench/single_scattering_equal_time.py); each builder says what
+                         its scene tests.
+
 Only some scenes:  blender -b --factory-startup --python scenes/build_scenes.py -- [OUTDIR] psf_glossy psf_room
 (arguments that name a scene select it; any other argument is OUTDIR).
 
@@ -749,17 +755,24 @@ VOLUME_LIGHTS = (
 )
 
 
+def fog_scene(res_x, res_y, fog, box_lo, box_hi):
+    """A single-scattering scene: max_bounces 1 and volume bounces 0 (the scene's custom property
+    smis_volume_bounces tells make_cycles_unbiased), a black world, and a box from box_lo to box_hi
+    of the volume-only material volume_material(*fog)."""
+    sc = new_scene(res_x, res_y, samples=1024)
+    sc["smis_volume_bounces"] = 0
+    make_cycles_unbiased(sc, max_bounces=1)
+    set_world(sc)
+    box_object(sc, "FogBox", box_lo, box_hi, volume_material(*fog))
+    return sc
+
+
 def build_volume_planes(path):
     """Homogeneous isotropic medium (a closed box with a volume-only material) holding a floor,
     a back wall, two pillars and a cube, lit by six rectangular area lights inside the medium;
     the camera looks in from outside. Rendered with max_bounces 1 and volume bounces 0 (single
     scattering; the scene's custom property smis_volume_bounces tells make_cycles_unbiased)."""
-    sc = new_scene(96, 96, samples=1024)
-    sc["smis_volume_bounces"] = 0
-    make_cycles_unbiased(sc, max_bounces=1)
-    set_world(sc)
-    fog = volume_material("Fog", (0.9, 0.85, 0.8), 0.35, (0.8, 0.9, 1.0), 0.15)
-    box_object(sc, "FogBox", (-2.6, -2.6, -0.3), (2.6, 2.6, 3.4), fog)
+    sc = fog_scene(96, 96, ("Fog", (0.9, 0.85, 0.8), 0.35, (0.8, 0.9, 1.0), 0.15), (-2.6, -2.6, -0.3), (2.6, 2.6, 3.4))
     white = diffuse("White", WHITE)
     red = diffuse("Red", RED)
     box_object(sc, "Floor", (-2.4, -2.4, -0.1), (2.4, 2.4, 0.0), white)
@@ -778,12 +791,7 @@ def _single_scattering_scene(*fog, camera=((0.0, -5.6, 1.5), (84.0, 0.0, 0.0))):
     """A 512x384 single-scattering scene (max_bounces 1, Cycles' volume bounces 0) whose fog box
     (volume_material(*fog)) holds a floor and a back wall; the camera (location, rotation) looks
     in from outside."""
-    sc = new_scene(512, 384, samples=1024)
-    fog = volume_material(*fog)
-    sc["smis_volume_bounces"] = 0
-    make_cycles_unbiased(sc, max_bounces=1)
-    set_world(sc)
-    box_object(sc, "FogBox", (-3.0, -3.0, -0.3), (3.0, 3.0, 3.6), fog)
+    sc = fog_scene(512, 384, fog, (-3.0, -3.0, -0.3), (3.0, 3.0, 3.6))
     white = diffuse("White", WHITE)
     box_object(sc, "Floor", (-2.8, -2.8, -0.1), (2.8, 2.8, 0.0), white)
     box_object(sc, "BackWall", (-2.8, 2.7, 0.0), (2.8, 2.8, 3.4), white)
@@ -834,6 +842,50 @@ def build_volume_thin_hg(path):
                   energy=60.0, color=(0.7, 0.85, 1.0)), (0.0, -5.6, 1.5))
     aim(add_light(sc, "Top", 'AREA', (0.0, 0.0, 3.2), shape='RECTANGLE', size=1.0, size_y=0.3,
                   energy=40.0, color=(1.0, 1.0, 1.0)), (0.0, 0.5, 0.0))
+    save(path)
+
+
+def build_volume_beams(path):
+    """Stage beams: four narrow spot lights (10-16 degrees, radius 0: points, so photon planes
+    cover them) in thin haze, three from the rig above and one from the side across the stage, as
+    stage lighting does; no other light, so the fog outside the cones is dark. Each camera ray that
+    crosses a beam is lit over a short stretch of its length: the path tracer's equiangular
+    distance sampling towards a light point spreads its samples by 1/r^2 along the whole ray and
+    does not know the cone (nor does Cycles 3.4's), while a spot's photon planes lie inside its cone."""
+    sc, white = _single_scattering_scene("Haze", (0.9, 0.9, 0.9), 0.15, (0.9, 0.9, 0.9), 0.02)
+    beams = (  # name, position, aim point, cone degrees, power W, colour
+        ("RigLeft", (-2.0, 1.6, 3.4), (-0.7, -0.5, 0.0), 14.0, 900.0, (1.0, 0.75, 0.5)),
+        ("RigCentre", (0.2, 2.3, 3.4), (0.3, -0.4, 0.0), 10.0, 900.0, (0.6, 0.8, 1.0)),
+        ("RigRight", (2.2, 1.2, 3.3), (0.6, -1.2, 0.0), 16.0, 900.0, (1.0, 0.55, 0.8)),
+        ("Side", (-2.8, 0.2, 1.1), (2.8, 0.9, 1.9), 12.0, 600.0, (0.9, 0.95, 1.0)),
+    )
+    for name, loc, target, cone, power, color in beams:
+        aim(add_light(sc, name, 'SPOT', loc, spot_size=math.radians(cone), spot_blend=0.15,
+                      shadow_soft_size=0.0, energy=power, color=color), target)
+    unit_cube_object(sc, "Riser", white, (0.3, 0.6, 0.25), 10.0, (1.6, 0.9, 0.5))
+    save(path)
+
+
+def build_volume_searchlights(path):
+    """Searchlights in night haze: five narrow spot lights (5-8 degrees, radius 0) on the ground
+    shine up into a large, thin isotropic fog; the camera, on the ground outside the fog, looks up
+    at the beams (the lamps just below the frame, so no radius-0 point is in view) against a black
+    sky: no surface is in view and every pixel is the camera ray's single scattering. A beam lights
+    a few metres of a camera ray that runs 40 m or more through the fog, while equiangular sampling
+    towards the lamp puts its samples near the ray's closest point to the lamp, outside the cone."""
+    sc = fog_scene(512, 384, ("NightHaze", (0.95, 0.95, 1.0), 0.04, (0.9, 0.9, 1.0), 0.01), (-24.0, -2.0, -0.5),
+                   (24.0, 40.0, 70.0))
+    beams = (  # name, position, aim point, cone degrees, power W, colour
+        ("SearchA", (-7.0, 8.0, 0.2), (-11.0, 14.0, 14.0), 6.0, 240000.0, (1.0, 0.95, 0.85)),
+        ("SearchB", (-2.5, 12.0, 0.2), (1.5, 16.0, 15.0), 5.0, 240000.0, (0.85, 0.9, 1.0)),
+        ("SearchC", (2.0, 6.0, 0.2), (-3.0, 13.0, 13.0), 7.0, 200000.0, (1.0, 0.9, 0.8)),
+        ("SearchD", (6.5, 10.0, 0.2), (10.0, 18.0, 15.0), 6.0, 240000.0, (0.9, 0.95, 1.0)),
+        ("SearchE", (0.5, 16.0, 0.2), (6.0, 20.0, 15.0), 8.0, 280000.0, (1.0, 0.85, 0.7)),
+    )
+    for name, loc, target, cone, power, color in beams:
+        aim(add_light(sc, name, 'SPOT', loc, spot_size=math.radians(cone), spot_blend=0.1,
+                      shadow_soft_size=0.0, energy=power, color=color), target)
+    add_camera(sc, (0.0, -6.0, 1.0), (124.0, 0.0, 0.0), lens=20.0)
     save(path)
 
 
@@ -970,6 +1022,8 @@ SCENE_NAMES = {
     "volume_spot": build_volume_spot,
     "volume_slit": build_volume_slit,
     "volume_thin_hg": build_volume_thin_hg,
+    "volume_beams": build_volume_beams,
+    "volume_searchlights": build_volume_searchlights,
     "many_lights": build_many_lights,
     "principled_coat": build_principled_coat,
     "procedural": build_procedural,
