@@ -456,8 +456,13 @@ void Scene::add_instance(uint32_t mesh, const Transform& to_world, const Color& 
         moves = moves || std::memcmp(&t, &motion[0], sizeof(Transform)) != 0;
     }
     if (meshes_[mesh].indices.empty()) return;
-    Instance inst{mesh, to_world, false, -1, is_finite(object_color) ? vmax(object_color, Color(0.0f)) : Color(1.0f),
-                  inverse(to_world)};
+    Instance inst;
+    inst.mesh = mesh;
+    inst.to_world = to_world;
+    inst.identity = false;
+    inst.light_base = -1;
+    inst.object_color = is_finite(object_color) ? vmax(object_color, Color(0.0f)) : Color(1.0f);
+    inst.to_object = inverse(to_world);
     inst.random = std::isfinite(random) ? random : 0.0f;
     inst.pass_index = std::isfinite(pass_index) ? pass_index : 0.0f;
     inst.alpha = std::isfinite(object_alpha) ? object_alpha : 1.0f;
