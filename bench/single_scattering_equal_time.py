@@ -47,7 +47,8 @@ import metrics as M  # noqa: E402
 from equal_time import engine_version, scene_blend  # noqa: E402
 from render import remove, render_cycles, render_smis  # noqa: E402
 
-VOLUME_SCENES = ["volume_planes", "volume_spot", "volume_slit", "volume_thin_hg", "volume_beams", "volume_searchlights"]
+VOLUME_SCENES = ["volume_planes", "volume_spot", "volume_slit", "volume_thin_hg", "volume_beams", "volume_searchlights",
+                 "volume_stage"]
 WIDTH, HEIGHT = 512, 384
 COMMON = {"integrator": "PATH", "max_bounces": 1, "filter_type": "BOX", "filter_width": 1.0}
 # Planes per iteration: small enough that one iteration (its crossings and its path samples) fits

@@ -44,7 +44,8 @@ OUTDIR defaults to the folder holding this script (scenes/). Writes:
                          spectral_properties module (no native module needed).
 
   volume_planes, volume_spot, volume_slit, volume_thin_hg, volume_beams,
-  volume_searchlights    Single scattering (max_bounces 1, Cycles' volume bounces 0) for
+  volume_searchlights, volume_stage
+                         Single scattering (max_bounces 1, Cycles' volume bounces 0) for
                          photon planes against the path tracer and Cycles at 512x384
                          (bench/single_scattering_equal_time.py); each builder says what
                          its scene tests.
@@ -845,6 +846,22 @@ def build_volume_thin_hg(path):
     save(path)
 
 
+STAGE_BEAMS = (  # name, position, aim point, cone degrees, power W, colour
+    ("RigLeft", (-2.0, 1.6, 3.4), (-0.7, -0.5, 0.0), 14.0, 900.0, (1.0, 0.75, 0.5)),
+    ("RigCentre", (0.2, 2.3, 3.4), (0.3, -0.4, 0.0), 10.0, 900.0, (0.6, 0.8, 1.0)),
+    ("RigRight", (2.2, 1.2, 3.3), (0.6, -1.2, 0.0), 16.0, 900.0, (1.0, 0.55, 0.8)),
+    ("Side", (-2.8, 0.2, 1.1), (2.8, 0.9, 1.9), 12.0, 600.0, (0.9, 0.95, 1.0)),
+)
+
+
+def stage_beams(sc, material):
+    """The four spot lights of STAGE_BEAMS in sc, and the riser (of `material`) they light."""
+    for name, loc, target, cone, power, color in STAGE_BEAMS:
+        aim(add_light(sc, name, 'SPOT', loc, spot_size=math.radians(cone), spot_blend=0.15,
+                      shadow_soft_size=0.0, energy=power, color=color), target)
+    unit_cube_object(sc, "Riser", material, (0.3, 0.6, 0.25), 10.0, (1.6, 0.9, 0.5))
+
+
 def build_volume_beams(path):
     """Stage beams: four narrow spot lights (10-16 degrees, radius 0: points, so photon planes
     cover them) in thin haze, three from the rig above and one from the side across the stage, as
@@ -853,16 +870,21 @@ def build_volume_beams(path):
     distance sampling towards a light point spreads its samples by 1/r^2 along the whole ray and
     does not know the cone (nor does Cycles 3.4's), while a spot's photon planes lie inside its cone."""
     sc, white = _single_scattering_scene("Haze", (0.9, 0.9, 0.9), 0.15, (0.9, 0.9, 0.9), 0.02)
-    beams = (  # name, position, aim point, cone degrees, power W, colour
-        ("RigLeft", (-2.0, 1.6, 3.4), (-0.7, -0.5, 0.0), 14.0, 900.0, (1.0, 0.75, 0.5)),
-        ("RigCentre", (0.2, 2.3, 3.4), (0.3, -0.4, 0.0), 10.0, 900.0, (0.6, 0.8, 1.0)),
-        ("RigRight", (2.2, 1.2, 3.3), (0.6, -1.2, 0.0), 16.0, 900.0, (1.0, 0.55, 0.8)),
-        ("Side", (-2.8, 0.2, 1.1), (2.8, 0.9, 1.9), 12.0, 600.0, (0.9, 0.95, 1.0)),
-    )
-    for name, loc, target, cone, power, color in beams:
-        aim(add_light(sc, name, 'SPOT', loc, spot_size=math.radians(cone), spot_blend=0.15,
-                      shadow_soft_size=0.0, energy=power, color=color), target)
-    unit_cube_object(sc, "Riser", white, (0.3, 0.6, 0.25), 10.0, (1.6, 0.9, 0.5))
+    stage_beams(sc, white)
+    save(path)
+
+
+def build_volume_stage(path):
+    """A lit stage in haze: volume_beams' four narrow spot lights (10-16 degrees, radius 0) and a
+    large, dim rectangular wash light overhead, as a stage is lit: the wash lights the floor, the
+    back wall and the riser directly and fills the haze with a soft, even glow, and the beams cut
+    through it. The surfaces are lit mostly by the wash (which the path tracer's light sampling
+    renders smoothly), not only by the beams' glow as on volume_beams, so the image's noise is the
+    beams' single scattering along the camera rays."""
+    sc, white = _single_scattering_scene("Haze", (0.9, 0.9, 0.9), 0.15, (0.9, 0.9, 0.9), 0.02)
+    stage_beams(sc, white)
+    aim(add_light(sc, "Wash", 'AREA', (0.0, -1.0, 3.5), shape='RECTANGLE', size=4.0, size_y=2.5,
+                  energy=40.0, color=(1.0, 0.95, 0.9)), (0.0, 0.3, 0.0))
     save(path)
 
 
@@ -1024,6 +1046,7 @@ SCENE_NAMES = {
     "volume_thin_hg": build_volume_thin_hg,
     "volume_beams": build_volume_beams,
     "volume_searchlights": build_volume_searchlights,
+    "volume_stage": build_volume_stage,
     "many_lights": build_many_lights,
     "principled_coat": build_principled_coat,
     "procedural": build_procedural,
