@@ -362,7 +362,10 @@ def main():
             w.writeheader()
             w.writerows(rows)
         summary(os.path.join(ROOT, "docs", "bench", args.stem + ".md"), rows, refs, args, load_start)
-    log("wrote %s and docs/bench/%s.md" % (os.path.relpath(out_json, ROOT), args.stem))
+    if args.ref_only:  # the loop wrote no results: say so rather than name files it did not touch
+        log("references ready: %s" % ", ".join(args.scenes))
+    else:
+        log("wrote %s and docs/bench/%s.md" % (os.path.relpath(out_json, ROOT), args.stem))
 
 
 if __name__ == "__main__":
