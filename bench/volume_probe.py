@@ -14,12 +14,12 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import metrics as M  # noqa: E402
-from render import remove, render_smis  # noqa: E402
+from render import remove  # noqa: E402
+# The benchmark's render settings, so that the probe renders what the benchmark will.
+from single_scattering_equal_time import ESTIMATORS as BENCH_ESTIMATORS, smis  # noqa: E402
 
-RESOLUTION = {"resolution_x": 512, "resolution_y": 384, "resolution_percentage": 100}
-COMMON = {"integrator": "PATH", "max_bounces": 1, "filter_type": "BOX", "filter_width": 1.0}
-PLANES = {"volume_estimator": "PLANES_SMIS_EXACT", "photon_planes": 512, "plane_surface_samples": 0}
-ESTIMATORS = [("PATH", {"volume_estimator": "PATH"}), ("PLANES", PLANES),
+PLANES = BENCH_ESTIMATORS["PLANES_SMIS_EXACT"]
+ESTIMATORS = [("PATH", BENCH_ESTIMATORS["PATH"]), ("PLANES", PLANES),
               ("AUTO", dict(PLANES, plane_path_pixel_samples=0))]
 
 
@@ -31,8 +31,7 @@ def main():
     if os.path.exists(cached):
         ref = np.load(cached)
     else:
-        run = render_smis(blend, dict(COMMON, volume_estimator="PATH", seed=1001, samples=ref_spp),
-                          render=RESOLUTION, timeout=7200)
+        run = smis(blend, BENCH_ESTIMATORS["PATH"], 1001, samples=ref_spp)
         ref = run.image.astype(np.float64)
         np.save(cached, ref)
         print("reference: %d spp in %.1f s" % (ref_spp, run.seconds), flush=True)
@@ -40,8 +39,7 @@ def main():
     for budget in budgets:
         for seed in seeds:
             for name, settings in ESTIMATORS:
-                run = render_smis(blend, dict(COMMON, **settings, seed=seed, time_limit=budget, samples=1 << 20),
-                                  render=RESOLUTION, timeout=3600)
+                run = smis(blend, settings, seed, budget)
                 img = run.image.astype(np.float64)
                 print("%-6s %5.0f s seed %d: SMAPE %.4f relMSE %.5f, %s path samples per pixel"
                       % (name, budget, seed, M.smape(ref, img), M.relmse(ref, img), run.samples_done), flush=True)

@@ -854,12 +854,15 @@ STAGE_BEAMS = (  # name, position, aim point, cone degrees, power W, colour
 )
 
 
-def stage_beams(sc, material):
-    """The four spot lights of STAGE_BEAMS in sc, and the riser (of `material`) they light."""
+def stage_scene():
+    """The haze, floor and back wall of _single_scattering_scene with the four spot lights of
+    STAGE_BEAMS and the riser they light (volume_beams and volume_stage)."""
+    sc, white = _single_scattering_scene("Haze", (0.9, 0.9, 0.9), 0.15, (0.9, 0.9, 0.9), 0.02)
     for name, loc, target, cone, power, color in STAGE_BEAMS:
         aim(add_light(sc, name, 'SPOT', loc, spot_size=math.radians(cone), spot_blend=0.15,
                       shadow_soft_size=0.0, energy=power, color=color), target)
-    unit_cube_object(sc, "Riser", material, (0.3, 0.6, 0.25), 10.0, (1.6, 0.9, 0.5))
+    unit_cube_object(sc, "Riser", white, (0.3, 0.6, 0.25), 10.0, (1.6, 0.9, 0.5))
+    return sc
 
 
 def build_volume_beams(path):
@@ -869,8 +872,7 @@ def build_volume_beams(path):
     crosses a beam is lit over a short stretch of its length: the path tracer's equiangular
     distance sampling towards a light point spreads its samples by 1/r^2 along the whole ray and
     does not know the cone (nor does Cycles 3.4's), while a spot's photon planes lie inside its cone."""
-    sc, white = _single_scattering_scene("Haze", (0.9, 0.9, 0.9), 0.15, (0.9, 0.9, 0.9), 0.02)
-    stage_beams(sc, white)
+    stage_scene()
     save(path)
 
 
@@ -881,8 +883,7 @@ def build_volume_stage(path):
     through it. The surfaces are lit mostly by the wash (which the path tracer's light sampling
     renders smoothly), not only by the beams' glow as on volume_beams, so the image's noise is the
     beams' single scattering along the camera rays."""
-    sc, white = _single_scattering_scene("Haze", (0.9, 0.9, 0.9), 0.15, (0.9, 0.9, 0.9), 0.02)
-    stage_beams(sc, white)
+    sc = stage_scene()
     aim(add_light(sc, "Wash", 'AREA', (0.0, -1.0, 3.5), shape='RECTANGLE', size=4.0, size_y=2.5,
                   energy=40.0, color=(1.0, 0.95, 0.9)), (0.0, 0.3, 0.0))
     save(path)
